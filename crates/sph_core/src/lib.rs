@@ -1,0 +1,51 @@
+//! # sph_core
+//!
+//! The physics of our GPU SPH water, with no Bevy and no wgpu: parameters and presets, Müller 2003
+//! kernels, equations of state, symmetric pressure and viscosity forces, Akinci 2013 surface
+//! tension, three integrators, the box container, neighbour search (dense grid + counting sort, or
+//! the design's spatial hash), spawners, diagnostics, and [`CpuSolver`], the reference every GPU
+//! pass is tested against.
+//!
+//! ```
+//! use sph_core::{BlockSpawn, BoxContainer, CpuSolver, SphParams};
+//! use glam::Vec3;
+//!
+//! let params = SphParams::water();
+//! let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.4, 0.4, 0.2));
+//! let mut solver = CpuSolver::new(params, container, 10_000).unwrap();
+//! let block = BlockSpawn::new(Vec3::ZERO, Vec3::new(0.1, 0.2, 0.1), params.spacing());
+//! solver.spawn(&block.positions(), Vec3::ZERO);
+//! solver.step();
+//! assert_eq!(solver.diagnostics().non_finite_count, 0);
+//! ```
+
+pub mod container;
+pub mod density;
+pub mod diagnostics;
+pub mod eos;
+pub mod forces;
+pub mod integrate;
+pub mod kernel;
+pub mod neighbor;
+pub mod params;
+pub mod rng;
+pub mod scenario;
+pub mod solver;
+pub mod spawn;
+pub mod stage;
+pub mod surface_tension_akinci2013;
+
+pub use container::{BoxContainer, Walls};
+pub use diagnostics::Diagnostics;
+pub use eos::Eos;
+pub use kernel::Kernels;
+pub use neighbor::Neighbors;
+pub use params::{
+    EquationOfState, Integrator, NeighborSearch, ParamError, SpacingDerivation, SphParams,
+};
+pub use solver::{CpuSolver, ParticleData, SpawnReport, StageTimings};
+pub use spawn::{BlockSpawn, Emission, PipeEmitter};
+pub use stage::StageContext;
+
+/// Re-export of the vector math crate used in the public API.
+pub use glam;

@@ -1,0 +1,304 @@
+//! Simulation parameters with units, the two presets, the design's "automatic parameter
+//! calculation" from a particle spacing, and validation with errors that name the field.
+
+use glam::Vec3;
+use std::fmt;
+
+/// Equation of state turning density into pressure.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum EquationOfState {
+    /// p = k (ρ - ρ0) (Müller 2003 eq. 12); k in m²/s² (Pa per kg/m³).
+    Linear,
+    /// p = k ((ρ/ρ0)⁷ - 1) (Tait, Becker & Teschner 2007); k = B in Pa.
+    #[default]
+    Tait,
+}
+
+/// Time integrator.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Integrator {
+    /// Symplectic (semi-implicit) Euler: v += a dt, then x += v dt. One force evaluation per step.
+    SymplecticEuler,
+    /// The design's leapfrog (Cossins variant, design eqs. 18-21): forces at the start of the step
+    /// and again at the drifted positions with a predicted velocity. Two force evaluations per step.
+    Leapfrog,
+    /// Kick-drift-kick leapfrog: the end-of-step acceleration is reused as the next step's start,
+    /// so one force evaluation per step; viscosity sees the predicted velocity v½ + a dt/2.
+    #[default]
+    KickDriftKick,
+}
+
+/// Neighbour-search structure.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum NeighborSearch {
+    /// Dense uniform grid over the container (cell = h) built by a counting sort. Our default.
+    #[default]
+    Grid,
+    /// The design's spatial hash (primes 73856093, 19349663, 83492791) sorted by hash.
+    Hash,
+}
+
+/// Every parameter of the SPH model, in SI units unless a preset says otherwise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphParams {
+    /// Rest density ρ0 [kg/m³].
+    pub rest_density: f32,
+    /// Mass of every particle m [kg].
+    pub particle_mass: f32,
+    /// Kernel support radius h [m]; also the grid cell size.
+    pub smoothing_radius: f32,
+    /// Pressure stiffness k: Tait's B [Pa], or the linear law's k [m²/s²].
+    pub stiffness: f32,
+    /// Which equation of state maps density to pressure.
+    pub equation_of_state: EquationOfState,
+    /// Clamp negative pressures to zero (avoids tensile clumping at free surfaces).
+    pub clamp_negative_pressure: bool,
+    /// Dynamic viscosity μ [Pa·s] of Müller 2003 eq. 14; 0 switches the term off.
+    pub viscosity: f32,
+    /// Akinci 2013 surface tension coefficient γ [N·m³/kg², acceleration per unit γ is
+    /// m_j C(r) + Δn]; 0 switches surface tension (and the normals pass) off.
+    pub surface_tension: f32,
+    /// Gravitational acceleration g [m/s²].
+    pub gravity: Vec3,
+    /// Fraction of the normal velocity kept after a wall bounce, in [0, 1].
+    pub wall_damping: f32,
+    /// Time step dt [s].
+    pub time_step: f32,
+    /// Time integrator.
+    pub integrator: Integrator,
+    /// Neighbour-search structure.
+    pub neighbor_search: NeighborSearch,
+}
+
+/// A parameter outside its allowed range: names the field, the value and the range.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamError {
+    /// The field's name, e.g. `smoothing_radius`.
+    pub field: &'static str,
+    /// The offending value, formatted.
+    pub value: String,
+    /// The allowed range, e.g. `(0, 1000] m`.
+    pub allowed: &'static str,
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "invalid SPH parameter `{}` = {}: allowed {}",
+            self.field, self.value, self.allowed
+        )
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+/// Checks `min < value <= max` (or `min <= value` when `min_inclusive`), rejecting NaN and infinity.
+pub(crate) fn check_range(
+    field: &'static str,
+    value: f32,
+    min: f32,
+    min_inclusive: bool,
+    max: f32,
+    allowed: &'static str,
+) -> Result<(), ParamError> {
+    let above_min = if min_inclusive {
+        value >= min
+    } else {
+        value > min
+    };
+    if value.is_finite() && above_min && value <= max {
+        Ok(())
+    } else {
+        Err(ParamError {
+            field,
+            value: format!("{value}"),
+            allowed,
+        })
+    }
+}
+
+/// Inputs of the design's "automatic parameter calculation" (see [`SphParams::from_spacing`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpacingDerivation {
+    /// Initial particle spacing Δx [m].
+    pub spacing: f32,
+    /// Rest density ρ0 [kg/m³].
+    pub rest_density: f32,
+    /// The largest flow speed the scene is expected to reach [m/s], e.g. √(2 g H) for a column of
+    /// height H.
+    pub expected_peak_speed: f32,
+    /// CFL factor λ of dt = λ h / (c0 + v_peak).
+    pub cfl: f32,
+    /// Artificial-viscosity strength α of ν = α h c0 / 10 (the 3-D equivalent of Monaghan's α).
+    pub viscosity_alpha: f32,
+}
+
+impl Default for SpacingDerivation {
+    fn default() -> Self {
+        Self {
+            spacing: 0.02,
+            rest_density: 1000.0,
+            expected_peak_speed: 3.0,
+            cfl: 0.4,
+            viscosity_alpha: 0.05,
+        }
+    }
+}
+
+/// A surface tension γ for SI water scenes (Akinci 2013's order of magnitude, as used by
+/// SPlisHSPlasH's scenes); the water preset starts with surface tension off.
+pub const WATER_SURFACE_TENSION: f32 = 0.05;
+
+/// Ratio h / Δx: a cell of size h then holds 8 lattice particles, 27 cells hold 216 candidates.
+pub const SMOOTHING_RATIO: f32 = 2.0;
+
+impl SphParams {
+    /// The design document's parameter table ("seed"): μ 0.02, k 1, ρ0 1, γ 1, wall damping 0.5,
+    /// dt 0.005 s, leapfrog, Tait, with h = 0.1 and m = ρ0 (h/2)³.
+    pub fn seed() -> Self {
+        let h = 0.1;
+        let spacing = h / SMOOTHING_RATIO;
+        Self {
+            rest_density: 1.0,
+            particle_mass: spacing * spacing * spacing,
+            smoothing_radius: h,
+            stiffness: 1.0,
+            equation_of_state: EquationOfState::Tait,
+            clamp_negative_pressure: true,
+            viscosity: 0.02,
+            surface_tension: 1.0,
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            wall_damping: 0.5,
+            time_step: 0.005,
+            integrator: Integrator::Leapfrog,
+            neighbor_search: NeighborSearch::Grid,
+        }
+    }
+
+    /// Water in SI units at the default spacing of 0.02 m (see [`SpacingDerivation::default`]).
+    pub fn water() -> Self {
+        Self::from_spacing(SpacingDerivation::default())
+    }
+
+    /// The design's automatic parameter calculation: m = ρ0 Δx³, h = 2 Δx, c0 = 10 v_peak
+    /// (density fluctuations ~ (v/c0)² = 1%), Tait B = ρ0 c0² / 7, ν = α h c0 / 10,
+    /// dt = λ h / (c0 + v_peak). Surface tension starts off (0).
+    pub fn from_spacing(d: SpacingDerivation) -> Self {
+        let h = SMOOTHING_RATIO * d.spacing;
+        let c0 = 10.0 * d.expected_peak_speed;
+        let kinematic_viscosity = d.viscosity_alpha * h * c0 / 10.0;
+        Self {
+            rest_density: d.rest_density,
+            particle_mass: d.rest_density * d.spacing.powi(3),
+            smoothing_radius: h,
+            stiffness: d.rest_density * c0 * c0 / 7.0,
+            equation_of_state: EquationOfState::Tait,
+            clamp_negative_pressure: true,
+            viscosity: d.rest_density * kinematic_viscosity,
+            surface_tension: 0.0,
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            wall_damping: 0.5,
+            time_step: d.cfl * h / (c0 + d.expected_peak_speed),
+            integrator: Integrator::KickDriftKick,
+            neighbor_search: NeighborSearch::Grid,
+        }
+    }
+
+    /// The lattice spacing Δx = h / 2 these parameters were derived for.
+    pub fn spacing(&self) -> f32 {
+        self.smoothing_radius / SMOOTHING_RATIO
+    }
+
+    /// Speed of sound at rest c0 = sqrt(dp/dρ): sqrt(7 k / ρ0) for Tait, sqrt(k) for linear.
+    pub fn speed_of_sound(&self) -> f32 {
+        match self.equation_of_state {
+            EquationOfState::Tait => (7.0 * self.stiffness / self.rest_density).sqrt(),
+            EquationOfState::Linear => self.stiffness.sqrt(),
+        }
+    }
+
+    /// CFL number dt (c0 + v_max) / h for a given peak speed.
+    pub fn cfl_number(&self, max_speed: f32) -> f32 {
+        self.time_step * (self.speed_of_sound() + max_speed) / self.smoothing_radius
+    }
+
+    /// Checks every field; the error names the first field out of range, its value and the range.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check_range(
+            "rest_density",
+            self.rest_density,
+            0.0,
+            false,
+            1.0e5,
+            "(0, 1e5] kg/m^3",
+        )?;
+        check_range(
+            "particle_mass",
+            self.particle_mass,
+            0.0,
+            false,
+            1.0e6,
+            "(0, 1e6] kg",
+        )?;
+        check_range(
+            "smoothing_radius",
+            self.smoothing_radius,
+            1.0e-5,
+            true,
+            1.0e3,
+            "[1e-5, 1e3] m",
+        )?;
+        check_range(
+            "stiffness",
+            self.stiffness,
+            0.0,
+            false,
+            1.0e12,
+            "(0, 1e12] (Pa for Tait, m^2/s^2 for linear)",
+        )?;
+        check_range(
+            "viscosity",
+            self.viscosity,
+            0.0,
+            true,
+            1.0e6,
+            "[0, 1e6] Pa s",
+        )?;
+        check_range(
+            "surface_tension",
+            self.surface_tension,
+            0.0,
+            true,
+            1.0e6,
+            "[0, 1e6]",
+        )?;
+        let g = self.gravity;
+        if !(g.is_finite() && g.length() <= 1.0e3) {
+            return Err(ParamError {
+                field: "gravity",
+                value: format!("{g}"),
+                allowed: "finite, |g| <= 1e3 m/s^2",
+            });
+        }
+        check_range("wall_damping", self.wall_damping, 0.0, true, 1.0, "[0, 1]")?;
+        check_range("time_step", self.time_step, 0.0, false, 1.0, "(0, 1] s")?;
+        Ok(())
+    }
+
+    /// Whether the surface-tension stage (normals pass and cohesion/curvature terms) is needed.
+    pub fn has_surface_tension(&self) -> bool {
+        self.surface_tension > 0.0
+    }
+
+    /// Whether the viscosity term is needed.
+    pub fn has_viscosity(&self) -> bool {
+        self.viscosity > 0.0
+    }
+}
+
+impl Default for SphParams {
+    fn default() -> Self {
+        Self::water()
+    }
+}

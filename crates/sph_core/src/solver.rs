@@ -1,0 +1,459 @@
+//! The CPU reference solver: structure-of-arrays f32 particle data, rayon-parallel passes, and the
+//! same stage order as the GPU pipeline (sort -> density -> [normals] -> forces -> integrate).
+
+use crate::container::BoxContainer;
+use crate::density::compute_density_pressure;
+use crate::diagnostics::{Diagnostics, DiagnosticsInput};
+use crate::forces::{compute_accelerations, ForceInputs};
+use crate::integrate;
+use crate::neighbor::Neighbors;
+use crate::params::{Integrator, ParamError, SphParams};
+use crate::stage::StageContext;
+use crate::surface_tension_akinci2013::compute_normals;
+use glam::Vec3;
+use rayon::prelude::*;
+use std::time::{Duration, Instant};
+
+/// Structure-of-arrays particle state, kept in the neighbour-sort order of the last evaluation.
+#[derive(Clone, Debug, Default)]
+pub struct ParticleData {
+    /// Positions x [m].
+    pub position: Vec<Vec3>,
+    /// Velocities v [m/s] (mid-step v½ inside a kick-drift-kick step).
+    pub velocity: Vec<Vec3>,
+    /// The velocity the viscosity term sees during a force evaluation.
+    pub velocity_predicted: Vec<Vec3>,
+    /// Accelerations a [m/s²] of the last force evaluation.
+    pub acceleration: Vec<Vec3>,
+    /// The design's leapfrog: the start-of-step acceleration a0.
+    pub acceleration_start: Vec<Vec3>,
+    /// Densities ρ [kg/m³].
+    pub density: Vec<f32>,
+    /// Pressures p [Pa].
+    pub pressure: Vec<f32>,
+    /// Akinci normals (only maintained with surface tension).
+    pub normal: Vec<Vec3>,
+    /// Stable particle identifiers (spawn order), so sorted states can be compared.
+    pub id: Vec<u32>,
+}
+
+impl ParticleData {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    /// Whether there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    /// Gathers every per-particle array by `order` (sorted slot k takes particle order[k]).
+    fn reorder(&mut self, order: &[u32], scratch: &mut Vec<Vec3>) {
+        for field in [
+            &mut self.position,
+            &mut self.velocity,
+            &mut self.velocity_predicted,
+            &mut self.acceleration,
+            &mut self.acceleration_start,
+        ] {
+            scratch.clear();
+            scratch.extend(order.iter().map(|&i| field[i as usize]));
+            std::mem::swap(field, scratch);
+        }
+        let id: Vec<u32> = order.iter().map(|&i| self.id[i as usize]).collect();
+        self.id = id;
+    }
+}
+
+/// What a spawn did: how many particles were added and how many were refused for capacity.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SpawnReport {
+    /// Particles added.
+    pub spawned: usize,
+    /// Particles refused because the solver was full.
+    pub refused: usize,
+}
+
+/// Wall-clock time spent in each stage since the solver was created (or the timings were reset).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimings {
+    /// Neighbour sort and reorder (count, prefix sum, scatter; or hash sort).
+    pub sort: Duration,
+    /// Density and pressure.
+    pub density: Duration,
+    /// Akinci normals.
+    pub normals: Duration,
+    /// Accelerations.
+    pub forces: Duration,
+    /// Integration and wall collisions.
+    pub integrate: Duration,
+}
+
+impl StageTimings {
+    /// (stage name, time) pairs in pipeline order.
+    pub fn stages(&self) -> [(&'static str, Duration); 5] {
+        [
+            ("sort", self.sort),
+            ("density", self.density),
+            ("normals", self.normals),
+            ("forces", self.forces),
+            ("integrate", self.integrate),
+        ]
+    }
+}
+
+/// The CPU SPH solver.
+#[derive(Clone, Debug)]
+pub struct CpuSolver {
+    params: SphParams,
+    container: BoxContainer,
+    capacity: usize,
+    neighbors: Neighbors,
+    particles: ParticleData,
+    scratch: Vec<Vec3>,
+    next_id: u32,
+    step_count: u64,
+    time: f64,
+    timings: StageTimings,
+    /// Set when particles were added or parameters changed since the last force evaluation, so
+    /// the kick-drift-kick integrator must evaluate forces before its first kick.
+    forces_stale: bool,
+}
+
+/// Checks a particle capacity (1 ..= 2^26).
+pub fn validate_capacity(capacity: usize) -> Result<(), ParamError> {
+    if (1..=1 << 26).contains(&capacity) {
+        Ok(())
+    } else {
+        Err(ParamError {
+            field: "capacity",
+            value: capacity.to_string(),
+            allowed: "[1, 67108864] particles",
+        })
+    }
+}
+
+impl CpuSolver {
+    /// A solver for at most `capacity` particles; validates everything first.
+    pub fn new(
+        params: SphParams,
+        container: BoxContainer,
+        capacity: usize,
+    ) -> Result<Self, ParamError> {
+        params.validate()?;
+        container.validate()?;
+        validate_capacity(capacity)?;
+        let neighbors = Neighbors::new(
+            params.neighbor_search,
+            &container,
+            params.smoothing_radius,
+            capacity,
+        )?;
+        Ok(Self {
+            params,
+            container,
+            capacity,
+            neighbors,
+            particles: ParticleData::default(),
+            scratch: Vec::new(),
+            next_id: 0,
+            step_count: 0,
+            time: 0.0,
+            timings: StageTimings::default(),
+            forces_stale: true,
+        })
+    }
+
+    /// The parameters in use.
+    pub fn params(&self) -> &SphParams {
+        &self.params
+    }
+
+    /// Replaces the parameters (validated); a changed neighbour mode or h rebuilds the structure.
+    pub fn set_params(&mut self, params: SphParams) -> Result<(), ParamError> {
+        params.validate()?;
+        if params.neighbor_search != self.params.neighbor_search
+            || params.smoothing_radius != self.params.smoothing_radius
+        {
+            self.neighbors = Neighbors::new(
+                params.neighbor_search,
+                &self.container,
+                params.smoothing_radius,
+                self.capacity,
+            )?;
+        }
+        self.params = params;
+        self.forces_stale = true;
+        Ok(())
+    }
+
+    /// The container.
+    pub fn container(&self) -> &BoxContainer {
+        &self.container
+    }
+
+    /// Maximum particle count.
+    pub fn capacity(&self) -> usize {
+        self.capacity
+    }
+
+    /// The particle arrays (in the solver's current sort order).
+    pub fn particles(&self) -> &ParticleData {
+        &self.particles
+    }
+
+    /// Live particle count.
+    pub fn len(&self) -> usize {
+        self.particles.len()
+    }
+
+    /// Whether there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.particles.is_empty()
+    }
+
+    /// Steps taken.
+    pub fn step_count(&self) -> u64 {
+        self.step_count
+    }
+
+    /// Simulated time [s].
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The neighbour-search structure (valid for the current order after a step).
+    pub fn neighbors(&self) -> &Neighbors {
+        &self.neighbors
+    }
+
+    /// Adds particles with one common velocity; refuses (and reports) what exceeds the capacity.
+    pub fn spawn(&mut self, positions: &[Vec3], velocity: Vec3) -> SpawnReport {
+        self.spawn_each(positions, |_| velocity)
+    }
+
+    /// Adds particles with their own velocities (`velocities.len()` must equal `positions.len()`;
+    /// missing velocities are zero); refuses what exceeds the capacity.
+    pub fn spawn_with_velocities(
+        &mut self,
+        positions: &[Vec3],
+        velocities: &[Vec3],
+    ) -> SpawnReport {
+        self.spawn_each(positions, |k| {
+            velocities.get(k).copied().unwrap_or(Vec3::ZERO)
+        })
+    }
+
+    fn spawn_each(&mut self, positions: &[Vec3], velocity: impl Fn(usize) -> Vec3) -> SpawnReport {
+        let free = self.capacity - self.particles.len();
+        let take = positions.len().min(free);
+        let p = &mut self.particles;
+        let rho0 = self.params.rest_density;
+        for (k, &x) in positions[..take].iter().enumerate() {
+            let v = velocity(k);
+            p.position.push(x);
+            p.velocity.push(v);
+            p.velocity_predicted.push(v);
+            p.acceleration.push(Vec3::ZERO);
+            p.acceleration_start.push(Vec3::ZERO);
+            p.density.push(rho0);
+            p.pressure.push(0.0);
+            p.normal.push(Vec3::ZERO);
+            p.id.push(self.next_id);
+            self.next_id += 1;
+        }
+        self.forces_stale |= take > 0;
+        SpawnReport {
+            spawned: take,
+            refused: positions.len() - take,
+        }
+    }
+
+    /// Removes every particle and resets time.
+    pub fn clear(&mut self) {
+        self.particles = ParticleData::default();
+        self.next_id = 0;
+        self.step_count = 0;
+        self.time = 0.0;
+    }
+
+    /// Force evaluations per step of the current integrator (kick-drift-kick adds one on the first
+    /// step after a spawn or parameter change).
+    pub fn evaluations_per_step(&self) -> u32 {
+        match self.params.integrator {
+            Integrator::Leapfrog => 2,
+            Integrator::SymplecticEuler | Integrator::KickDriftKick => 1,
+        }
+    }
+
+    /// Sort by cell, then density/pressure, normals (with surface tension) and accelerations at
+    /// the current positions; the viscosity term reads `velocity_predicted` unless `use_velocity`.
+    fn evaluate(&mut self, ctx: &StageContext, use_velocity: bool) {
+        let t = Instant::now();
+        let order = self.neighbors.sort(&self.particles.position);
+        self.particles.reorder(order, &mut self.scratch);
+        let p = &mut self.particles;
+        self.timings.sort += t.elapsed();
+        let t = Instant::now();
+        compute_density_pressure(
+            ctx,
+            &self.neighbors,
+            &p.position,
+            &mut p.density,
+            &mut p.pressure,
+        );
+        self.timings.density += t.elapsed();
+        if self.params.has_surface_tension() {
+            let t = Instant::now();
+            compute_normals(ctx, &self.neighbors, &p.position, &p.density, &mut p.normal);
+            self.timings.normals += t.elapsed();
+        }
+        let t = Instant::now();
+        let input = ForceInputs {
+            position: &p.position,
+            velocity: if use_velocity {
+                &p.velocity
+            } else {
+                &p.velocity_predicted
+            },
+            density: &p.density,
+            pressure: &p.pressure,
+            normal: &p.normal,
+        };
+        compute_accelerations(ctx, &self.neighbors, &input, &mut p.acceleration);
+        self.timings.forces += t.elapsed();
+    }
+
+    /// Advances the simulation by one time step with the selected integrator.
+    pub fn step(&mut self) {
+        let ctx = StageContext::new(&self.params);
+        let dt = self.params.time_step;
+        let walls = self.container.walls(self.params.wall_damping);
+        match self.params.integrator {
+            Integrator::SymplecticEuler => {
+                self.evaluate(&ctx, true);
+                let t = Instant::now();
+                let p = &mut self.particles;
+                integrate::euler(
+                    &mut p.position,
+                    &mut p.velocity,
+                    &p.acceleration,
+                    dt,
+                    &walls,
+                );
+                self.timings.integrate += t.elapsed();
+            }
+            Integrator::KickDriftKick => {
+                if self.forces_stale {
+                    // The closing kick of the previous step left no valid acceleration.
+                    self.evaluate(&ctx, true);
+                }
+                let t = Instant::now();
+                let p = &mut self.particles;
+                integrate::kick_drift(
+                    &mut p.position,
+                    &mut p.velocity,
+                    &mut p.velocity_predicted,
+                    &p.acceleration,
+                    dt,
+                    &walls,
+                );
+                self.timings.integrate += t.elapsed();
+                self.evaluate(&ctx, false);
+                let t = Instant::now();
+                let p = &mut self.particles;
+                integrate::kick(
+                    &mut p.position,
+                    &mut p.velocity,
+                    &p.acceleration,
+                    dt,
+                    &walls,
+                );
+                self.timings.integrate += t.elapsed();
+            }
+            Integrator::Leapfrog => {
+                self.evaluate(&ctx, true);
+                let t = Instant::now();
+                let p = &mut self.particles;
+                p.acceleration_start.copy_from_slice(&p.acceleration);
+                integrate::leapfrog_drift(
+                    &mut p.position,
+                    &p.velocity,
+                    &mut p.velocity_predicted,
+                    &p.acceleration_start,
+                    dt,
+                    &walls,
+                );
+                self.timings.integrate += t.elapsed();
+                self.evaluate(&ctx, false);
+                let t = Instant::now();
+                let p = &mut self.particles;
+                integrate::leapfrog_kick(
+                    &mut p.position,
+                    &mut p.velocity,
+                    &p.acceleration_start,
+                    &p.acceleration,
+                    dt,
+                    &walls,
+                );
+                self.timings.integrate += t.elapsed();
+            }
+        }
+        self.forces_stale = false;
+        self.step_count += 1;
+        self.time += dt as f64;
+    }
+
+    /// Runs the density pass only (sorting first), e.g. to measure an initial state.
+    pub fn update_densities(&mut self) {
+        let ctx = StageContext::new(&self.params);
+        let order = self.neighbors.sort(&self.particles.position);
+        self.particles.reorder(order, &mut self.scratch);
+        let p = &mut self.particles;
+        compute_density_pressure(
+            &ctx,
+            &self.neighbors,
+            &p.position,
+            &mut p.density,
+            &mut p.pressure,
+        );
+    }
+
+    /// Wall-clock time per stage accumulated since creation or [`Self::reset_timings`].
+    pub fn timings(&self) -> &StageTimings {
+        &self.timings
+    }
+
+    /// Zeroes the stage timings.
+    pub fn reset_timings(&mut self) {
+        self.timings = StageTimings::default();
+    }
+
+    /// Diagnostics of the current state.
+    pub fn diagnostics(&self) -> Diagnostics {
+        let p = &self.particles;
+        Diagnostics::measure(
+            &self.params,
+            &self.container,
+            &DiagnosticsInput {
+                position: &p.position,
+                velocity: &p.velocity,
+                density: &p.density,
+            },
+        )
+    }
+
+    /// Mean number of neighbour candidates visited per particle (before the distance check).
+    pub fn mean_candidates(&self) -> f32 {
+        let p = &self.particles.position;
+        if p.is_empty() {
+            return 0.0;
+        }
+        let total: usize = p
+            .par_iter()
+            .map(|&x| self.neighbors.candidate_count(x))
+            .sum();
+        total as f32 / p.len() as f32
+    }
+}
