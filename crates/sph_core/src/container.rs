@@ -6,6 +6,7 @@ use glam::{Vec2, Vec3};
 
 /// An axis-aligned box standing on a floor plate; y is up.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
 pub struct BoxContainer {
     /// Centre of the floor plate [m]; the floor is at `floor_center.y`.
     pub floor_center: Vec3,

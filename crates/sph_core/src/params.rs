@@ -6,6 +6,7 @@ use std::fmt;
 
 /// Equation of state turning density into pressure.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
 pub enum EquationOfState {
     /// p = k (ρ - ρ0) (Müller 2003 eq. 12); k in m²/s² (Pa per kg/m³).
     Linear,
@@ -16,6 +17,7 @@ pub enum EquationOfState {
 
 /// Time integrator.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
 pub enum Integrator {
     /// Symplectic (semi-implicit) Euler: v += a dt, then x += v dt. One force evaluation per step.
     SymplecticEuler,
@@ -30,6 +32,7 @@ pub enum Integrator {
 
 /// Neighbour-search structure.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
 pub enum NeighborSearch {
     /// Dense uniform grid over the container (cell = h) built by a counting sort. Our default.
     #[default]
@@ -40,6 +43,7 @@ pub enum NeighborSearch {
 
 /// Every parameter of the SPH model, in SI units unless a preset says otherwise.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
 pub struct SphParams {
     /// Rest density ρ0 [kg/m³].
     pub rest_density: f32,

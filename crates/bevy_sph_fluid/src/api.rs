@@ -1,0 +1,140 @@
+//! The main-world API: resources users edit and read, components that describe the scene, and
+//! the readback messages.
+
+use bevy::prelude::*;
+use sph_core::{BlockSpawn, BoxContainer, Diagnostics, PipeEmitter};
+
+/// Which solver runs the simulation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Reflect)]
+pub enum SphBackend {
+    /// GPU compute passes in the render graph (falls back to the CPU without compute shaders).
+    #[default]
+    Gpu,
+    /// The `sph_core` CPU reference solver, stepped in the main world.
+    Cpu,
+}
+
+/// The simulation parameters ([`sph_core::SphParams`]); edits take effect on the next step.
+/// Invalid values are not applied: the step is skipped and [`SphStats::error`] names the field.
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Reflect, Deref, DerefMut)]
+#[reflect(Resource)]
+pub struct SphParams(pub sph_core::SphParams);
+
+impl Default for SphParams {
+    fn default() -> Self {
+        Self(sph_core::SphParams::water())
+    }
+}
+
+/// Run, pause, single-step, reset and substeps per frame.
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq, Reflect)]
+#[reflect(Resource)]
+pub struct SphControl {
+    /// Step every frame while true.
+    pub running: bool,
+    /// Take exactly one step on the next frame (cleared when taken), also while paused.
+    pub single_step: bool,
+    /// Remove every particle on the next frame and respawn the block spawners (cleared when done).
+    pub reset: bool,
+    /// Simulation steps per rendered frame while running (1 ..= 64).
+    pub substeps: u32,
+}
+
+impl Default for SphControl {
+    fn default() -> Self {
+        Self {
+            running: true,
+            single_step: false,
+            reset: false,
+            substeps: 1,
+        }
+    }
+}
+
+/// Health of the simulation as last measured.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Reflect)]
+pub enum SphHealth {
+    /// Not measured yet (the GPU backend measures on readback).
+    #[default]
+    Unknown,
+    /// No NaN, nothing outside the container.
+    Ok,
+    /// NaN or escaped particles were seen.
+    Unstable,
+}
+
+/// Statistics of the simulation, updated every frame.
+#[derive(Resource, Clone, Debug, Default, Reflect)]
+#[reflect(Resource)]
+pub struct SphStats {
+    /// The backend actually running (the GPU request may have fallen back to the CPU).
+    pub backend: SphBackend,
+    /// Adapter name ("cpu" for the CPU backend).
+    pub adapter: String,
+    /// Steps taken since the last reset.
+    pub step_count: u64,
+    /// Simulated time since the last reset [s].
+    pub sim_time: f64,
+    /// Live particles.
+    pub particle_count: u32,
+    /// Particle slots.
+    pub capacity: u32,
+    /// Particles refused because the capacity was full, since the last reset.
+    pub refused_spawns: u64,
+    /// Compute dispatches in the last step (GPU backend).
+    pub dispatches_per_step: u32,
+    /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports
+    /// them and `RenderDiagnosticsPlugin` is added (GPU backend), wall clock (CPU backend).
+    pub stage_ms: Vec<(String, f64)>,
+    /// GPU memory of the particle buffers per particle slot [bytes].
+    pub gpu_bytes_per_particle: u32,
+    /// Health as last measured.
+    pub health: SphHealth,
+    /// Diagnostics of the last readback (GPU) or step (CPU).
+    #[reflect(ignore)]
+    pub diagnostics: Option<Diagnostics>,
+    /// Why the simulation is not stepping (invalid parameter, no container, shaders compiling...).
+    pub error: Option<String>,
+}
+
+/// The container: a box standing on a floor plate. Exactly one entity should carry it.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect, Deref, DerefMut)]
+#[reflect(Component)]
+pub struct SphContainer(pub BoxContainer);
+
+/// A block of particles spawned once when the component is added, and again on every reset.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct SphBlockSpawn {
+    /// The lattice.
+    pub block: BlockSpawn,
+    /// Initial velocity of every particle [m/s].
+    pub velocity: Vec3,
+}
+
+/// A pipe emitter: spawns whole discs of particles every frame (the design's water jet).
+#[derive(Component, Clone, Debug, PartialEq)]
+pub struct SphEmitter(pub PipeEmitter);
+
+/// Ask for a snapshot of the particle state; answered by a [`SphSnapshot`] a few frames later.
+/// Nothing is read back unless asked.
+#[derive(Message, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SphReadbackRequest;
+
+/// The particle state at one step: positions, velocities, accelerations, densities and stable
+/// ids, in the
+/// solver's current (cell-sorted) order.
+#[derive(Message, Clone, Debug, Default, PartialEq)]
+pub struct SphSnapshot {
+    /// The step the snapshot was taken after.
+    pub step: u64,
+    /// Particle ids (spawn order since the last reset).
+    pub ids: Vec<u32>,
+    /// Positions [m].
+    pub positions: Vec<Vec3>,
+    /// Velocities [m/s].
+    pub velocities: Vec<Vec3>,
+    /// Accelerations of the last force evaluation [m/s²].
+    pub accelerations: Vec<Vec3>,
+    /// Densities [kg/m³].
+    pub densities: Vec<f32>,
+}

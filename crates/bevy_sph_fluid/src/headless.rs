@@ -1,0 +1,156 @@
+//! Headless apps: the plugin with no window, driven by a manual `app.update()` loop (tests, the
+//! bench command). A missing Vulkan adapter is a clear error naming the package to install.
+
+use crate::prelude::*;
+use crate::render::SphRenderFeedback;
+use bevy::app::PluginGroupBuilder;
+use bevy::prelude::*;
+use bevy::render::pipelined_rendering::PipelinedRenderingPlugin;
+use bevy::render::settings::{RenderCreation, WgpuSettings};
+use bevy::render::RenderPlugin;
+use bevy::window::ExitCondition;
+
+/// The message when no Vulkan adapter exists.
+pub const NO_ADAPTER_HELP: &str = "The GPU backend here runs on Vulkan; without a GPU, Mesa's \
+software Vulkan driver works: install it with `sudo apt-get install mesa-vulkan-drivers` \
+(scripts/test.sh does this)";
+
+/// The Vulkan adapter's name, or an error naming the package to install.
+pub fn vulkan_adapter() -> Result<String, String> {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+    desc.backends = wgpu::Backends::VULKAN;
+    let instance = wgpu::Instance::new(desc);
+    match bevy::tasks::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default())) {
+        Ok(adapter) => Ok(adapter.get_info().name),
+        Err(e) => Err(format!("no Vulkan adapter ({e}). {NO_ADAPTER_HELP}")),
+    }
+}
+
+/// Panics with [`vulkan_adapter`]'s error when no Vulkan adapter exists (for tests).
+pub fn require_vulkan_adapter() -> String {
+    vulkan_adapter().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Collects every snapshot the plugin delivers.
+#[derive(Resource, Default)]
+pub struct Snapshots(pub Vec<SphSnapshot>);
+
+fn collect_snapshots(mut reader: MessageReader<SphSnapshot>, mut out: ResMut<Snapshots>) {
+    out.0.extend(reader.read().cloned());
+}
+
+/// A headless app with the plugin on `backend`, paused, ready for `update()`. `default_plugins`
+/// is `DefaultPlugins.build()` without the windowing backend (the caller names it, e.g.
+/// `.disable::<bevy::winit::WinitPlugin>()`, since only apps enable Bevy's `bevy_winit`).
+/// The GPU backend needs a Vulkan adapter (see [`vulkan_adapter`]); `timed` adds GPU timestamps
+/// per stage.
+pub fn headless_app(
+    default_plugins: PluginGroupBuilder,
+    capacity: u32,
+    backend: SphBackend,
+    timed: bool,
+) -> App {
+    let mut app = App::new();
+    let render = if backend == SphBackend::Gpu {
+        RenderPlugin {
+            synchronous_pipeline_compilation: true,
+            ..default()
+        }
+    } else {
+        RenderPlugin {
+            render_creation: RenderCreation::Automatic(Box::new(WgpuSettings {
+                backends: None,
+                ..default()
+            })),
+            ..default()
+        }
+    };
+    app.add_plugins(
+        default_plugins
+            .set(WindowPlugin {
+                primary_window: None,
+                exit_condition: ExitCondition::DontExit,
+                ..default()
+            })
+            .set(render)
+            .disable::<PipelinedRenderingPlugin>()
+            .disable::<bevy::log::LogPlugin>(),
+    );
+    if timed {
+        app.add_plugins(bevy::render::diagnostic::RenderDiagnosticsPlugin);
+    }
+    app.add_plugins(SphFluidPlugin::new(capacity, backend));
+    app.init_resource::<Snapshots>()
+        .add_systems(Last, collect_snapshots);
+    app.insert_resource(SphControl {
+        running: false,
+        ..default()
+    });
+    while app.plugins_state() == bevy::app::PluginsState::Adding {
+        bevy::tasks::tick_global_task_pools_on_main_thread();
+    }
+    app.finish();
+    app.cleanup();
+    app
+}
+
+/// Steps taken so far, as the render world (GPU) or the solver (CPU) reports them.
+pub fn steps_taken(app: &App) -> u64 {
+    match app.world().resource::<SphStats>().backend {
+        SphBackend::Gpu => app.world().resource::<SphRenderFeedback>().get().step_count,
+        SphBackend::Cpu => app.world().resource::<SphStats>().step_count,
+    }
+}
+
+/// Takes single steps until `steps` have been taken (pipelines may need frames to compile).
+pub fn step_to(app: &mut App, steps: u64) -> Result<(), String> {
+    for _ in 0..2000 {
+        let done = steps_taken(app);
+        if done >= steps {
+            return if done == steps {
+                Ok(())
+            } else {
+                Err(format!("overshot: {done} steps taken, {steps} asked"))
+            };
+        }
+        app.world_mut().resource_mut::<SphControl>().single_step = true;
+        app.update();
+    }
+    Err(format!(
+        "no progress after 2000 frames: {:?}",
+        app.world().resource::<SphStats>().error
+    ))
+}
+
+/// Requests a readback and updates until the snapshot arrives.
+pub fn snapshot(app: &mut App) -> Result<SphSnapshot, String> {
+    app.world_mut().resource_mut::<Snapshots>().0.clear();
+    app.world_mut().write_message(SphReadbackRequest);
+    for _ in 0..200 {
+        app.update();
+        if let Some(s) = app.world_mut().resource_mut::<Snapshots>().0.pop() {
+            return Ok(s);
+        }
+    }
+    Err("no snapshot after 200 frames".into())
+}
+
+/// Blocks until the GPU has finished all submitted work (for timing; never in a game frame).
+pub fn wait_for_gpu(app: &App) {
+    if let Some(device) = app
+        .world()
+        .get_resource::<bevy::render::renderer::RenderDevice>()
+    {
+        let _ = device.poll(bevy::render::render_resource::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        });
+    }
+}
+
+/// Sorts a snapshot by particle id.
+pub fn by_id(s: &SphSnapshot) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..s.ids.len()).collect();
+    order.sort_by_key(|&k| s.ids[k]);
+    order
+}

@@ -1,0 +1,135 @@
+//! On-demand readback: a [`SphReadbackRequest`] becomes a [`SphSnapshot`]. On the GPU backend the
+//! state buffers are copied by Bevy's asynchronous `Readback` (never stalling a frame); on the CPU
+//! backend the solver's arrays are copied.
+
+use crate::api::*;
+use crate::simulation::SphSimulation;
+use crate::SphSystems;
+use bevy::ecs::schedule::InternedScheduleLabel;
+use bevy::prelude::*;
+use bevy::render::gpu_readback::{Readback, ReadbackComplete};
+use sph_core::gpu_layout::w_to_id;
+
+/// Which state buffer a readback entity copies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Part {
+    Position = 0,
+    Velocity = 1,
+    Acceleration = 2,
+    Density = 3,
+}
+
+/// Readbacks in flight: the bytes of each part as they arrive.
+#[derive(Resource, Default)]
+struct PendingReadback {
+    parts: [Option<Vec<u8>>; 4],
+    in_flight: bool,
+    step: u64,
+}
+
+pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
+    app.init_resource::<PendingReadback>().add_systems(
+        schedule,
+        (sph_request_readback, sph_deliver_snapshot)
+            .chain()
+            .in_set(SphSystems::Writeback),
+    );
+}
+
+fn sph_request_readback(
+    mut requests: MessageReader<SphReadbackRequest>,
+    sim: Res<SphSimulation>,
+    stats: Res<SphStats>,
+    mut pending: ResMut<PendingReadback>,
+    mut snapshots: MessageWriter<SphSnapshot>,
+    mut commands: Commands,
+) {
+    if requests.read().count() == 0 {
+        return;
+    }
+    match sim.backend {
+        SphBackend::Cpu => {
+            let snapshot = sim
+                .cpu
+                .as_ref()
+                .map(|solver| {
+                    let p = solver.particles();
+                    SphSnapshot {
+                        step: solver.step_count(),
+                        ids: p.id.clone(),
+                        positions: p.position.clone(),
+                        velocities: p.velocity.clone(),
+                        accelerations: p.acceleration.clone(),
+                        densities: p.density.clone(),
+                    }
+                })
+                .unwrap_or_default();
+            snapshots.write(snapshot);
+        }
+        SphBackend::Gpu => {
+            let count = sim.particle_count as u64;
+            let buffers = sim.frame.buffers.as_ref();
+            if count == 0 || buffers.is_none() {
+                snapshots.write(SphSnapshot {
+                    step: stats.step_count,
+                    ..default()
+                });
+                return;
+            }
+            if pending.in_flight {
+                return;
+            }
+            let Some(buffers) = buffers else { return };
+            // The copy is taken after this frame's steps.
+            *pending = PendingReadback {
+                in_flight: true,
+                step: stats.step_count + sim.frame.steps as u64,
+                ..default()
+            };
+            for (part, handle, stride) in [
+                (Part::Position, &buffers.position, 16),
+                (Part::Velocity, &buffers.velocity, 16),
+                (Part::Acceleration, &buffers.acceleration, 16),
+                (Part::Density, &buffers.density, 4),
+            ] {
+                commands
+                    .spawn(Readback::buffer_range(handle.clone(), 0, count * stride))
+                    .observe(
+                        move |event: On<ReadbackComplete>,
+                              mut pending: ResMut<PendingReadback>,
+                              mut commands: Commands| {
+                            pending.parts[part as usize] = Some(event.data.clone());
+                            commands.entity(event.entity).despawn();
+                        },
+                    );
+            }
+        }
+    }
+}
+
+fn sph_deliver_snapshot(
+    mut pending: ResMut<PendingReadback>,
+    mut snapshots: MessageWriter<SphSnapshot>,
+) {
+    if !pending.in_flight || pending.parts.iter().any(Option::is_none) {
+        return;
+    }
+    let [Some(position), Some(velocity), Some(acceleration), Some(density)] =
+        std::mem::take(&mut pending.parts)
+    else {
+        return;
+    };
+    pending.in_flight = false;
+    let position: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&position);
+    let velocity: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&velocity);
+    let acceleration: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&acceleration);
+    let xyz = |v: &[f32; 4]| Vec3::new(v[0], v[1], v[2]);
+    snapshots.write(SphSnapshot {
+        step: pending.step,
+        ids: position.iter().map(|p| w_to_id(p[3])).collect(),
+        positions: position.iter().map(xyz).collect(),
+        velocities: velocity.iter().map(xyz).collect(),
+        accelerations: acceleration.iter().map(xyz).collect(),
+        densities: bytemuck::pod_collect_to_vec(&density),
+    });
+}

@@ -1,0 +1,30 @@
+// The one bind group every SPH pass shares (group 0). Particle state is structure-of-arrays;
+// position.w holds the particle id (bit-cast). `sorted_*` receive the scatter and are copied back.
+#define_import_path sph::bindings
+
+#import sph::types::SphUniforms
+
+@group(0) @binding(0) var<uniform> params: SphUniforms;
+@group(0) @binding(1) var<storage, read_write> position: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read_write> velocity: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read_write> velocity_predicted: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read_write> acceleration: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read_write> acceleration_start: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read_write> density: array<f32>;
+@group(0) @binding(7) var<storage, read_write> pressure: array<f32>;
+@group(0) @binding(8) var<storage, read_write> normal: array<vec4<f32>>;
+@group(0) @binding(9) var<storage, read_write> sorted_position: array<vec4<f32>>;
+@group(0) @binding(10) var<storage, read_write> sorted_velocity: array<vec4<f32>>;
+@group(0) @binding(11) var<storage, read_write> sorted_velocity_predicted: array<vec4<f32>>;
+@group(0) @binding(12) var<storage, read_write> sorted_acceleration: array<vec4<f32>>;
+@group(0) @binding(13) var<storage, read_write> sorted_acceleration_start: array<vec4<f32>>;
+// Grid mode: each particle's cell, its rank in the cell, per-cell counts, exclusive offsets.
+@group(0) @binding(14) var<storage, read_write> cell_of: array<u32>;
+@group(0) @binding(15) var<storage, read_write> rank_in_cell: array<u32>;
+@group(0) @binding(16) var<storage, read_write> cell_counts: array<atomic<u32>>;
+@group(0) @binding(17) var<storage, read_write> cell_start: array<u32>;
+// Hash mode: (key, particle) pairs sorted by the bitonic network, per-bucket start + 1 and end.
+@group(0) @binding(18) var<storage, read_write> sort_keys: array<u32>;
+@group(0) @binding(19) var<storage, read_write> sort_values: array<u32>;
+@group(0) @binding(20) var<storage, read_write> bucket_start: array<u32>;
+@group(0) @binding(21) var<storage, read_write> bucket_end: array<u32>;

@@ -1,0 +1,98 @@
+// Müller 2003 kernels, Akinci 2013 cohesion, the equations of state and the wall collision.
+// Rust twins: sph_core::{kernel, eos, container}.
+#define_import_path sph::kernels
+
+#import sph::bindings::params
+
+// W_poly6 = 315/(64π h⁹) (h² - r²)³, branch-free (Müller 2003 eq. 20).
+fn poly6(r2: f32) -> f32 {
+    let d = max(params.kernel_a.y - r2, 0.0);
+    return params.kernel_a.z * d * d * d;
+}
+
+// ∇W_poly6 = -945/(32π h⁹) (h² - r²)² r.
+fn poly6_grad(r: vec3<f32>, r2: f32) -> vec3<f32> {
+    if r2 >= params.kernel_a.y {
+        return vec3<f32>(0.0);
+    }
+    let d = params.kernel_a.y - r2;
+    return r * (params.kernel_a.w * d * d);
+}
+
+// ∇W_spiky = -45/(π h⁶) (h - r)² r/|r|; zero for coincident particles.
+fn spiky_grad(r: vec3<f32>, r_len: f32) -> vec3<f32> {
+    let h = params.kernel_a.x;
+    if r_len >= h || r_len <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let d = h - r_len;
+    return r * (params.kernel_b.x * d * d / r_len);
+}
+
+// ∇²W_viscosity = 45/(π h⁶) (h - r) (Müller 2003 eq. 22).
+fn viscosity_laplacian(r_len: f32) -> f32 {
+    let h = params.kernel_a.x;
+    if r_len >= h {
+        return 0.0;
+    }
+    return params.kernel_b.y * (h - r_len);
+}
+
+// Akinci 2013 eq. 2 cohesion spline.
+fn cohesion(r_len: f32) -> f32 {
+    let h = params.kernel_a.x;
+    if r_len >= h || r_len <= 0.0 {
+        return 0.0;
+    }
+    let d = h - r_len;
+    let core = d * d * d * r_len * r_len * r_len;
+    if 2.0 * r_len > h {
+        return params.kernel_b.z * core;
+    }
+    return params.kernel_b.z * (2.0 * core - params.kernel_b.w);
+}
+
+// Linear p = k (ρ - ρ0) or Tait p = k ((ρ/ρ0)⁷ - 1), optionally clamped at zero.
+fn eos_pressure(rho: f32) -> f32 {
+    let rho0 = params.material.x;
+    let k = params.material.y;
+    var p: f32;
+    if params.flags.x == 1u {
+        let ratio = rho / rho0;
+        let r2 = ratio * ratio;
+        let r3 = r2 * ratio;
+        p = k * (r3 * r3 * ratio - 1.0);
+    } else {
+        p = k * (rho - rho0);
+    }
+    if params.flags.y == 1u {
+        p = max(p, 0.0);
+    }
+    return p;
+}
+
+struct PositionVelocity {
+    x: vec3<f32>,
+    v: vec3<f32>,
+}
+
+// One axis of the design's wall collision: clamp, and reflect + damp an outward velocity.
+fn collide_axis(x: f32, v: f32, lo: f32, hi: f32, damping: f32) -> vec2<f32> {
+    if x <= lo {
+        return vec2<f32>(lo, select(v, -v * damping, v < 0.0));
+    }
+    if x >= hi {
+        return vec2<f32>(hi, select(v, -v * damping, v > 0.0));
+    }
+    return vec2<f32>(x, v);
+}
+
+fn collide(x: vec3<f32>, v: vec3<f32>) -> PositionVelocity {
+    let lo = params.box_min.xyz;
+    let hi = params.box_max.xyz;
+    let damping = params.box_min.w;
+    let cx = collide_axis(x.x, v.x, lo.x, hi.x, damping);
+    let cy = collide_axis(x.y, v.y, lo.y, hi.y, damping);
+    let cz = collide_axis(x.z, v.z, lo.z, hi.z, damping);
+    return PositionVelocity(vec3<f32>(cx.x, cy.x, cz.x), vec3<f32>(cx.y, cy.y, cz.y));
+}

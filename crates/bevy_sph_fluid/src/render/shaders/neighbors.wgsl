@@ -1,0 +1,81 @@
+// Neighbour search: the dense grid (9 contiguous rows of 3 cells) or the design's spatial hash
+// (27 buckets, a candidate counts only if it lies in the visited cell). Rust twin:
+// sph_core::neighbor.
+#define_import_path sph::neighbors
+
+#import sph::bindings::{params, cell_start, bucket_start, bucket_end}
+
+fn grid_cell(p: vec3<f32>) -> vec3<i32> {
+    let c = vec3<i32>(floor((p - params.grid_origin.xyz) / params.grid_origin.w));
+    return clamp(c, vec3<i32>(0), vec3<i32>(params.grid_dims.xyz) - 1);
+}
+
+fn grid_index(c: vec3<i32>) -> u32 {
+    let d = params.grid_dims;
+    return u32(c.x) + d.x * (u32(c.y) + d.y * u32(c.z));
+}
+
+// (i, j, k) = floor(x / h).
+fn hash_cell(p: vec3<f32>) -> vec3<i32> {
+    return vec3<i32>(floor(p / params.grid_origin.w));
+}
+
+// The design's hash: (i·73856093 xor j·19349663 xor k·83492791) mod n, in wrapping u32.
+fn hash_key(c: vec3<i32>) -> u32 {
+    let h = (u32(c.x) * 73856093u) ^ (u32(c.y) * 19349663u) ^ (u32(c.z) * 83492791u);
+    return h % params.table_size;
+}
+
+// The cell a particle's neighbour loop starts from.
+fn home_cell(p: vec3<f32>) -> vec3<i32> {
+#ifdef SEARCH_HASH
+    return hash_cell(p);
+#else
+    return grid_cell(p);
+#endif
+}
+
+// How many slot ranges the neighbour loop visits.
+fn neighbor_range_count() -> u32 {
+#ifdef SEARCH_HASH
+    return 27u;
+#else
+    return 9u;
+#endif
+}
+
+fn hash_offset(q: u32) -> vec3<i32> {
+    return vec3<i32>(i32(q % 3u) - 1, i32((q / 3u) % 3u) - 1, i32(q / 9u) - 1);
+}
+
+// The q-th range of sorted slots around home cell c: a grid row (dy, dz) spanning x-1..x+1,
+// or one hash bucket.
+fn neighbor_range(c: vec3<i32>, q: u32) -> vec2<u32> {
+#ifdef SEARCH_HASH
+    let b = hash_key(c + hash_offset(q));
+    let s = bucket_start[b];
+    if s == 0u {
+        return vec2<u32>(0u, 0u);
+    }
+    return vec2<u32>(s - 1u, bucket_end[b]);
+#else
+    let dims = vec3<i32>(params.grid_dims.xyz);
+    let y = c.y + i32(q % 3u) - 1;
+    let z = c.z + i32(q / 3u) - 1;
+    if y < 0 || y >= dims.y || z < 0 || z >= dims.z {
+        return vec2<u32>(0u, 0u);
+    }
+    let x0 = max(c.x - 1, 0);
+    let x1 = min(c.x + 1, dims.x - 1);
+    return vec2<u32>(cell_start[grid_index(vec3<i32>(x0, y, z))], cell_start[grid_index(vec3<i32>(x1, y, z)) + 1u]);
+#endif
+}
+
+// Whether a candidate at x_j in range q really belongs to it (hash collisions never count).
+fn accepts(c: vec3<i32>, q: u32, x_j: vec3<f32>) -> bool {
+#ifdef SEARCH_HASH
+    return all(hash_cell(x_j) == c + hash_offset(q));
+#else
+    return true;
+#endif
+}

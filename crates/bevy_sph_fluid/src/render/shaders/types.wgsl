@@ -1,0 +1,34 @@
+// Uniform blocks shared by every SPH pass. Rust twin: sph_core::gpu_layout.
+#define_import_path sph::types
+
+struct SphUniforms {
+    particle_count: u32,
+    capacity: u32,
+    cell_count: u32,
+    table_size: u32,
+    // xyz: grid cells per axis; w: bitonic sort length (a power of two).
+    grid_dims: vec4<u32>,
+    // xyz: grid origin (box minimum); w: cell size h.
+    grid_origin: vec4<f32>,
+    // xyz: box minimum; w: wall damping.
+    box_min: vec4<f32>,
+    // xyz: box maximum; w: time step dt.
+    box_max: vec4<f32>,
+    // xyz: gravity; w: particle mass.
+    gravity: vec4<f32>,
+    // h, h², 315/(64π h⁹), -945/(32π h⁹)
+    kernel_a: vec4<f32>,
+    // -45/(π h⁶), 45/(π h⁶), 32/(π h⁹), h⁶/64
+    kernel_b: vec4<f32>,
+    // ρ0, stiffness k, viscosity μ, surface tension γ
+    material: vec4<f32>,
+    // x: Tait (1) or linear (0); y: clamp negative pressure
+    flags: vec4<u32>,
+}
+
+struct BitonicStep {
+    k: u32,
+    j: u32,
+    pad_a: u32,
+    pad_b: u32,
+}

@@ -1,0 +1,54 @@
+// Pass 1 of the neighbour sort, fused with the integrator's pre-evaluation phase:
+// PRE_KDK   v½ = v + a dt/2; x += v½ dt; collide; v* = v½ + a dt/2   (sph_core::integrate::kick_drift)
+// PRE_LEAPFROG  x += v dt + a0 dt²/2; v* = v + a0 dt; collide(x, v*)  (design eqs. 18-19)
+// then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
+#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, cell_of, rank_in_cell, cell_counts, sort_keys, sort_values}
+#import sph::kernels::collide
+#import sph::neighbors::{grid_cell, grid_index, hash_cell, hash_key}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+#ifdef SEARCH_HASH
+    if i >= params.grid_dims.w {
+        return;
+    }
+    if i >= params.particle_count {
+        // Padding sorts after every real key.
+        sort_keys[i] = 0xffffffffu;
+        sort_values[i] = i;
+        return;
+    }
+#else
+    if i >= params.particle_count {
+        return;
+    }
+#endif
+    var x = position[i].xyz;
+    let dt = params.box_max.w;
+#ifdef PRE_KDK
+    let a = acceleration[i].xyz;
+    let kicked = velocity[i].xyz + a * (0.5 * dt);
+    let moved = collide(x + kicked * dt, kicked);
+    x = moved.x;
+    velocity[i] = vec4<f32>(moved.v, 0.0);
+    velocity_predicted[i] = vec4<f32>(moved.v + a * (0.5 * dt), 0.0);
+    position[i] = vec4<f32>(x, position[i].w);
+#endif
+#ifdef PRE_LEAPFROG
+    let a0 = acceleration_start[i].xyz;
+    let v = velocity[i].xyz;
+    let moved = collide(x + v * dt + a0 * (0.5 * dt * dt), v + a0 * dt);
+    x = moved.x;
+    velocity_predicted[i] = vec4<f32>(moved.v, 0.0);
+    position[i] = vec4<f32>(x, position[i].w);
+#endif
+#ifdef SEARCH_HASH
+    sort_keys[i] = hash_key(hash_cell(x));
+    sort_values[i] = i;
+#else
+    let cell = grid_index(grid_cell(x));
+    cell_of[i] = cell;
+    rank_in_cell[i] = atomicAdd(&cell_counts[cell], 1u);
+#endif
+}

@@ -1,0 +1,31 @@
+// ρ_i = m Σ_j W_poly6(x_i - x_j) (Müller 2003 eq. 3, self included), then p_i from the EOS.
+// Rust twin: sph_core::density.
+#import sph::bindings::{params, position, density, pressure}
+#import sph::kernels::{poly6, eos_pressure}
+#import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.particle_count {
+        return;
+    }
+    let x_i = position[i].xyz;
+    let c = home_cell(x_i);
+    let h2 = params.kernel_a.y;
+    var sum = 0.0;
+    for (var q = 0u; q < neighbor_range_count(); q++) {
+        let range = neighbor_range(c, q);
+        for (var j = range.x; j < range.y; j++) {
+            let x_j = position[j].xyz;
+            let r = x_i - x_j;
+            let r2 = dot(r, r);
+            if r2 < h2 && accepts(c, q, x_j) {
+                sum += poly6(r2);
+            }
+        }
+    }
+    let rho = params.gravity.w * sum;
+    density[i] = rho;
+    pressure[i] = eos_pressure(rho);
+}

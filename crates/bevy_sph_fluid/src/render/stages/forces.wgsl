@@ -1,0 +1,87 @@
+// a_i = -(1/ρ_i) Σ m (p_i + p_j)/(2ρ_j) ∇W_spiky            (design eq. 9)
+//     + (μ/ρ_i) Σ m (v_j - v_i)/ρ_j ∇²W_visc             (design eq. 10, VISCOSITY)
+//     - γ Σ K_ij (m C(r) r/|r| + n_i - n_j)               (Akinci 2013, SURFACE_TENSION)
+//     + g
+// and the integrator's closing phase on the particle's own velocity (neighbours read only
+// positions and predicted velocities, so this is race-free):
+// POST_KDK            v = v½ + a dt/2, wall response          (sph_core::integrate::kick)
+// POST_LEAPFROG_SAVE  a0 = a                                   (first of two evaluations)
+// POST_LEAPFROG_KICK  v += (a0 + a) dt/2, wall response        (design eqs. 20-21)
+// Rust twin: sph_core::forces.
+#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal}
+#import sph::kernels::{spiky_grad, viscosity_laplacian, cohesion, collide}
+#import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
+
+fn viscosity_velocity(j: u32) -> vec3<f32> {
+#ifdef USE_PREDICTED_VELOCITY
+    return velocity_predicted[j].xyz;
+#else
+    return velocity[j].xyz;
+#endif
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.particle_count {
+        return;
+    }
+    let x_i = position[i].xyz;
+    let rho_i = density[i];
+    let p_i = pressure[i];
+    let m = params.gravity.w;
+    let h2 = params.kernel_a.y;
+#ifdef VISCOSITY
+    let v_i = viscosity_velocity(i);
+#endif
+#ifdef SURFACE_TENSION
+    let n_i = normal[i].xyz;
+    var surface = vec3<f32>(0.0);
+#endif
+    var pressure_viscosity = vec3<f32>(0.0);
+    let c = home_cell(x_i);
+    for (var q = 0u; q < neighbor_range_count(); q++) {
+        let range = neighbor_range(c, q);
+        for (var j = range.x; j < range.y; j++) {
+            if j == i {
+                continue;
+            }
+            let x_j = position[j].xyz;
+            let r = x_i - x_j;
+            let r2 = dot(r, r);
+            if r2 >= h2 || !accepts(c, q, x_j) {
+                continue;
+            }
+            let r_len = sqrt(r2);
+            let rho_j = density[j];
+            pressure_viscosity -= spiky_grad(r, r_len) * ((p_i + pressure[j]) / (2.0 * rho_j));
+#ifdef VISCOSITY
+            pressure_viscosity += (viscosity_velocity(j) - v_i) * (params.material.z * viscosity_laplacian(r_len) / rho_j);
+#endif
+#ifdef SURFACE_TENSION
+            let correction = 2.0 * params.material.x / (rho_i + rho_j);
+            var pull = vec3<f32>(0.0);
+            if r_len > 0.0 {
+                pull = r * (m * cohesion(r_len) / r_len);
+            }
+            surface -= params.material.w * correction * (pull + (n_i - normal[j].xyz));
+#endif
+        }
+    }
+    var a = pressure_viscosity * (m / rho_i) + params.gravity.xyz;
+#ifdef SURFACE_TENSION
+    a += surface;
+#endif
+    acceleration[i] = vec4<f32>(a, 0.0);
+    let dt = params.box_max.w;
+#ifdef POST_KDK
+    velocity[i] = vec4<f32>(collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v, 0.0);
+#endif
+#ifdef POST_LEAPFROG_SAVE
+    acceleration_start[i] = vec4<f32>(a, 0.0);
+#endif
+#ifdef POST_LEAPFROG_KICK
+    let a0 = acceleration_start[i].xyz;
+    velocity[i] = vec4<f32>(collide(x_i, velocity[i].xyz + (a0 + a) * (0.5 * dt)).v, 0.0);
+#endif
+}

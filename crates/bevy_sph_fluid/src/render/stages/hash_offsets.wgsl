@@ -1,0 +1,19 @@
+// The design's cell offsets: where each hash bucket starts (+1, 0 = empty) and ends in the
+// sorted key array.
+#import sph::bindings::{params, sort_keys, bucket_start, bucket_end}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let k = id.x;
+    let n = params.particle_count;
+    if k >= n {
+        return;
+    }
+    let key = sort_keys[k];
+    if k == 0u || sort_keys[k - 1u] != key {
+        bucket_start[key] = k + 1u;
+    }
+    if k + 1u == n || sort_keys[k + 1u] != key {
+        bucket_end[key] = k + 1u;
+    }
+}

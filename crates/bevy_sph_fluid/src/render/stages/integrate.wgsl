@@ -1,0 +1,17 @@
+// Symplectic Euler: v += a dt; x += v dt; collide (sph_core::integrate::euler). The leapfrogs'
+// phases are fused into count_cells (before) and forces (after).
+#import sph::bindings::{params, position, velocity, acceleration}
+#import sph::kernels::collide
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.particle_count {
+        return;
+    }
+    let dt = params.box_max.w;
+    let v = velocity[i].xyz + acceleration[i].xyz * dt;
+    let moved = collide(position[i].xyz + v * dt, v);
+    position[i] = vec4<f32>(moved.x, position[i].w);
+    velocity[i] = vec4<f32>(moved.v, 0.0);
+}

@@ -1,0 +1,40 @@
+// Pass 2 of the grid sort: exclusive prefix sum of the per-cell counts into cell_start
+// (cell_count + 1 entries), in one workgroup: serial chunk sums, a Hillis-Steele scan of the
+// 256 chunk sums in workgroup memory, then each chunk writes its offsets.
+#import sph::bindings::{params, cell_counts, cell_start}
+
+const THREADS: u32 = 256u;
+
+var<workgroup> partial: array<u32, 256>;
+
+@compute @workgroup_size(256)
+fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
+    let t = lid.x;
+    let n = params.cell_count;
+    let chunk = (n + THREADS - 1u) / THREADS;
+    let begin = min(t * chunk, n);
+    let end = min(begin + chunk, n);
+    var sum = 0u;
+    for (var c = begin; c < end; c++) {
+        sum += atomicLoad(&cell_counts[c]);
+    }
+    partial[t] = sum;
+    workgroupBarrier();
+    for (var offset = 1u; offset < THREADS; offset *= 2u) {
+        var add = 0u;
+        if t >= offset {
+            add = partial[t - offset];
+        }
+        workgroupBarrier();
+        partial[t] += add;
+        workgroupBarrier();
+    }
+    var running = partial[t] - sum;
+    for (var c = begin; c < end; c++) {
+        cell_start[c] = running;
+        running += atomicLoad(&cell_counts[c]);
+    }
+    if t == THREADS - 1u {
+        cell_start[n] = partial[t];
+    }
+}

@@ -1,0 +1,421 @@
+//! Main-world simulation state: the container, resets and spawners become this frame's plan
+//! ([`SphFrame`], extracted to the render world), or are stepped directly on the CPU backend.
+
+use crate::api::*;
+use crate::SphSystems;
+use bevy::ecs::schedule::InternedScheduleLabel;
+use bevy::prelude::*;
+use bevy::render::render_resource::DownlevelFlags;
+use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo};
+use sph_core::gpu_layout::{bytes_per_particle, id_to_w};
+use sph_core::{BoxContainer, CpuSolver, NeighborSearch};
+
+/// Most substeps per frame.
+pub const MAX_SUBSTEPS: u32 = 64;
+
+/// Handles of the GPU state buffers the main world can read back or draw from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StateBuffers {
+    /// `array<vec4<f32>>`: xyz position, w = particle id (bit-cast).
+    pub position: Handle<bevy::render::storage::ShaderBuffer>,
+    /// `array<vec4<f32>>`: xyz velocity.
+    pub velocity: Handle<bevy::render::storage::ShaderBuffer>,
+    /// `array<vec4<f32>>`: xyz acceleration of the last force evaluation.
+    pub acceleration: Handle<bevy::render::storage::ShaderBuffer>,
+    /// `array<f32>`: density.
+    pub density: Handle<bevy::render::storage::ShaderBuffer>,
+}
+
+/// What the render world does this frame; extracted every frame.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct SphFrame {
+    /// Whether the GPU backend runs.
+    pub active: bool,
+    /// Parameters (validated).
+    pub params: sph_core::SphParams,
+    /// Container.
+    pub container: BoxContainer,
+    /// Particle slots.
+    pub capacity: u32,
+    /// Drop every particle before spawning.
+    pub reset: bool,
+    /// Live particles before this frame's spawns.
+    pub spawn_offset: u32,
+    /// New particles: xyz position, w = id.
+    pub spawn_positions: Vec<[f32; 4]>,
+    /// New particles' velocities.
+    pub spawn_velocities: Vec<[f32; 4]>,
+    /// Steps to take this frame.
+    pub steps: u32,
+    /// The state buffers.
+    pub buffers: Option<StateBuffers>,
+}
+
+impl SphFrame {
+    /// Live particles after this frame's spawns.
+    pub fn particle_count(&self) -> u32 {
+        self.spawn_offset + self.spawn_positions.len() as u32
+    }
+}
+
+/// Main-world bookkeeping shared by both backends.
+#[derive(Resource)]
+pub struct SphSimulation {
+    /// Particle slots.
+    pub capacity: u32,
+    /// The requested backend.
+    pub requested: SphBackend,
+    /// The backend in use (resolved in `finish`).
+    pub backend: SphBackend,
+    /// Adapter name.
+    pub adapter: String,
+    /// Live particles (the main world is the authority: there are no sinks).
+    pub particle_count: u32,
+    /// Next particle id.
+    pub next_id: u32,
+    /// Refused particles since the last reset.
+    pub refused: u64,
+    /// The CPU solver (CPU backend).
+    pub cpu: Option<CpuSolver>,
+    /// This frame's plan for the render world.
+    pub frame: SphFrame,
+    /// Container the solver was built for.
+    pub container: Option<BoxContainer>,
+}
+
+impl SphSimulation {
+    pub(crate) fn new(capacity: u32, requested: SphBackend) -> Self {
+        Self {
+            capacity,
+            requested,
+            backend: requested,
+            adapter: String::new(),
+            particle_count: 0,
+            next_id: 0,
+            refused: 0,
+            cpu: None,
+            frame: SphFrame::default(),
+            container: None,
+        }
+    }
+
+    /// Queues particles for spawning; refuses (and counts) what exceeds the capacity.
+    fn spawn(&mut self, positions: &[Vec3], velocity: Vec3) {
+        let free = (self.capacity - self.particle_count) as usize;
+        let take = positions.len().min(free);
+        self.refused += (positions.len() - take) as u64;
+        match (&mut self.cpu, self.backend) {
+            (Some(solver), SphBackend::Cpu) => {
+                solver.spawn(&positions[..take], velocity);
+            }
+            _ => {
+                for &p in &positions[..take] {
+                    self.frame
+                        .spawn_positions
+                        .push([p.x, p.y, p.z, id_to_w(self.next_id)]);
+                    self.frame
+                        .spawn_velocities
+                        .push([velocity.x, velocity.y, velocity.z, 0.0]);
+                    self.next_id += 1;
+                }
+            }
+        }
+        self.particle_count += take as u32;
+    }
+}
+
+pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
+    app.add_systems(
+        schedule,
+        (
+            (sph_track_container, sph_reset, sph_spawn_blocks, sph_emit)
+                .chain()
+                .in_set(SphSystems::Prepare),
+            sph_plan_step.in_set(SphSystems::Step),
+            sph_update_stats.in_set(SphSystems::Writeback),
+        ),
+    );
+}
+
+/// Decides the backend: the GPU needs a render app on an adapter with compute shaders.
+pub(crate) fn resolve_backend(app: &mut App) {
+    let world = app.world_mut();
+    let adapter_name = world
+        .get_resource::<RenderAdapterInfo>()
+        .map(|info| info.name.clone());
+    let compute = world.get_resource::<RenderAdapter>().map(|adapter| {
+        adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(DownlevelFlags::COMPUTE_SHADERS)
+    });
+    let mut sim = world.resource_mut::<SphSimulation>();
+    sim.backend = match (sim.requested, compute) {
+        (SphBackend::Gpu, Some(true)) => SphBackend::Gpu,
+        (SphBackend::Gpu, Some(false)) => {
+            warn!(
+                "SphFluidPlugin: the adapter {:?} has no compute shaders (e.g. WebGL2); \
+                 falling back to the sph_core CPU solver",
+                adapter_name.as_deref().unwrap_or("?")
+            );
+            SphBackend::Cpu
+        }
+        (SphBackend::Gpu, None) => {
+            warn!(
+                "SphFluidPlugin: no render device (rendering disabled or no GPU adapter); \
+                 falling back to the sph_core CPU solver"
+            );
+            SphBackend::Cpu
+        }
+        (SphBackend::Cpu, _) => SphBackend::Cpu,
+    };
+    sim.adapter = match sim.backend {
+        SphBackend::Gpu => adapter_name.unwrap_or_default(),
+        SphBackend::Cpu => "cpu".to_string(),
+    };
+}
+
+pub(crate) fn clear_frame(mut sim: ResMut<SphSimulation>) {
+    let count = sim.particle_count;
+    let frame = &mut sim.frame;
+    frame.reset = false;
+    frame.spawn_positions.clear();
+    frame.spawn_velocities.clear();
+    frame.steps = 0;
+    frame.spawn_offset = count;
+}
+
+/// Follows the container entity; a new container rebuilds the CPU solver (keeping particles).
+fn sph_track_container(
+    containers: Query<&SphContainer>,
+    params: Res<SphParams>,
+    mut sim: ResMut<SphSimulation>,
+    mut stats: ResMut<SphStats>,
+) {
+    let container = containers.iter().next().map(|c| c.0);
+    if container == sim.container {
+        return;
+    }
+    sim.container = container;
+    let Some(container) = container else {
+        return;
+    };
+    if sim.backend == SphBackend::Cpu {
+        let mut p = params.0;
+        if p.validate().is_err() {
+            p = sph_core::SphParams::water();
+        }
+        match CpuSolver::new(p, container, sim.capacity as usize) {
+            Ok(mut solver) => {
+                if let Some(old) = &sim.cpu {
+                    let particles = old.particles();
+                    solver.spawn_with_velocities(&particles.position, &particles.velocity);
+                }
+                sim.cpu = Some(solver);
+                stats.error = None;
+            }
+            Err(e) => stats.error = Some(e.to_string()),
+        }
+    }
+}
+
+fn sph_reset(
+    mut control: ResMut<SphControl>,
+    mut sim: ResMut<SphSimulation>,
+    mut blocks: Query<&mut SphBlockSpawn>,
+    mut emitters: Query<&mut SphEmitter>,
+) {
+    if !control.reset {
+        return;
+    }
+    control.reset = false;
+    sim.particle_count = 0;
+    sim.next_id = 0;
+    sim.refused = 0;
+    sim.frame.reset = true;
+    sim.frame.spawn_offset = 0;
+    sim.frame.spawn_positions.clear();
+    sim.frame.spawn_velocities.clear();
+    if let Some(solver) = &mut sim.cpu {
+        solver.clear();
+    }
+    // Block spawners fire again; emitters start over.
+    for mut block in &mut blocks {
+        block.set_changed();
+    }
+    for mut emitter in &mut emitters {
+        emitter.0.emitted = 0;
+    }
+}
+
+fn sph_spawn_blocks(
+    blocks: Query<Ref<SphBlockSpawn>>,
+    mut sim: ResMut<SphSimulation>,
+    mut stats: ResMut<SphStats>,
+) {
+    if sim.container.is_none() {
+        return;
+    }
+    for block in &blocks {
+        if !block.is_changed() {
+            continue;
+        }
+        if let Err(e) = block.block.validate() {
+            stats.error = Some(e.to_string());
+            continue;
+        }
+        sim.spawn(&block.block.positions(), block.velocity);
+    }
+}
+
+fn sph_emit(
+    mut emitters: Query<&mut SphEmitter>,
+    params: Res<SphParams>,
+    control: Res<SphControl>,
+    mut sim: ResMut<SphSimulation>,
+    mut stats: ResMut<SphStats>,
+) {
+    if sim.container.is_none() {
+        return;
+    }
+    let steps = planned_steps(&control);
+    if steps == 0 {
+        return;
+    }
+    let dt = params.time_step * steps as f32;
+    for mut emitter in &mut emitters {
+        if let Err(e) = emitter.0.validate() {
+            stats.error = Some(e.to_string());
+            continue;
+        }
+        let emission = emitter.0.emit(dt);
+        sim.spawn(&emission.positions, emission.velocity);
+    }
+}
+
+fn planned_steps(control: &SphControl) -> u32 {
+    if control.running {
+        control.substeps.clamp(1, MAX_SUBSTEPS)
+    } else if control.single_step {
+        1
+    } else {
+        0
+    }
+}
+
+fn sph_plan_step(
+    params: Res<SphParams>,
+    mut control: ResMut<SphControl>,
+    mut sim: ResMut<SphSimulation>,
+    mut stats: ResMut<SphStats>,
+) {
+    let steps = planned_steps(&control);
+    control.single_step = false;
+    let Some(container) = sim.container else {
+        stats.error = Some("no entity with an SphContainer component".into());
+        sim.frame.active = false;
+        return;
+    };
+    if let Err(e) = params.validate() {
+        stats.error = Some(e.to_string());
+        sim.frame.steps = 0;
+        return;
+    }
+    match sim.backend {
+        SphBackend::Cpu => {
+            let Some(solver) = &mut sim.cpu else {
+                return;
+            };
+            if *solver.params() != params.0 {
+                if let Err(e) = solver.set_params(params.0) {
+                    stats.error = Some(e.to_string());
+                    return;
+                }
+            }
+            solver.reset_timings();
+            for _ in 0..steps {
+                solver.step();
+            }
+            stats.error = None;
+        }
+        SphBackend::Gpu => {
+            let capacity = sim.capacity;
+            let frame = &mut sim.frame;
+            frame.active = true;
+            frame.params = params.0;
+            frame.container = container;
+            frame.capacity = capacity;
+            frame.steps = steps;
+        }
+    }
+}
+
+fn sph_update_stats(
+    sim: Res<SphSimulation>,
+    feedback: Option<Res<crate::render::SphRenderFeedback>>,
+    params: Res<SphParams>,
+    diagnostics: Option<Res<bevy::diagnostic::DiagnosticsStore>>,
+    mut stats: ResMut<SphStats>,
+) {
+    stats.backend = sim.backend;
+    stats.adapter = sim.adapter.clone();
+    stats.capacity = sim.capacity;
+    stats.particle_count = sim.particle_count;
+    stats.refused_spawns = sim.refused;
+    stats.gpu_bytes_per_particle = bytes_per_particle(
+        params.has_surface_tension(),
+        params.neighbor_search == NeighborSearch::Hash,
+    );
+    match (sim.backend, &sim.cpu) {
+        (SphBackend::Cpu, Some(solver)) => {
+            stats.step_count = solver.step_count();
+            stats.sim_time = solver.time();
+            stats.dispatches_per_step = 0;
+            let d = solver.diagnostics();
+            stats.health = if d.non_finite_count == 0 && d.outside_count == 0 {
+                SphHealth::Ok
+            } else {
+                SphHealth::Unstable
+            };
+            stats.diagnostics = Some(d);
+            stats.stage_ms = solver
+                .timings()
+                .stages()
+                .iter()
+                .map(|(name, t)| (name.to_string(), t.as_secs_f64() * 1e3))
+                .collect();
+        }
+        (SphBackend::Gpu, _) => {
+            if let Some(feedback) = feedback {
+                let f = feedback.get();
+                stats.step_count = f.step_count;
+                stats.sim_time = f.sim_time;
+                stats.dispatches_per_step = f.dispatches_per_step;
+                if let Some(status) = f.status {
+                    stats.error = Some(status);
+                } else if stats
+                    .error
+                    .as_deref()
+                    .is_some_and(|e| e.starts_with("gpu:"))
+                {
+                    stats.error = None;
+                }
+            }
+            if let Some(store) = diagnostics {
+                stats.stage_ms = crate::render::STAGE_NAMES
+                    .iter()
+                    .filter_map(|name| {
+                        let path = bevy::diagnostic::DiagnosticPath::new(format!(
+                            "render/{name}/elapsed_gpu"
+                        ));
+                        store
+                            .get(&path)
+                            .and_then(|d| d.value())
+                            .map(|ms| (name.to_string(), ms))
+                    })
+                    .collect();
+            }
+        }
+        _ => {}
+    }
+}

@@ -1,0 +1,45 @@
+//! `sph-bench`: runs SPH scenarios on the CPU solver or the GPU plugin and writes the figures
+//! (speed, accuracy, stability) as JSON. See the README for the options.
+
+mod args;
+mod report;
+mod run;
+
+use args::{parse_run, Backend, USAGE};
+
+fn main() {
+    let argv: Vec<String> = std::env::args().skip(1).collect();
+    let result = match argv.first().map(String::as_str) {
+        Some("run") => parse_run(&argv[1..]).and_then(|args| {
+            eprintln!(
+                "sph-bench: {} on {:?}, {} particles requested",
+                args.scenario, args.backend, args.particles
+            );
+            let report = match args.backend {
+                Backend::Cpu => run::run_cpu(&args),
+                Backend::Gpu => run::run_gpu(&args),
+            }?;
+            let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+            match &args.json {
+                Some(path) => std::fs::write(path, json + "\n")
+                    .map_err(|e| format!("cannot write {path}: {e}"))?,
+                None => println!("{json}"),
+            }
+            eprintln!(
+                "sph-bench: {} particles, {} steps, {:.3} ms/step median, {} dispatches/step, \
+                 density error {:.3} % mean",
+                report.particles,
+                report.steps,
+                report.ms_per_step_median,
+                report.dispatches_per_step,
+                report.density_error_mean_pct
+            );
+            Ok(())
+        }),
+        _ => Err(USAGE.to_string()),
+    };
+    if let Err(e) = result {
+        eprintln!("sph-bench: error: {e}");
+        std::process::exit(2);
+    }
+}

@@ -1,0 +1,166 @@
+//! Plain-old-data mirrors of the GPU buffers (`Gpu*`), shared by the Bevy plugin and the tests,
+//! so the CPU and GPU agree on every byte. WGSL twin: `bevy_sph_fluid/src/shaders/types.wgsl`.
+
+use crate::container::BoxContainer;
+use crate::kernel::Kernels;
+use crate::neighbor::grid::DenseGrid;
+use crate::neighbor::hash::hash_table_size;
+use crate::params::{EquationOfState, ParamError, SphParams};
+use bytemuck::{Pod, Zeroable};
+use glam::{UVec3, Vec3};
+
+/// Workgroup size of every per-particle pass.
+pub const WORKGROUP_SIZE: u32 = 64;
+
+/// Threads of the single-workgroup prefix sum.
+pub const PREFIX_SUM_THREADS: u32 = 256;
+
+/// The uniform block every pass reads (WGSL `SphUniforms`). All fields are 4-byte scalars or
+/// 16-byte vectors in groups of four, so std140 and the Rust layout agree.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuSphParams {
+    /// Live particles.
+    pub particle_count: u32,
+    /// Particle slots in every buffer.
+    pub capacity: u32,
+    /// Dense-grid cells (grid mode).
+    pub cell_count: u32,
+    /// Spatial-hash buckets (hash mode).
+    pub table_size: u32,
+    /// Grid cells along x, y, z; w = padded sort length (hash mode, a power of two).
+    pub grid_dims: [u32; 4],
+    /// Grid origin (box minimum); w = cell size h.
+    pub grid_origin: [f32; 4],
+    /// Box minimum; w = wall damping.
+    pub box_min: [f32; 4],
+    /// Box maximum; w = time step dt.
+    pub box_max: [f32; 4],
+    /// Gravity; w = particle mass.
+    pub gravity: [f32; 4],
+    /// h, h², poly6 and ∇poly6 constants.
+    pub kernel_a: [f32; 4],
+    /// ∇spiky, ∇²viscosity, cohesion and cohesion offset constants.
+    pub kernel_b: [f32; 4],
+    /// ρ0, stiffness k, viscosity μ, surface tension γ.
+    pub material: [f32; 4],
+    /// Equation of state (0 linear, 1 Tait), clamp negative pressure (0/1), unused, unused.
+    pub flags: [u32; 4],
+}
+
+impl GpuSphParams {
+    /// The uniform block for `params` in `container`, `capacity` slots and `particle_count` live
+    /// particles. Fails like [`DenseGrid::new`] when the grid would be too large.
+    pub fn new(
+        params: &SphParams,
+        container: &BoxContainer,
+        capacity: u32,
+        particle_count: u32,
+    ) -> Result<Self, ParamError> {
+        let grid = DenseGrid::new(container, params.smoothing_radius)?;
+        Ok(Self::with_grid(
+            params,
+            container,
+            grid.dims,
+            capacity,
+            particle_count,
+        ))
+    }
+
+    /// As [`Self::new`] with precomputed grid dimensions.
+    pub fn with_grid(
+        params: &SphParams,
+        container: &BoxContainer,
+        dims: UVec3,
+        capacity: u32,
+        particle_count: u32,
+    ) -> Self {
+        let k = Kernels::new(params.smoothing_radius);
+        let (lo, hi) = (container.min(), container.max());
+        let v4 = |v: Vec3, w: f32| [v.x, v.y, v.z, w];
+        Self {
+            particle_count,
+            capacity,
+            cell_count: dims.x * dims.y * dims.z,
+            table_size: hash_table_size(capacity as usize) as u32,
+            grid_dims: [dims.x, dims.y, dims.z, sort_length(capacity)],
+            grid_origin: v4(lo, params.smoothing_radius),
+            box_min: v4(lo, params.wall_damping),
+            box_max: v4(hi, params.time_step),
+            gravity: v4(params.gravity, params.particle_mass),
+            kernel_a: [k.h, k.h2, k.poly6, k.poly6_grad],
+            kernel_b: [
+                k.spiky_grad,
+                k.viscosity_laplacian,
+                k.cohesion,
+                k.cohesion_offset,
+            ],
+            material: [
+                params.rest_density,
+                params.stiffness,
+                params.viscosity,
+                params.surface_tension,
+            ],
+            flags: [
+                (params.equation_of_state == EquationOfState::Tait) as u32,
+                params.clamp_negative_pressure as u32,
+                0,
+                0,
+            ],
+        }
+    }
+}
+
+/// Length of the bitonic sort: the next power of two >= capacity.
+pub fn sort_length(capacity: u32) -> u32 {
+    capacity.max(1).next_power_of_two()
+}
+
+/// One bitonic merge step (WGSL `BitonicStep`), bound at a dynamic offset per dispatch.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuBitonicStep {
+    /// Size of the bitonic sequences being merged.
+    pub k: u32,
+    /// Compare distance.
+    pub j: u32,
+    /// Padding.
+    pub pad: [u32; 2],
+}
+
+/// The (k, j) steps of a bitonic sort of `n` (a power of two) keys: log2(n)(log2(n)+1)/2 steps.
+pub fn bitonic_steps(n: u32) -> Vec<GpuBitonicStep> {
+    let mut steps = Vec::new();
+    let mut k = 2;
+    while k <= n {
+        let mut j = k / 2;
+        while j > 0 {
+            steps.push(GpuBitonicStep { k, j, pad: [0; 2] });
+            j /= 2;
+        }
+        k *= 2;
+    }
+    steps
+}
+
+/// The 4-byte word stored in a position's w component: the particle id, bit-cast to f32.
+pub fn id_to_w(id: u32) -> f32 {
+    f32::from_bits(id)
+}
+
+/// The particle id stored in a position's w component.
+pub fn w_to_id(w: f32) -> u32 {
+    w.to_bits()
+}
+
+/// Bytes of GPU memory per particle slot for a configuration (state, sorted copy, density,
+/// pressure, normals, sort keys); used for the memory report.
+pub fn bytes_per_particle(surface_tension: bool, hash: bool) -> u32 {
+    let vec4 = 16;
+    // position, velocity, predicted velocity, acceleration, start acceleration: twice (sorted copy).
+    let state = 2 * 5 * vec4;
+    let scalars = 4 * 2 + 4 * 2; // density, pressure, cell/key, rank/value
+    let normals = if surface_tension { vec4 } else { 0 };
+    let hash_table = if hash { 2 * 4 * 2 } else { 0 }; // two buckets' start/end per slot (n = 2 cap)
+    state + scalars + normals + hash_table
+}

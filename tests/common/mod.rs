@@ -1,0 +1,34 @@
+//! Shared by the plugin test binaries.
+#![allow(dead_code)] // each test binary uses its own subset of the helpers
+
+use bevy::prelude::*;
+#[allow(unused_imports)]
+pub use bevy_sph_fluid::headless::{by_id, require_vulkan_adapter, steps_taken};
+use bevy_sph_fluid::prelude::*;
+use std::sync::Mutex;
+
+/// GPU tests in one binary run one at a time (one lavapipe device at a time on 2 cores).
+pub static GPU: Mutex<()> = Mutex::new(());
+
+/// A paused headless app; GPU apps require a Vulkan adapter and fail naming the package.
+pub fn headless_app(capacity: u32, backend: SphBackend) -> App {
+    if backend == SphBackend::Gpu {
+        require_vulkan_adapter();
+    }
+    bevy_sph_fluid::headless::headless_app(
+        DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>(),
+        capacity,
+        backend,
+        false,
+    )
+}
+
+/// Single-steps to `steps` steps.
+pub fn step_to(app: &mut App, steps: u64) {
+    bevy_sph_fluid::headless::step_to(app, steps).unwrap();
+}
+
+/// Reads the particle state back.
+pub fn snapshot(app: &mut App) -> SphSnapshot {
+    bevy_sph_fluid::headless::snapshot(app).unwrap()
+}
