@@ -63,6 +63,17 @@ pub enum SphHealth {
     Unstable,
 }
 
+impl SphHealth {
+    /// Ok without NaN and escapes, Unstable otherwise.
+    pub fn of(d: &Diagnostics) -> Self {
+        if d.non_finite_count == 0 && d.outside_count == 0 {
+            Self::Ok
+        } else {
+            Self::Unstable
+        }
+    }
+}
+
 /// Statistics of the simulation, updated every frame.
 #[derive(Resource, Clone, Debug, Default, Reflect)]
 #[reflect(Resource)]

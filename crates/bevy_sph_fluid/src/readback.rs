@@ -8,7 +8,9 @@ use crate::SphSystems;
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
+use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::gpu_layout::w_to_id;
+use sph_core::Diagnostics;
 
 /// Which state buffer a readback entity copies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -110,6 +112,8 @@ fn sph_request_readback(
 fn sph_deliver_snapshot(
     mut pending: ResMut<PendingReadback>,
     mut snapshots: MessageWriter<SphSnapshot>,
+    sim: Res<SphSimulation>,
+    mut stats: ResMut<SphStats>,
 ) {
     if !pending.in_flight || pending.parts.iter().any(Option::is_none) {
         return;
@@ -124,12 +128,27 @@ fn sph_deliver_snapshot(
     let velocity: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&velocity);
     let acceleration: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&acceleration);
     let xyz = |v: &[f32; 4]| Vec3::new(v[0], v[1], v[2]);
-    snapshots.write(SphSnapshot {
+    let snapshot = SphSnapshot {
         step: pending.step,
         ids: position.iter().map(|p| w_to_id(p[3])).collect(),
         positions: position.iter().map(xyz).collect(),
         velocities: velocity.iter().map(xyz).collect(),
         accelerations: acceleration.iter().map(xyz).collect(),
         densities: bytemuck::pod_collect_to_vec(&density),
-    });
+    };
+    // The GPU backend measures health on readback.
+    if let Some(container) = sim.container {
+        let d = Diagnostics::measure(
+            &sim.frame.params,
+            &container,
+            &DiagnosticsInput {
+                position: &snapshot.positions,
+                velocity: &snapshot.velocities,
+                density: &snapshot.densities,
+            },
+        );
+        stats.health = SphHealth::of(&d);
+        stats.diagnostics = Some(d);
+    }
+    snapshots.write(snapshot);
 }

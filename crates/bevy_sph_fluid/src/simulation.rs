@@ -7,8 +7,8 @@ use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::render_resource::DownlevelFlags;
 use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo};
-use sph_core::gpu_layout::{bytes_per_particle, id_to_w};
-use sph_core::{BoxContainer, CpuSolver, NeighborSearch};
+use sph_core::gpu_layout::id_to_w;
+use sph_core::{BoxContainer, CpuSolver};
 
 /// Most substeps per frame.
 pub const MAX_SUBSTEPS: u32 = 64;
@@ -353,7 +353,6 @@ fn sph_plan_step(
 fn sph_update_stats(
     sim: Res<SphSimulation>,
     feedback: Option<Res<crate::render::SphRenderFeedback>>,
-    params: Res<SphParams>,
     diagnostics: Option<Res<bevy::diagnostic::DiagnosticsStore>>,
     mut stats: ResMut<SphStats>,
 ) {
@@ -362,21 +361,13 @@ fn sph_update_stats(
     stats.capacity = sim.capacity;
     stats.particle_count = sim.particle_count;
     stats.refused_spawns = sim.refused;
-    stats.gpu_bytes_per_particle = bytes_per_particle(
-        params.has_surface_tension(),
-        params.neighbor_search == NeighborSearch::Hash,
-    );
     match (sim.backend, &sim.cpu) {
         (SphBackend::Cpu, Some(solver)) => {
             stats.step_count = solver.step_count();
             stats.sim_time = solver.time();
             stats.dispatches_per_step = 0;
             let d = solver.diagnostics();
-            stats.health = if d.non_finite_count == 0 && d.outside_count == 0 {
-                SphHealth::Ok
-            } else {
-                SphHealth::Unstable
-            };
+            stats.health = SphHealth::of(&d);
             stats.diagnostics = Some(d);
             stats.stage_ms = solver
                 .timings()
@@ -391,6 +382,7 @@ fn sph_update_stats(
                 stats.step_count = f.step_count;
                 stats.sim_time = f.sim_time;
                 stats.dispatches_per_step = f.dispatches_per_step;
+                stats.gpu_bytes_per_particle = f.gpu_bytes_per_particle;
                 if let Some(status) = f.status {
                     stats.error = Some(status);
                 } else if stats

@@ -46,8 +46,8 @@ pub struct Report {
     pub escaped_count: usize,
     /// Particles at the end.
     pub particles_final: usize,
-    /// GPU memory per particle slot [bytes].
+    /// GPU memory per particle slot [bytes]: everything allocated / capacity (GPU backend).
     pub gpu_bytes_per_particle: u32,
-    /// GPU memory of one million particles [MiB].
+    /// GPU memory of one million particles at that rate [MiB].
     pub gpu_mib_per_million: f64,
 }

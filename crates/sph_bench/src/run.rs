@@ -6,7 +6,6 @@ use bevy::prelude::*;
 use bevy_sph_fluid::headless;
 use bevy_sph_fluid::prelude::*;
 use sph_core::diagnostics::DiagnosticsInput;
-use sph_core::gpu_layout::bytes_per_particle;
 use sph_core::scenario::{dam_break_with_particles, Scene};
 use sph_core::{CpuSolver, Diagnostics, NeighborSearch};
 use std::time::Instant;
@@ -72,7 +71,6 @@ fn base_report(args: &RunArgs, scene: &Scene, steps: u64, times: Vec<f64>) -> Re
     let (integrator, search) = names(args);
     let ms = median(times);
     let dt = scene.params.time_step;
-    let bytes = bytes_per_particle(args.surface_tension, args.search == NeighborSearch::Hash);
     Report {
         scenario: args.scenario.clone(),
         backend: if args.backend == Backend::Gpu {
@@ -91,8 +89,6 @@ fn base_report(args: &RunArgs, scene: &Scene, steps: u64, times: Vec<f64>) -> Re
         ms_per_step_median: ms,
         cost_per_sim_second_s: ms / 1e3 / dt as f64,
         ns_per_particle_step: ms * 1e6 / scene.particle_count().max(1) as f64,
-        gpu_bytes_per_particle: bytes,
-        gpu_mib_per_million: bytes as f64 * 1e6 / (1024.0 * 1024.0),
         ..Default::default()
     }
 }
@@ -187,11 +183,15 @@ pub fn run_gpu(args: &RunArgs) -> Result<Report, String> {
         running: false,
         ..default()
     });
-    let stats = app.world().resource::<SphStats>().clone();
     let snapshot = headless::snapshot(&mut app)?;
+    // Read after the snapshot's extra frames: the main world sees the render world's feedback
+    // one frame late.
+    let stats = app.world().resource::<SphStats>().clone();
     let mut report = base_report(args, &scene, done, times);
     report.adapter = adapter;
     report.dispatches_per_step = stats.dispatches_per_step;
+    report.gpu_bytes_per_particle = stats.gpu_bytes_per_particle;
+    report.gpu_mib_per_million = stats.gpu_bytes_per_particle as f64 * 1e6 / (1024.0 * 1024.0);
     report.stage_ms = stats.stage_ms.into_iter().collect();
     let d = Diagnostics::measure(
         &scene.params,

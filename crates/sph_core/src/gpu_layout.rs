@@ -152,15 +152,3 @@ pub fn id_to_w(id: u32) -> f32 {
 pub fn w_to_id(w: f32) -> u32 {
     w.to_bits()
 }
-
-/// Bytes of GPU memory per particle slot for a configuration (state, sorted copy, density,
-/// pressure, normals, sort keys); used for the memory report.
-pub fn bytes_per_particle(surface_tension: bool, hash: bool) -> u32 {
-    let vec4 = 16;
-    // position, velocity, predicted velocity, acceleration, start acceleration: twice (sorted copy).
-    let state = 2 * 5 * vec4;
-    let scalars = 4 * 2 + 4 * 2; // density, pressure, cell/key, rank/value
-    let normals = if surface_tension { vec4 } else { 0 };
-    let hash_table = if hash { 2 * 4 * 2 } else { 0 }; // two buckets' start/end per slot (n = 2 cap)
-    state + scalars + normals + hash_table
-}

@@ -1,7 +1,7 @@
 //! GPU buffers: structure-of-arrays particle state sized by capacity, the sorted copies, the
 //! grid and hash arrays, the uniform block; spawns are uploaded at the end of the live range.
 
-use super::pipelines::{SphPipelines, STORAGE_BINDINGS};
+use super::pipelines::{SphPipelines, VariantKey, STORAGE_BINDINGS};
 use super::{ExtractedSphFrame, SphRenderFeedback};
 use bevy::prelude::*;
 use bevy::render::render_asset::RenderAssets;
@@ -13,6 +13,7 @@ use bevy::render::storage::GpuShaderBuffer;
 use sph_core::gpu_layout::{bitonic_steps, sort_length, GpuSphParams};
 use sph_core::neighbor::grid::DenseGrid;
 use sph_core::neighbor::hash::hash_table_size;
+use sph_core::NeighborSearch;
 
 /// Byte stride of the bitonic steps in their uniform buffer (the dynamic-offset alignment).
 pub const BITONIC_STRIDE: u64 = 256;
@@ -24,6 +25,10 @@ pub struct GpuBuffers {
     pub capacity: u32,
     /// Grid cells per axis.
     pub grid_dims: UVec3,
+    /// The variant the buffers were sized for.
+    pub key: VariantKey,
+    /// Bytes allocated on the GPU (all buffers).
+    pub bytes: u64,
     /// Bitonic sort length.
     pub sort_length: u32,
     /// The uniform block.
@@ -101,16 +106,25 @@ fn storage_buffer(device: &RenderDevice, label: &'static str, bytes: u64) -> Buf
     })
 }
 
+/// Allocates every buffer; the normals and the hash arrays only when the variant needs them (a
+/// 16-byte placeholder keeps their binding valid otherwise).
 fn allocate(
     device: &RenderDevice,
     capacity: u32,
     grid_dims: UVec3,
+    key: VariantKey,
     readable: [Buffer; 4],
 ) -> GpuBuffers {
     let n = capacity as u64;
     let cells = (grid_dims.x * grid_dims.y * grid_dims.z) as u64;
-    let sort_len = sort_length(capacity);
-    let table = hash_table_size(capacity as usize) as u64;
+    let hash = key.search == NeighborSearch::Hash;
+    let sort_len = if hash { sort_length(capacity) } else { 0 };
+    let table = if hash {
+        hash_table_size(capacity as usize) as u64
+    } else {
+        0
+    };
+    let normals = if key.surface_tension { 16 * n } else { 0 };
     let [position, velocity, acceleration, density] = readable;
     let storage = vec![
         position,
@@ -120,7 +134,7 @@ fn allocate(
         storage_buffer(device, "sph_acceleration_start", 16 * n),
         density,
         storage_buffer(device, "sph_pressure", 4 * n),
-        storage_buffer(device, "sph_normal", 16 * n),
+        storage_buffer(device, "sph_normal", normals),
         storage_buffer(device, "sph_sorted_position", 16 * n),
         storage_buffer(device, "sph_sorted_velocity", 16 * n),
         storage_buffer(device, "sph_sorted_velocity_predicted", 16 * n),
@@ -136,7 +150,11 @@ fn allocate(
         storage_buffer(device, "sph_bucket_end", 4 * table),
     ];
     debug_assert_eq!(storage.len(), STORAGE_BINDINGS as usize);
-    let steps = bitonic_steps(sort_len);
+    let steps = if hash {
+        bitonic_steps(sort_len)
+    } else {
+        Vec::new()
+    };
     let mut bytes = vec![0u8; (steps.len().max(1) as u64 * BITONIC_STRIDE) as usize];
     for (k, step) in steps.iter().enumerate() {
         let at = k * BITONIC_STRIDE as usize;
@@ -148,9 +166,14 @@ fn allocate(
             contents: &bytes,
             usage: BufferUsages::UNIFORM,
         });
+    let bytes = storage.iter().map(|b| b.size()).sum::<u64>()
+        + (std::mem::size_of::<GpuSphParams>() as u64)
+        + steps.len() as u64 * BITONIC_STRIDE;
     GpuBuffers {
         capacity,
         grid_dims,
+        key,
+        bytes,
         sort_length: sort_len,
         uniform: device.create_buffer(&BufferDescriptor {
             label: Some("sph_uniforms"),
@@ -216,9 +239,12 @@ pub(crate) fn prepare_sph_buffers(
             return;
         }
     };
+    let key = VariantKey::of(&frame.params);
     let needs_allocation = state.buffers.as_ref().is_none_or(|b| {
         b.capacity != frame.capacity
             || b.grid_dims != grid.dims
+            || b.key.search != key.search
+            || b.key.surface_tension != key.surface_tension
             || b.at(slot::POSITION).id() != position.id()
             || b.at(slot::DENSITY).id() != density.id()
     });
@@ -229,8 +255,11 @@ pub(crate) fn prepare_sph_buffers(
             &device,
             frame.capacity,
             grid.dims,
+            key,
             [position, velocity, acceleration, density],
         );
+        let bytes_per_particle = (buffers.bytes / frame.capacity.max(1) as u64) as u32;
+        feedback.update(|f| f.gpu_bytes_per_particle = bytes_per_particle);
         state.buffers = Some(buffers);
         state.generation += 1;
         state.forces_stale = true;

@@ -149,6 +149,8 @@ pub struct RenderFeedback {
     pub sim_time: f64,
     /// Dispatches of the last step.
     pub dispatches_per_step: u32,
+    /// GPU bytes allocated per particle slot (all buffers / capacity).
+    pub gpu_bytes_per_particle: u32,
     /// Why the GPU is not stepping, prefixed `gpu:`.
     pub status: Option<String>,
 }
