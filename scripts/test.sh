@@ -21,6 +21,12 @@ if ! ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1;
   apt_install mesa-vulkan-drivers libvulkan1
 fi
 
+# The sandbox screenshot test renders a real window under Xvfb.
+if ! command -v xvfb-run >/dev/null 2>&1; then
+  echo "test.sh: installing xvfb (virtual X server for the sandbox screenshot test)"
+  apt_install xvfb xauth
+fi
+
 # Mesa's drivers warn on every device creation without a runtime directory.
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
   export XDG_RUNTIME_DIR="/tmp/xdg-runtime-$(id -u)"

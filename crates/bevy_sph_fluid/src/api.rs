@@ -26,6 +26,12 @@ impl Default for SphParams {
     }
 }
 
+/// Particle slots of every buffer. Starts at the plugin's capacity; changing it reallocates the
+/// buffers and resets the simulation (block spawners fire again).
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq, Reflect)]
+#[reflect(Resource)]
+pub struct SphCapacity(pub u32);
+
 /// Run, pause, single-step, reset and substeps per frame.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq, Reflect)]
 #[reflect(Resource)]
@@ -148,4 +154,19 @@ pub struct SphSnapshot {
     pub accelerations: Vec<Vec3>,
     /// Densities [kg/m³].
     pub densities: Vec<f32>,
+}
+
+/// Handles of the GPU state buffers (GPU backend): read back by [`SphReadbackRequest`], and
+/// bindable by a material to draw particles straight from the GPU. The render world writes them;
+/// never modify these assets from the main world. Replaced when [`SphCapacity`] changes.
+#[derive(Resource, Clone, Debug, PartialEq, Eq)]
+pub struct SphGpuBuffers {
+    /// `array<vec4<f32>>`: xyz position [m], w = particle id (bit-cast u32).
+    pub position: Handle<bevy::render::storage::ShaderBuffer>,
+    /// `array<vec4<f32>>`: xyz velocity [m/s].
+    pub velocity: Handle<bevy::render::storage::ShaderBuffer>,
+    /// `array<vec4<f32>>`: xyz acceleration of the last force evaluation [m/s²].
+    pub acceleration: Handle<bevy::render::storage::ShaderBuffer>,
+    /// `array<f32>`: density [kg/m³].
+    pub density: Handle<bevy::render::storage::ShaderBuffer>,
 }

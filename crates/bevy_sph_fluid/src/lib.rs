@@ -93,6 +93,8 @@ impl Plugin for SphFluidPlugin {
             .init_resource::<SphParams>()
             .init_resource::<SphControl>()
             .init_resource::<SphStats>()
+            .insert_resource(SphCapacity(self.capacity))
+            .register_type::<SphCapacity>()
             .add_message::<SphReadbackRequest>()
             .add_message::<SphSnapshot>()
             .insert_resource(simulation::SphSimulation::new(self.capacity, self.backend));

@@ -13,19 +13,6 @@ use sph_core::{BoxContainer, CpuSolver};
 /// Most substeps per frame.
 pub const MAX_SUBSTEPS: u32 = 64;
 
-/// Handles of the GPU state buffers the main world can read back or draw from.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct StateBuffers {
-    /// `array<vec4<f32>>`: xyz position, w = particle id (bit-cast).
-    pub position: Handle<bevy::render::storage::ShaderBuffer>,
-    /// `array<vec4<f32>>`: xyz velocity.
-    pub velocity: Handle<bevy::render::storage::ShaderBuffer>,
-    /// `array<vec4<f32>>`: xyz acceleration of the last force evaluation.
-    pub acceleration: Handle<bevy::render::storage::ShaderBuffer>,
-    /// `array<f32>`: density.
-    pub density: Handle<bevy::render::storage::ShaderBuffer>,
-}
-
 /// What the render world does this frame; extracted every frame.
 #[derive(Resource, Clone, Debug, Default)]
 pub struct SphFrame {
@@ -48,7 +35,7 @@ pub struct SphFrame {
     /// Steps to take this frame.
     pub steps: u32,
     /// The state buffers.
-    pub buffers: Option<StateBuffers>,
+    pub buffers: Option<SphGpuBuffers>,
 }
 
 impl SphFrame {
@@ -128,7 +115,13 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
     app.add_systems(
         schedule,
         (
-            (sph_track_container, sph_reset, sph_spawn_blocks, sph_emit)
+            (
+                sph_apply_capacity,
+                sph_track_container,
+                sph_reset,
+                sph_spawn_blocks,
+                sph_emit,
+            )
                 .chain()
                 .in_set(SphSystems::Prepare),
             sph_plan_step.in_set(SphSystems::Step),
@@ -219,16 +212,12 @@ fn sph_track_container(
     }
 }
 
-fn sph_reset(
-    mut control: ResMut<SphControl>,
-    mut sim: ResMut<SphSimulation>,
-    mut blocks: Query<&mut SphBlockSpawn>,
-    mut emitters: Query<&mut SphEmitter>,
+/// Drops every particle; block spawners fire again and emitters start over.
+fn reset_particles(
+    sim: &mut SphSimulation,
+    blocks: &mut Query<&mut SphBlockSpawn>,
+    emitters: &mut Query<&mut SphEmitter>,
 ) {
-    if !control.reset {
-        return;
-    }
-    control.reset = false;
     sim.particle_count = 0;
     sim.next_id = 0;
     sim.refused = 0;
@@ -239,12 +228,58 @@ fn sph_reset(
     if let Some(solver) = &mut sim.cpu {
         solver.clear();
     }
-    // Block spawners fire again; emitters start over.
-    for mut block in &mut blocks {
+    for mut block in blocks.iter_mut() {
         block.set_changed();
     }
-    for mut emitter in &mut emitters {
+    for mut emitter in emitters.iter_mut() {
         emitter.0.emitted = 0;
+    }
+}
+
+fn sph_reset(
+    mut control: ResMut<SphControl>,
+    mut sim: ResMut<SphSimulation>,
+    mut blocks: Query<&mut SphBlockSpawn>,
+    mut emitters: Query<&mut SphEmitter>,
+) {
+    if control.reset {
+        control.reset = false;
+        reset_particles(&mut sim, &mut blocks, &mut emitters);
+    }
+}
+
+/// A changed [`SphCapacity`] reallocates every buffer (or rebuilds the CPU solver) and resets.
+fn sph_apply_capacity(
+    capacity: Res<SphCapacity>,
+    mut sim: ResMut<SphSimulation>,
+    mut stats: ResMut<SphStats>,
+    buffers: Option<ResMut<Assets<bevy::render::storage::ShaderBuffer>>>,
+    mut commands: Commands,
+    mut blocks: Query<&mut SphBlockSpawn>,
+    mut emitters: Query<&mut SphEmitter>,
+) {
+    if capacity.0 == sim.capacity {
+        return;
+    }
+    if let Err(e) = sph_core::solver::validate_capacity(capacity.0 as usize) {
+        stats.error = Some(e.to_string());
+        return;
+    }
+    sim.capacity = capacity.0;
+    reset_particles(&mut sim, &mut blocks, &mut emitters);
+    match sim.backend {
+        SphBackend::Gpu => {
+            if let Some(mut assets) = buffers {
+                let buffers = SphGpuBuffers::new(&mut assets, capacity.0);
+                commands.insert_resource(buffers.clone());
+                sim.frame.buffers = Some(buffers);
+            }
+        }
+        SphBackend::Cpu => {
+            // Rebuilt for the new capacity by sph_track_container.
+            sim.cpu = None;
+            sim.container = None;
+        }
     }
 }
 

@@ -9,7 +9,8 @@ pub mod pipelines;
 pub mod stages;
 
 use crate::api::SphBackend;
-use crate::simulation::{SphFrame, SphSimulation, StateBuffers};
+use crate::api::SphGpuBuffers;
+use crate::simulation::{SphFrame, SphSimulation};
 use bevy::asset::RenderAssetUsages;
 use bevy::core_pipeline::schedule::camera_driver;
 use bevy::ecs::schedule::ScheduleLabel;
@@ -226,20 +227,29 @@ pub(crate) fn finish(app: &mut App) {
     let Some(mut assets) = world.get_resource_mut::<Assets<ShaderBuffer>>() else {
         return;
     };
-    let mut make = |bytes: usize| {
-        assets.add(ShaderBuffer::with_size(
-            bytes.max(16),
-            RenderAssetUsages::RENDER_WORLD,
-        ))
-    };
-    let n = capacity as usize;
-    let buffers = StateBuffers {
-        position: make(16 * n),
-        velocity: make(16 * n),
-        acceleration: make(16 * n),
-        density: make(4 * n),
-    };
+    let buffers = SphGpuBuffers::new(&mut assets, capacity);
+    world.insert_resource(buffers.clone());
     world.resource_mut::<SphSimulation>().frame.buffers = Some(buffers);
+}
+
+impl SphGpuBuffers {
+    /// Render-world-only buffers for `capacity` particles (read back, drawn, never written by
+    /// the main world).
+    pub fn new(assets: &mut Assets<ShaderBuffer>, capacity: u32) -> Self {
+        let n = capacity as usize;
+        let mut make = |bytes: usize| {
+            assets.add(ShaderBuffer::with_size(
+                bytes.max(16),
+                RenderAssetUsages::RENDER_WORLD,
+            ))
+        };
+        Self {
+            position: make(16 * n),
+            velocity: make(16 * n),
+            acceleration: make(16 * n),
+            density: make(4 * n),
+        }
+    }
 }
 
 fn extract_sph_frame(mut commands: Commands, sim: Extract<Res<SphSimulation>>) {

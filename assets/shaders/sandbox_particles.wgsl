@@ -1,0 +1,79 @@
+// Sphere impostors drawn straight from the simulation's GPU buffers: one camera-facing quad per
+// particle slot, positioned from `positions[index]` (the mesh carries only the corner and the
+// index), shaded as a sphere and coloured by density, speed or pressure.
+#import bevy_pbr::mesh_view_bindings::view
+#import bevy_pbr::view_transformations::position_world_to_clip
+
+struct ParticleDraw {
+    count: u32,
+    color_mode: u32,
+    radius: f32,
+    rest_density: f32,
+    max_speed: f32,
+    pad_a: f32,
+    pad_b: f32,
+    pad_c: f32,
+}
+
+@group(#{MATERIAL_BIND_GROUP}) @binding(0) var<storage, read> positions: array<vec4<f32>>;
+@group(#{MATERIAL_BIND_GROUP}) @binding(1) var<storage, read> velocities: array<vec4<f32>>;
+@group(#{MATERIAL_BIND_GROUP}) @binding(2) var<storage, read> densities: array<f32>;
+@group(#{MATERIAL_BIND_GROUP}) @binding(3) var<uniform> draw: ParticleDraw;
+
+struct Vertex {
+    // xy: quad corner in [-1, 1]
+    @location(0) corner: vec3<f32>,
+    // x: particle slot
+    @location(2) slot: vec2<f32>,
+}
+
+struct VertexOutput {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) corner: vec2<f32>,
+    @location(1) color: vec3<f32>,
+}
+
+const PALE: vec3<f32> = vec3<f32>(0.72, 0.86, 1.0);
+const STRONG: vec3<f32> = vec3<f32>(0.02, 0.2, 0.85);
+
+@vertex
+fn vertex(v: Vertex) -> VertexOutput {
+    var out: VertexOutput;
+    let i = u32(v.slot.x + 0.5);
+    if i >= draw.count {
+        // Unused slot: a degenerate triangle outside the clip volume.
+        out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
+        return out;
+    }
+    let center = positions[i].xyz;
+    let right = view.world_from_view[0].xyz;
+    let up = view.world_from_view[1].xyz;
+    let world = center + (right * v.corner.x + up * v.corner.y) * draw.radius;
+    out.clip = position_world_to_clip(world);
+    out.corner = v.corner.xy;
+    var t: f32;
+    if draw.color_mode == 1u {
+        t = length(velocities[i].xyz) / draw.max_speed;
+    } else if draw.color_mode == 2u {
+        let ratio = densities[i] / draw.rest_density;
+        let r2 = ratio * ratio;
+        t = (r2 * r2 * r2 * ratio - 1.0) * 2.0;
+    } else {
+        // Free-surface particles have about half the rest density; the bulk is near rest.
+        t = (densities[i] / draw.rest_density - 0.5) / 0.52;
+    }
+    out.color = mix(PALE, STRONG, clamp(t, 0.0, 1.0));
+    return out;
+}
+
+@fragment
+fn fragment(in: VertexOutput) -> @location(0) vec4<f32> {
+    let r2 = dot(in.corner, in.corner);
+    if r2 > 1.0 {
+        discard;
+    }
+    let normal = vec3<f32>(in.corner, sqrt(1.0 - r2));
+    let light = normalize(vec3<f32>(0.4, 0.6, 0.7));
+    let shade = 0.45 + 0.55 * max(dot(normal, light), 0.0);
+    return vec4<f32>(in.color * shade, 1.0);
+}

@@ -1,0 +1,169 @@
+//! Particles drawn straight from the simulation's GPU buffers: one mesh of camera-facing quads,
+//! one per particle slot, whose vertex shader reads `positions[slot]`. No CPU copy per frame.
+
+use bevy::asset::RenderAssetUsages;
+use bevy::camera::visibility::NoFrustumCulling;
+use bevy::mesh::{Indices, PrimitiveTopology};
+use bevy::prelude::*;
+use bevy::reflect::TypePath;
+use bevy::render::render_resource::{AsBindGroup, ShaderType};
+use bevy::render::storage::ShaderBuffer;
+use bevy::shader::ShaderRef;
+use bevy_sph_fluid::prelude::*;
+
+const SHADER: &str = "shaders/sandbox_particles.wgsl";
+
+/// How particles are coloured.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ColorMode {
+    /// Pale to strong blue with density (the design's colouring).
+    #[default]
+    Density,
+    /// Speed.
+    Speed,
+    /// Pressure (Tait ratio).
+    Pressure,
+}
+
+/// The draw settings the shader reads.
+#[derive(Clone, Copy, Debug, Default, ShaderType)]
+pub struct ParticleDraw {
+    count: u32,
+    color_mode: u32,
+    radius: f32,
+    rest_density: f32,
+    max_speed: f32,
+    pad_a: f32,
+    pad_b: f32,
+    pad_c: f32,
+}
+
+/// Binds the simulation's position, velocity and density buffers for drawing.
+#[derive(Asset, TypePath, AsBindGroup, Debug, Clone)]
+pub struct ParticleMaterial {
+    #[storage(0, read_only)]
+    positions: Handle<ShaderBuffer>,
+    #[storage(1, read_only)]
+    velocities: Handle<ShaderBuffer>,
+    #[storage(2, read_only)]
+    densities: Handle<ShaderBuffer>,
+    #[uniform(3)]
+    draw: ParticleDraw,
+}
+
+impl Material for ParticleMaterial {
+    fn vertex_shader() -> ShaderRef {
+        SHADER.into()
+    }
+
+    fn fragment_shader() -> ShaderRef {
+        SHADER.into()
+    }
+
+    // The prepass and shadow shaders would not read the particle buffer.
+    fn enable_prepass() -> bool {
+        false
+    }
+
+    fn enable_shadows() -> bool {
+        false
+    }
+}
+
+/// The particle-drawing entity and its material.
+#[derive(Resource)]
+pub struct ParticleDrawing {
+    material: Handle<ParticleMaterial>,
+    /// Colour mode chosen in the panel.
+    pub color_mode: ColorMode,
+}
+
+/// One quad per slot: corners in ATTRIBUTE_POSITION, the slot index in ATTRIBUTE_UV_0.x.
+fn quads(slots: u32) -> Mesh {
+    let corners = [
+        [-1.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+    ];
+    let mut positions = Vec::with_capacity(4 * slots as usize);
+    let mut slot_of = Vec::with_capacity(4 * slots as usize);
+    let mut indices = Vec::with_capacity(6 * slots as usize);
+    for slot in 0..slots {
+        positions.extend(corners);
+        slot_of.extend([[slot as f32, 0.0]; 4]);
+        let base = 4 * slot;
+        indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+    }
+    Mesh::new(
+        PrimitiveTopology::TriangleList,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, slot_of)
+    .with_inserted_indices(Indices::U32(indices))
+}
+
+/// Spawns the particle mesh for the plugin's current buffers (tagged for despawn with `tag`).
+pub fn spawn_particles(
+    commands: &mut Commands,
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<ParticleMaterial>,
+    buffers: &SphGpuBuffers,
+    capacity: u32,
+    radius: f32,
+    tag: impl Bundle,
+) {
+    let material = materials.add(ParticleMaterial {
+        positions: buffers.position.clone(),
+        velocities: buffers.velocity.clone(),
+        densities: buffers.density.clone(),
+        draw: ParticleDraw {
+            radius,
+            rest_density: 1.0,
+            max_speed: 3.0,
+            ..default()
+        },
+    });
+    commands.spawn((
+        Mesh3d(meshes.add(quads(capacity))),
+        MeshMaterial3d(material.clone()),
+        Transform::IDENTITY,
+        NoFrustumCulling,
+        tag,
+    ));
+    commands.insert_resource(ParticleDrawing {
+        material,
+        color_mode: ColorMode::Density,
+    });
+}
+
+/// Keeps the draw uniform in step with the simulation (count, rest density, colour mode).
+pub fn update_particle_draw(
+    drawing: Option<Res<ParticleDrawing>>,
+    stats: Res<SphStats>,
+    params: Res<SphParams>,
+    mut materials: ResMut<Assets<ParticleMaterial>>,
+) {
+    let Some(drawing) = drawing else {
+        return;
+    };
+    let color_mode = match drawing.color_mode {
+        ColorMode::Density => 0,
+        ColorMode::Speed => 1,
+        ColorMode::Pressure => 2,
+    };
+    let wanted = (stats.particle_count, color_mode, params.rest_density);
+    let Some(material) = materials.get(&drawing.material) else {
+        return;
+    };
+    let d = material.draw;
+    if (d.count, d.color_mode, d.rest_density) == wanted {
+        return;
+    }
+    if let Some(mut material) = materials.get_mut(&drawing.material) {
+        material.draw.count = wanted.0;
+        material.draw.color_mode = wanted.1;
+        material.draw.rest_density = wanted.2;
+    }
+}

@@ -1,0 +1,279 @@
+//! The start panel and the runtime panel (bevy_egui). Sliders clamp to their ranges, so bad
+//! values cannot be entered; the plugin's validation errors are shown in red.
+
+use crate::config::{Preset, SandboxConfig, SpawnMode, BUDGET_RANGE};
+use crate::particles::{ColorMode, ParticleDrawing};
+use crate::AppState;
+use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
+use bevy::prelude::*;
+use bevy_egui::egui::{self, Color32, SliderClamping};
+use bevy_egui::EguiContexts;
+use bevy_sph_fluid::prelude::*;
+use sph_core::{Integrator, NeighborSearch};
+use std::collections::VecDeque;
+
+/// Debug drawing on/off.
+#[derive(Resource, Default)]
+pub struct DebugView(pub bool);
+
+/// The last seconds of FPS and density error, for the live plot.
+#[derive(Resource, Default)]
+pub struct History {
+    samples: VecDeque<(f32, f32)>,
+    last_steps: (f64, u64),
+    steps_per_second: f32,
+}
+
+const HISTORY_LEN: usize = 240;
+
+fn slider<'a>(
+    value: &'a mut f32,
+    range: std::ops::RangeInclusive<f32>,
+    label: &str,
+) -> egui::Slider<'a> {
+    egui::Slider::new(value, range)
+        .text(label)
+        .clamping(SliderClamping::Always)
+}
+
+fn integrator_combo(ui: &mut egui::Ui, id: &str, integrator: &mut Integrator) {
+    egui::ComboBox::from_label("integrator")
+        .selected_text(format!("{integrator:?}"))
+        .show_ui(ui, |ui| {
+            ui.push_id(id, |ui| {
+                for choice in [
+                    Integrator::KickDriftKick,
+                    Integrator::Leapfrog,
+                    Integrator::SymplecticEuler,
+                ] {
+                    ui.selectable_value(integrator, choice, format!("{choice:?}"));
+                }
+            });
+        });
+}
+
+/// The start screen.
+pub fn setup_panel(
+    mut contexts: EguiContexts,
+    mut config: ResMut<SandboxConfig>,
+    mut next: ResMut<NextState<AppState>>,
+) -> Result {
+    egui::Window::new("Aquaplay SPH sandbox")
+        .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+        .resizable(false)
+        .show(contexts.ctx_mut()?, |ui| {
+            ui.label("Choose the scene, then Start.");
+            ui.add(
+                egui::Slider::new(&mut config.budget, BUDGET_RANGE)
+                    .text("particle budget")
+                    .logarithmic(true)
+                    .clamping(SliderClamping::Always),
+            );
+            ui.horizontal(|ui| {
+                ui.label("spawn");
+                for (mode, label) in [
+                    (SpawnMode::Block, "block"),
+                    (SpawnMode::Pipe, "pipe jet"),
+                    (SpawnMode::Both, "both"),
+                ] {
+                    ui.radio_value(&mut config.spawn, mode, label);
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("preset");
+                let before = config.preset;
+                ui.radio_value(&mut config.preset, Preset::Water, "SI water");
+                ui.radio_value(&mut config.preset, Preset::Design, "design (seed)");
+                if config.preset != before {
+                    config.apply_preset_defaults();
+                }
+            });
+            let mut integrator = config.integrator;
+            integrator_combo(ui, "setup", &mut integrator);
+            config.integrator = integrator;
+            ui.add(slider(&mut config.time_step, 1e-5..=0.01, "time step [s]").logarithmic(true));
+            ui.horizontal(|ui| {
+                ui.label("neighbour search");
+                ui.radio_value(
+                    &mut config.search,
+                    NeighborSearch::Grid,
+                    "grid + counting sort",
+                );
+                ui.radio_value(
+                    &mut config.search,
+                    NeighborSearch::Hash,
+                    "spatial hash + bitonic",
+                );
+            });
+            ui.checkbox(&mut config.surface_tension, "surface tension (Akinci 2013)");
+            if let Err(e) = config.params().validate() {
+                ui.colored_label(Color32::RED, e.to_string());
+            } else if ui.button("Start").clicked() {
+                next.set(AppState::Running);
+            }
+        });
+    Ok(())
+}
+
+/// Samples FPS and density error for the plot, and steps per second.
+pub fn record_history(
+    time: Res<Time>,
+    stats: Res<SphStats>,
+    diagnostics: Res<DiagnosticsStore>,
+    mut history: ResMut<History>,
+) {
+    let fps = diagnostics
+        .get(&FrameTimeDiagnosticsPlugin::FPS)
+        .and_then(|d| d.smoothed())
+        .unwrap_or(0.0) as f32;
+    let error = stats
+        .diagnostics
+        .map(|d| d.density_error_mean_pct)
+        .unwrap_or(0.0);
+    history.samples.push_back((fps, error));
+    while history.samples.len() > HISTORY_LEN {
+        history.samples.pop_front();
+    }
+    let now = time.elapsed_secs_f64();
+    let (then, steps) = history.last_steps;
+    if now - then >= 1.0 {
+        history.steps_per_second =
+            (stats.step_count.saturating_sub(steps)) as f32 / (now - then) as f32;
+        history.last_steps = (now, stats.step_count);
+    }
+}
+
+fn plot(ui: &mut egui::Ui, history: &History) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(260.0, 70.0), egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, Color32::from_gray(25));
+    let n = history.samples.len().max(2) as f32;
+    let max_fps = history.samples.iter().map(|s| s.0).fold(1.0, f32::max);
+    let max_err = history.samples.iter().map(|s| s.1).fold(0.5, f32::max);
+    let line = |value: &dyn Fn(&(f32, f32)) -> f32, color: Color32| {
+        let points: Vec<egui::Pos2> = history
+            .samples
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                egui::pos2(
+                    rect.left() + rect.width() * k as f32 / (n - 1.0),
+                    rect.bottom() - rect.height() * value(s).clamp(0.0, 1.0),
+                )
+            })
+            .collect();
+        painter.add(egui::Shape::line(points, egui::Stroke::new(1.5, color)));
+    };
+    line(&|s| s.0 / max_fps, Color32::LIGHT_GREEN);
+    line(&|s| s.1 / max_err, Color32::LIGHT_BLUE);
+    ui.label(format!(
+        "green: FPS (max {max_fps:.0}), blue: density error (max {max_err:.2} %)"
+    ));
+}
+
+/// The runtime panel: parameters, controls, statistics and the live plot.
+#[allow(clippy::too_many_arguments)]
+pub fn runtime_panel(
+    mut contexts: EguiContexts,
+    mut params: ResMut<SphParams>,
+    mut control: ResMut<SphControl>,
+    stats: Res<SphStats>,
+    history: Res<History>,
+    mut debug: ResMut<DebugView>,
+    drawing: Option<ResMut<ParticleDrawing>>,
+    mut next: ResMut<NextState<AppState>>,
+) -> Result {
+    egui::Window::new("Simulation")
+        .anchor(egui::Align2::LEFT_TOP, [8.0, 8.0])
+        .default_width(300.0)
+        .show(contexts.ctx_mut()?, |ui| {
+            let mut p = params.0;
+            ui.add(slider(&mut p.viscosity, 0.0..=100.0, "viscosity μ [Pa s]").logarithmic(true));
+            ui.add(slider(&mut p.stiffness, 1e-2..=1e7, "stiffness k").logarithmic(true));
+            ui.add(
+                slider(&mut p.rest_density, 0.5..=2000.0, "rest density [kg/m³]").logarithmic(true),
+            );
+            ui.add(slider(
+                &mut p.surface_tension,
+                0.0..=2.0,
+                "surface tension γ",
+            ));
+            ui.add(slider(&mut p.wall_damping, 0.0..=1.0, "wall damping"));
+            ui.add(slider(&mut p.gravity.y, -20.0..=0.0, "gravity y [m/s²]"));
+            ui.add(slider(&mut p.time_step, 1e-5..=0.01, "dt [s]").logarithmic(true));
+            integrator_combo(ui, "runtime", &mut p.integrator);
+            if p != params.0 {
+                params.0 = p;
+            }
+            ui.add(
+                egui::Slider::new(&mut control.substeps, 1..=16)
+                    .text("substeps / frame")
+                    .clamping(SliderClamping::Always),
+            );
+            ui.horizontal(|ui| {
+                let label = if control.running { "Pause" } else { "Run" };
+                if ui.button(label).clicked() {
+                    control.running = !control.running;
+                }
+                if ui.button("Step").clicked() {
+                    control.single_step = true;
+                }
+                if ui.button("Reset").clicked() {
+                    control.reset = true;
+                }
+                if ui.button("Setup").clicked() {
+                    next.set(AppState::Setup);
+                }
+            });
+            if let Some(mut drawing) = drawing {
+                ui.horizontal(|ui| {
+                    ui.label("colour");
+                    for (mode, label) in [
+                        (ColorMode::Density, "density"),
+                        (ColorMode::Speed, "speed"),
+                        (ColorMode::Pressure, "pressure"),
+                    ] {
+                        ui.radio_value(&mut drawing.color_mode, mode, label);
+                    }
+                });
+            }
+            ui.checkbox(&mut debug.0, "debug view (grid cells, velocity arrows)");
+            ui.separator();
+            let fps = history.samples.back().map(|s| s.0).unwrap_or(0.0);
+            ui.label(format!(
+                "{:?} on {} · FPS {fps:.1} · {:.0} steps/s",
+                stats.backend, stats.adapter, history.steps_per_second
+            ));
+            ui.label(format!(
+                "particles {} / {} (refused {}) · t = {:.3} s · step {}",
+                stats.particle_count,
+                stats.capacity,
+                stats.refused_spawns,
+                stats.sim_time,
+                stats.step_count
+            ));
+            if let Some(d) = stats.diagnostics {
+                ui.label(format!(
+                    "density error {:.2} % mean, {:.2} % max · v_max {:.2} m/s · {:?}",
+                    d.density_error_mean_pct, d.density_error_max_pct, d.max_speed, stats.health
+                ));
+            }
+            ui.label(format!(
+                "{} dispatches / step · {} B / particle on the GPU",
+                stats.dispatches_per_step, stats.gpu_bytes_per_particle
+            ));
+            let stages: Vec<String> = stats
+                .stage_ms
+                .iter()
+                .map(|(name, ms)| format!("{} {ms:.2}", name.trim_start_matches("sph_")))
+                .collect();
+            if !stages.is_empty() {
+                ui.label(format!("GPU ms: {}", stages.join(", ")));
+            }
+            if let Some(error) = &stats.error {
+                ui.colored_label(Color32::RED, error);
+            }
+            plot(ui, &history);
+        });
+    Ok(())
+}

@@ -1,0 +1,98 @@
+//! Runs the sandbox under Xvfb on the software Vulkan driver, lets it render, saves a screenshot
+//! and looks at it: blue particle pixels inside the box and the runtime panel present.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn sandbox_binary() -> PathBuf {
+    // target/<profile>/deps/<this test> -> target/<profile>/examples/sandbox
+    let exe = std::env::current_exe().expect("test executable path");
+    let profile_dir = exe.parent().and_then(|d| d.parent()).expect("target dir");
+    profile_dir.join("examples").join("sandbox")
+}
+
+fn decode(path: &PathBuf) -> (u32, u32, Vec<u8>) {
+    let file = std::fs::File::open(path).expect("screenshot written");
+    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = decoder.read_info().expect("a PNG");
+    let mut buf = vec![0; reader.output_buffer_size().expect("size")];
+    let info = reader.next_frame(&mut buf).expect("PNG frame");
+    let channels = info.color_type.samples();
+    let rgb: Vec<u8> = buf[..info.buffer_size()]
+        .chunks(channels)
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect();
+    (info.width, info.height, rgb)
+}
+
+#[test]
+fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
+    let binary = sandbox_binary();
+    assert!(
+        binary.exists(),
+        "{} missing: build it with `cargo build --release --example sandbox`",
+        binary.display()
+    );
+    let xvfb = Command::new("xvfb-run").arg("--help").output();
+    assert!(
+        xvfb.is_ok(),
+        "xvfb-run not found: install it with `sudo apt-get install xvfb xauth` (scripts/test.sh does this)"
+    );
+    let shot = std::env::temp_dir().join(format!("sandbox-{}.png", std::process::id()));
+    let _ = std::fs::remove_file(&shot);
+    let output = Command::new("timeout")
+        .args(["600", "xvfb-run", "-a", "-s", "-screen 0 1280x720x24"])
+        .arg(&binary)
+        .args(["--particles", "8192", "--frames", "30", "--screenshot"])
+        .arg(&shot)
+        .output()
+        .expect("run the sandbox");
+    let log = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        output.status.success(),
+        "sandbox failed ({}):\n{}",
+        output.status,
+        log.lines().rev().take(30).collect::<Vec<_>>().join("\n")
+    );
+    let (w, h, rgb) = decode(&shot);
+    assert_eq!((w, h), (1280, 720));
+    let pixel = |x: u32, y: u32| {
+        let i = 3 * (y * w + x) as usize;
+        (rgb[i] as i32, rgb[i + 1] as i32, rgb[i + 2] as i32)
+    };
+    // Water: clearly blue pixels (blue well above red) in the box's part of the view.
+    let mut blue = 0;
+    for y in 100..620 {
+        for x in 330..1000 {
+            let (r, _, b) = pixel(x, y);
+            if b >= 100 && b - r >= 40 {
+                blue += 1;
+            }
+        }
+    }
+    assert!(blue >= 5_000, "only {blue} blue particle pixels in the box");
+    // The runtime panel: egui's dark window fill over the top-left corner.
+    let mut dark = 0;
+    let mut total = 0;
+    for y in 40..500 {
+        for x in 12..300 {
+            let (r, g, b) = pixel(x, y);
+            total += 1;
+            if r < 36 && g < 36 && b < 36 {
+                dark += 1;
+            }
+        }
+    }
+    assert!(
+        dark * 2 > total,
+        "panel not found: {dark} of {total} dark pixels"
+    );
+    // The background outside the box and the panel is not dark panel colour.
+    let (r, g, b) = pixel(1200, 680);
+    assert!(
+        r >= 36 || g >= 36 || b >= 36,
+        "background looks like the panel"
+    );
+    let _ = std::fs::remove_file(&shot);
+}
