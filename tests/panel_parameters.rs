@@ -29,7 +29,10 @@ fn velocities_by_id(s: &SphSnapshot) -> Vec<Vec3> {
 }
 
 fn max_difference(a: &[Vec3], b: &[Vec3]) -> f32 {
-    a.iter().zip(b).map(|(x, y)| (*x - *y).length()).fold(0.0, f32::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (*x - *y).length())
+        .fold(0.0, f32::max)
 }
 
 #[test]
@@ -66,8 +69,12 @@ fn each_panel_parameter_changes_the_next_step() {
         ("wall damping", |p| p.wall_damping = 0.0),
         ("gravity", |p| p.gravity.y = -3.0),
         ("time step", |p| p.time_step *= 0.5),
-        ("integrator: leapfrog", |p| p.integrator = Integrator::Leapfrog),
-        ("integrator: kick-drift-kick", |p| p.integrator = Integrator::KickDriftKick),
+        ("integrator: leapfrog", |p| {
+            p.integrator = Integrator::Leapfrog
+        }),
+        ("integrator: kick-drift-kick", |p| {
+            p.integrator = Integrator::KickDriftKick
+        }),
     ];
     let mut steps = 3;
     for (what, change) in changes {
@@ -84,8 +91,14 @@ fn each_panel_parameter_changes_the_next_step() {
         let scale = expected.iter().map(|v| v.length()).fold(1e-3, f32::max);
         let error = max_difference(&after, &expected);
         let effect = max_difference(&expected, &unchanged);
-        assert!(error <= 1e-4 * scale, "{what}: GPU differs from the CPU by {error} (scale {scale})");
-        assert!(effect > 10.0 * error.max(1e-7), "{what}: no visible effect ({effect})");
+        assert!(
+            error <= 1e-4 * scale,
+            "{what}: GPU differs from the CPU by {error} (scale {scale})"
+        );
+        assert!(
+            effect > 10.0 * error.max(1e-7),
+            "{what}: no visible effect ({effect})"
+        );
     }
 
     // Substeps per frame: one running frame takes that many steps.

@@ -1,6 +1,6 @@
 // Sphere impostors drawn straight from the simulation's GPU buffers: one camera-facing quad per
 // particle slot, positioned from `positions[index]` (the mesh carries only the corner and the
-// index), shaded as a sphere and coloured by density, speed or pressure.
+// index), shaded as a sphere and coloured by density, speed, pressure or neighbour count.
 #import bevy_pbr::mesh_view_bindings::view
 #import bevy_pbr::view_transformations::position_world_to_clip
 
@@ -19,6 +19,7 @@ struct ParticleDraw {
 @group(#{MATERIAL_BIND_GROUP}) @binding(1) var<storage, read> velocities: array<vec4<f32>>;
 @group(#{MATERIAL_BIND_GROUP}) @binding(2) var<storage, read> densities: array<f32>;
 @group(#{MATERIAL_BIND_GROUP}) @binding(3) var<uniform> draw: ParticleDraw;
+@group(#{MATERIAL_BIND_GROUP}) @binding(4) var<storage, read> neighbor_counts: array<u32>;
 
 struct Vertex {
     // xy: quad corner in [-1, 1]
@@ -54,6 +55,9 @@ fn vertex(v: Vertex) -> VertexOutput {
     var t: f32;
     if draw.color_mode == 1u {
         t = length(velocities[i].xyz) / draw.max_speed;
+    } else if draw.color_mode == 3u {
+        // About 32 neighbours in the bulk at h = 2 spacings.
+        t = f32(neighbor_counts[i]) / 40.0;
     } else if draw.color_mode == 2u {
         let ratio = densities[i] / draw.rest_density;
         let r2 = ratio * ratio;

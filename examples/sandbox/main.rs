@@ -2,7 +2,7 @@
 //! particles drawn straight from the GPU buffers, a runtime panel and an orbit camera.
 //!
 //! `cargo run --release --example sandbox -- [--particles N] [--start] [--paused]
-//!     [--hide-particles] [--screenshot FILE --frames N]`
+//!     [--hide-particles] [--no-gpu-timings] [--debug] [--screenshot FILE --frames N]`
 //! `--screenshot` starts the scene at once, renders N frames, saves a PNG, prints the median
 //! frame time and exits; `--paused` and `--hide-particles` isolate the simulation's and the
 //! particle drawing's share of the frame.
@@ -42,6 +42,7 @@ struct Cli {
     paused: bool,
     hide_particles: bool,
     no_gpu_timings: bool,
+    debug: bool,
 }
 
 fn parse_cli() -> Result<Cli, String> {
@@ -81,6 +82,7 @@ fn parse_cli() -> Result<Cli, String> {
             "--paused" => cli.paused = true,
             "--hide-particles" => cli.hide_particles = true,
             "--no-gpu-timings" => cli.no_gpu_timings = true,
+            "--debug" => cli.debug = true,
             other => return Err(format!("unknown option {other:?}")),
         }
         k += 1;
@@ -94,7 +96,7 @@ fn main() {
         Err(e) => {
             eprintln!(
                 "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
-                 [--hide-particles] [--screenshot FILE --frames N]"
+                 [--hide-particles] [--no-gpu-timings] [--debug] [--screenshot FILE --frames N]"
             );
             std::process::exit(2);
         }
@@ -200,12 +202,20 @@ fn auto_start(cli: Res<Cli>, mut next: ResMut<NextState<AppState>>) {
     }
 }
 
-/// `--paused` and `--hide-particles`, applied once the scene runs.
+/// `--paused`, `--hide-particles` and `--debug`, applied once the scene runs.
 fn apply_cli_toggles(
     cli: Res<Cli>,
     mut control: ResMut<SphControl>,
     mut particles: Query<&mut Visibility, With<scene::ParticleMesh>>,
+    mut debug: ResMut<ui::DebugView>,
+    drawing: Option<ResMut<particles::ParticleDrawing>>,
 ) {
+    if cli.debug && !debug.0 {
+        if let Some(mut drawing) = drawing {
+            debug.0 = true;
+            drawing.color_mode = particles::ColorMode::Neighbors;
+        }
+    }
     if cli.paused {
         control.running = false;
     }

@@ -23,6 +23,8 @@ pub enum ColorMode {
     Speed,
     /// Pressure (Tait ratio).
     Pressure,
+    /// Neighbours within h (debug view; the density pass records them while shown).
+    Neighbors,
 }
 
 /// The draw settings the shader reads.
@@ -49,6 +51,8 @@ pub struct ParticleMaterial {
     densities: Handle<ShaderBuffer>,
     #[uniform(3)]
     draw: ParticleDraw,
+    #[storage(4, read_only)]
+    neighbor_counts: Handle<ShaderBuffer>,
 }
 
 impl Material for ParticleMaterial {
@@ -118,6 +122,7 @@ pub fn spawn_particles(
         positions: buffers.position.clone(),
         velocities: buffers.velocity.clone(),
         densities: buffers.density.clone(),
+        neighbor_counts: buffers.neighbor_count.clone(),
         draw: ParticleDraw {
             radius,
             rest_density: 1.0,
@@ -138,20 +143,27 @@ pub fn spawn_particles(
     });
 }
 
-/// Keeps the draw uniform in step with the simulation (count, rest density, colour mode).
+/// Keeps the draw uniform in step with the simulation (count, rest density, colour mode), and
+/// has the density pass record neighbour counts only while they are shown.
 pub fn update_particle_draw(
     drawing: Option<Res<ParticleDrawing>>,
     stats: Res<SphStats>,
     params: Res<SphParams>,
+    mut control: ResMut<SphControl>,
     mut materials: ResMut<Assets<ParticleMaterial>>,
 ) {
     let Some(drawing) = drawing else {
         return;
     };
+    let record = drawing.color_mode == ColorMode::Neighbors;
+    if control.record_neighbor_counts != record {
+        control.record_neighbor_counts = record;
+    }
     let color_mode = match drawing.color_mode {
         ColorMode::Density => 0,
         ColorMode::Speed => 1,
         ColorMode::Pressure => 2,
+        ColorMode::Neighbors => 3,
     };
     let wanted = (stats.particle_count, color_mode, params.rest_density);
     let Some(material) = materials.get(&drawing.material) else {

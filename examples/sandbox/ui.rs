@@ -225,19 +225,32 @@ pub fn runtime_panel(
                     next.set(AppState::Setup);
                 }
             });
-            if let Some(mut drawing) = drawing {
+            let mut drawing_mode = drawing;
+            if let Some(drawing) = drawing_mode.as_deref_mut() {
                 ui.horizontal(|ui| {
                     ui.label("colour");
                     for (mode, label) in [
                         (ColorMode::Density, "density"),
                         (ColorMode::Speed, "speed"),
                         (ColorMode::Pressure, "pressure"),
+                        (ColorMode::Neighbors, "neighbours"),
                     ] {
                         ui.radio_value(&mut drawing.color_mode, mode, label);
                     }
                 });
             }
-            ui.checkbox(&mut debug.0, "debug view (grid cells, velocity arrows)");
+            let was = debug.0;
+            ui.checkbox(
+                &mut debug.0,
+                "debug view (grid cells, neighbour counts, velocity arrows)",
+            );
+            if let Some(drawing) = drawing_mode.as_deref_mut() {
+                if debug.0 && !was {
+                    drawing.color_mode = ColorMode::Neighbors;
+                } else if !debug.0 && was {
+                    drawing.color_mode = ColorMode::Density;
+                }
+            }
             ui.separator();
             let fps = history.samples.back().map(|s| s.0).unwrap_or(0.0);
             ui.label(format!(

@@ -44,6 +44,8 @@ pub struct SphControl {
     pub reset: bool,
     /// Simulation steps per rendered frame while running (1 ..= 64).
     pub substeps: u32,
+    /// The density pass also records each particle's neighbour count (debug views; GPU only).
+    pub record_neighbor_counts: bool,
 }
 
 impl Default for SphControl {
@@ -53,6 +55,7 @@ impl Default for SphControl {
             single_step: false,
             reset: false,
             substeps: 1,
+            record_neighbor_counts: false,
         }
     }
 }
@@ -154,6 +157,8 @@ pub struct SphSnapshot {
     pub accelerations: Vec<Vec3>,
     /// Densities [kg/m³].
     pub densities: Vec<f32>,
+    /// Neighbours within h (GPU backend, while [`SphControl::record_neighbor_counts`]).
+    pub neighbor_counts: Option<Vec<u32>>,
 }
 
 /// Handles of the GPU state buffers (GPU backend): read back by [`SphReadbackRequest`], and
@@ -169,4 +174,6 @@ pub struct SphGpuBuffers {
     pub acceleration: Handle<bevy::render::storage::ShaderBuffer>,
     /// `array<f32>`: density [kg/m³].
     pub density: Handle<bevy::render::storage::ShaderBuffer>,
+    /// `array<u32>`: neighbours within h, written while [`SphControl::record_neighbor_counts`].
+    pub neighbor_count: Handle<bevy::render::storage::ShaderBuffer>,
 }

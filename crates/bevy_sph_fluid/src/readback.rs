@@ -19,12 +19,15 @@ enum Part {
     Velocity = 1,
     Acceleration = 2,
     Density = 3,
+    NeighborCount = 4,
 }
 
 /// Readbacks in flight: the bytes of each part as they arrive.
 #[derive(Resource, Default)]
 struct PendingReadback {
-    parts: [Option<Vec<u8>>; 4],
+    parts: [Option<Vec<u8>>; 5],
+    /// Whether the neighbour counts were asked for too.
+    with_neighbor_counts: bool,
     in_flight: bool,
     step: u64,
 }
@@ -63,6 +66,7 @@ fn sph_request_readback(
                         velocities: p.velocity.clone(),
                         accelerations: p.acceleration.clone(),
                         densities: p.density.clone(),
+                        neighbor_counts: None,
                     }
                 })
                 .unwrap_or_default();
@@ -83,8 +87,10 @@ fn sph_request_readback(
             }
             let Some(buffers) = buffers else { return };
             // The copy is taken after this frame's steps.
+            let with_neighbor_counts = sim.frame.neighbor_counts;
             *pending = PendingReadback {
                 in_flight: true,
+                with_neighbor_counts,
                 step: stats.step_count + sim.frame.steps as u64,
                 ..default()
             };
@@ -93,7 +99,11 @@ fn sph_request_readback(
                 (Part::Velocity, &buffers.velocity, 16),
                 (Part::Acceleration, &buffers.acceleration, 16),
                 (Part::Density, &buffers.density, 4),
+                (Part::NeighborCount, &buffers.neighbor_count, 4),
             ] {
+                if part == Part::NeighborCount && !with_neighbor_counts {
+                    continue;
+                }
                 commands
                     .spawn(Readback::buffer_range(handle.clone(), 0, count * stride))
                     .observe(
@@ -115,10 +125,11 @@ fn sph_deliver_snapshot(
     sim: Res<SphSimulation>,
     mut stats: ResMut<SphStats>,
 ) {
-    if !pending.in_flight || pending.parts.iter().any(Option::is_none) {
+    let needed = if pending.with_neighbor_counts { 5 } else { 4 };
+    if !pending.in_flight || pending.parts[..needed].iter().any(Option::is_none) {
         return;
     }
-    let [Some(position), Some(velocity), Some(acceleration), Some(density)] =
+    let [Some(position), Some(velocity), Some(acceleration), Some(density), neighbor_counts] =
         std::mem::take(&mut pending.parts)
     else {
         return;
@@ -135,6 +146,7 @@ fn sph_deliver_snapshot(
         velocities: velocity.iter().map(xyz).collect(),
         accelerations: acceleration.iter().map(xyz).collect(),
         densities: bytemuck::pod_collect_to_vec(&density),
+        neighbor_counts: neighbor_counts.map(|bytes| bytemuck::pod_collect_to_vec(&bytes)),
     };
     // The GPU backend measures health on readback.
     if let Some(container) = sim.container {

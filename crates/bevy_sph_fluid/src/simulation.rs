@@ -34,6 +34,8 @@ pub struct SphFrame {
     pub spawn_velocities: Vec<[f32; 4]>,
     /// Steps to take this frame.
     pub steps: u32,
+    /// The density pass records neighbour counts.
+    pub neighbor_counts: bool,
     /// The state buffers.
     pub buffers: Option<SphGpuBuffers>,
 }
@@ -381,6 +383,7 @@ fn sph_plan_step(
             frame.container = container;
             frame.capacity = capacity;
             frame.steps = steps;
+            frame.neighbor_counts = control.record_neighbor_counts;
         }
     }
 }

@@ -141,8 +141,8 @@ fn every_stage_and_variant_composes_and_validates() {
             }
         }
     }
-    // 9 stages, 8 common variants, 3 + 4 extra roles.
-    assert_eq!(validated, 8 * (3 + 1 + 1 + 1 + 1 + 1 + 1 + 4 + 1));
+    // 9 stages, 8 common variants, roles: count 3, density 2, forces 4, the others 1.
+    assert_eq!(validated, 8 * (3 + 1 + 1 + 1 + 1 + 2 + 1 + 4 + 1));
 }
 
 #[test]

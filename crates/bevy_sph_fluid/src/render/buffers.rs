@@ -113,7 +113,7 @@ fn allocate(
     capacity: u32,
     grid_dims: UVec3,
     key: VariantKey,
-    readable: [Buffer; 4],
+    readable: [Buffer; 5],
 ) -> GpuBuffers {
     let n = capacity as u64;
     let cells = (grid_dims.x * grid_dims.y * grid_dims.z) as u64;
@@ -125,7 +125,7 @@ fn allocate(
         0
     };
     let normals = if key.surface_tension { 16 * n } else { 0 };
-    let [position, velocity, acceleration, density] = readable;
+    let [position, velocity, acceleration, density, neighbor_count] = readable;
     let storage = vec![
         position,
         velocity,
@@ -148,6 +148,7 @@ fn allocate(
         storage_buffer(device, "sph_sort_values", 4 * sort_len as u64),
         storage_buffer(device, "sph_bucket_start", 4 * table),
         storage_buffer(device, "sph_bucket_end", 4 * table),
+        neighbor_count,
     ];
     debug_assert_eq!(storage.len(), STORAGE_BINDINGS as usize);
     let steps = if hash {
@@ -225,9 +226,12 @@ pub(crate) fn prepare_sph_buffers(
         &handles.velocity,
         &handles.acceleration,
         &handles.density,
+        &handles.neighbor_count,
     ]
     .map(|h| assets.get(h).map(|b| b.buffer.clone()));
-    let [Some(position), Some(velocity), Some(acceleration), Some(density)] = readable else {
+    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(neighbor_count)] =
+        readable
+    else {
         state.status = Some("gpu: preparing buffers".into());
         return;
     };
@@ -239,7 +243,7 @@ pub(crate) fn prepare_sph_buffers(
             return;
         }
     };
-    let key = VariantKey::of(&frame.params);
+    let key = VariantKey::of(&frame.params, frame.neighbor_counts);
     let needs_allocation = state.buffers.as_ref().is_none_or(|b| {
         b.capacity != frame.capacity
             || b.grid_dims != grid.dims
@@ -256,7 +260,7 @@ pub(crate) fn prepare_sph_buffers(
             frame.capacity,
             grid.dims,
             key,
-            [position, velocity, acceleration, density],
+            [position, velocity, acceleration, density, neighbor_count],
         );
         let bytes_per_particle = (buffers.bytes / frame.capacity.max(1) as u64) as u32;
         feedback.update(|f| f.gpu_bytes_per_particle = bytes_per_particle);

@@ -248,6 +248,7 @@ impl SphGpuBuffers {
             velocity: make(16 * n),
             acceleration: make(16 * n),
             density: make(4 * n),
+            neighbor_count: make(4 * n),
         }
     }
 }
@@ -290,7 +291,7 @@ pub fn sph_simulate(world: &mut World) {
     let particle_count = state.particle_count;
     let mut forces_stale = state.forces_stale;
     let bitonic = state.bitonic_bind_group.clone();
-    let key = VariantKey::of(&params);
+    let key = VariantKey::of(&params, frame.neighbor_counts);
     let Some(stage) = world.resource::<SphPipelines>().variants.get(&key).cloned() else {
         feedback.update(|f| f.status = Some("gpu: compiling shaders".into()));
         return;

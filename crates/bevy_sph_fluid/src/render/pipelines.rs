@@ -15,8 +15,8 @@ use bevy::shader::ShaderDefVal;
 use sph_core::{NeighborSearch, SphParams};
 use std::num::NonZeroU64;
 
-/// Storage buffers in the shared group 0 (bindings 1 ..= 21).
-pub const STORAGE_BINDINGS: u32 = 21;
+/// Storage buffers in the shared group 0 (bindings 1 ..= 22).
+pub const STORAGE_BINDINGS: u32 = 22;
 
 /// Which variant of the pipelines a parameter set needs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -27,15 +27,18 @@ pub struct VariantKey {
     pub surface_tension: bool,
     /// Viscosity term on.
     pub viscosity: bool,
+    /// The density pass records neighbour counts (debug views).
+    pub neighbor_counts: bool,
 }
 
 impl VariantKey {
     /// The variant `params` need.
-    pub fn of(params: &SphParams) -> Self {
+    pub fn of(params: &SphParams, neighbor_counts: bool) -> Self {
         Self {
             search: params.neighbor_search,
             surface_tension: params.has_surface_tension(),
             viscosity: params.has_viscosity(),
+            neighbor_counts,
         }
     }
 
@@ -50,6 +53,9 @@ impl VariantKey {
         }
         if self.viscosity {
             defs.push("VISCOSITY".into());
+        }
+        if self.neighbor_counts {
+            defs.push("NEIGHBOR_COUNT".into());
         }
         defs
     }
@@ -168,7 +174,7 @@ pub(crate) fn queue_sph_pipelines(
     if !frame.active {
         return;
     }
-    let key = VariantKey::of(&frame.params);
+    let key = VariantKey::of(&frame.params, frame.neighbor_counts);
     if pipelines.variants.contains_key(&key) {
         return;
     }

@@ -28,3 +28,5 @@
 @group(0) @binding(19) var<storage, read_write> sort_values: array<u32>;
 @group(0) @binding(20) var<storage, read_write> bucket_start: array<u32>;
 @group(0) @binding(21) var<storage, read_write> bucket_end: array<u32>;
+// Debug: neighbours within h of each particle (written by the density pass with NEIGHBOR_COUNT).
+@group(0) @binding(22) var<storage, read_write> neighbor_count: array<u32>;

@@ -1,6 +1,6 @@
 // ρ_i = m Σ_j W_poly6(x_i - x_j) (Müller 2003 eq. 3, self included), then p_i from the EOS.
-// Rust twin: sph_core::density.
-#import sph::bindings::{params, position, density, pressure}
+// Rust twin: sph_core::density. NEIGHBOR_COUNT (debug) also records each particle's neighbours.
+#import sph::bindings::{params, position, density, pressure, neighbor_count}
 #import sph::kernels::{poly6, eos_pressure}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
 
@@ -14,6 +14,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let c = home_cell(x_i);
     let h2 = params.kernel_a.y;
     var sum = 0.0;
+    var neighbors = 0u;
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
         for (var j = range.x; j < range.y; j++) {
@@ -22,10 +23,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             let r2 = dot(r, r);
             if r2 < h2 && accepts(c, q, x_j) {
                 sum += poly6(r2);
+                neighbors += 1u;
             }
         }
     }
     let rho = params.gravity.w * sum;
     density[i] = rho;
     pressure[i] = eos_pressure(rho);
+#ifdef NEIGHBOR_COUNT
+    // Self excluded.
+    neighbor_count[i] = neighbors - 1u;
+#endif
 }
