@@ -55,7 +55,7 @@ const STAGES: [(&str, &str, &[&[&str]]); 9] = [
     (
         "density.wgsl",
         include_str!("../src/render/stages/density.wgsl"),
-        &[&[]],
+        &[&[], &["NEIGHBOR_COUNT"]],
     ),
     (
         "normals.wgsl",
