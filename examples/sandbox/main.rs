@@ -9,6 +9,7 @@
 
 mod config;
 mod debug;
+mod flat_material;
 mod particles;
 mod scene;
 mod ui;
@@ -133,6 +134,7 @@ fn main() {
         EguiPlugin::default(),
         PanOrbitCameraPlugin,
         MaterialPlugin::<particles::ParticleMaterial>::default(),
+        MaterialPlugin::<flat_material::FlatMaterial>::default(),
         SphFluidPlugin::new(config.budget, SphBackend::Gpu),
     ))
     .init_state::<AppState>()

@@ -2,6 +2,7 @@
 //! emitter, the block spawn, and the particle mesh once the plugin's buffers exist.
 
 use crate::config::{SandboxConfig, SpawnMode, BLOCK_SIZE, FLOOR_SIZE, WALL_HEIGHT};
+use crate::flat_material::FlatMaterial;
 use crate::particles::{spawn_particles, ParticleDrawing, ParticleMaterial};
 use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
@@ -27,7 +28,7 @@ pub fn enter_running(
     mut commands: Commands,
     config: Res<SandboxConfig>,
     mut meshes: ResMut<Assets<Mesh>>,
-    mut materials: ResMut<Assets<StandardMaterial>>,
+    mut materials: ResMut<Assets<FlatMaterial>>,
 ) {
     let params = config.params();
     commands.insert_resource(SphCapacity(config.budget));
@@ -46,20 +47,12 @@ pub fn enter_running(
     let t = 0.02;
     commands.spawn((
         Mesh3d(meshes.add(Cuboid::new(size.x + 2.0 * t, t, size.z + 2.0 * t))),
-        MeshMaterial3d(materials.add(StandardMaterial {
-            base_color: Color::srgb(0.55, 0.5, 0.45),
-            unlit: true,
-            ..default()
-        })),
+        MeshMaterial3d(materials.add(FlatMaterial::new(Color::srgb(0.55, 0.5, 0.45)))),
         Transform::from_translation(container.floor_center - Vec3::Y * (t / 2.0)),
         SceneEntity,
     ));
-    let glass = materials.add(StandardMaterial {
-        base_color: Color::srgba(0.8, 0.9, 1.0, 0.18),
-        alpha_mode: AlphaMode::Blend,
-        unlit: true,
-        ..default()
-    });
+    // Back faces are culled, so each glass wall blends one layer over the water.
+    let glass = materials.add(FlatMaterial::new(Color::srgba(0.8, 0.9, 1.0, 0.18)));
     let centre = (lo + hi) / 2.0;
     for (offset, dims) in [
         (
@@ -117,7 +110,7 @@ pub fn enter_running(
     let length = 0.3;
     commands.spawn((
         Mesh3d(meshes.add(Cylinder::new(radius + 0.01, length))),
-        MeshMaterial3d(materials.add(Color::srgb(0.7, 0.7, 0.72))),
+        MeshMaterial3d(materials.add(FlatMaterial::new(Color::srgb(0.7, 0.7, 0.72)))),
         Transform::from_translation(mouth - direction * (length / 2.0 + 0.01))
             .with_rotation(Quat::from_rotation_arc(Vec3::Y, direction)),
         SceneEntity,
