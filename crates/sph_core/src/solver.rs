@@ -103,6 +103,14 @@ impl StageTimings {
     }
 }
 
+/// Runs `f`, adding its wall-clock time to `slot`.
+fn timed<R>(slot: &mut Duration, f: impl FnOnce() -> R) -> R {
+    let t = Instant::now();
+    let result = f();
+    *slot += t.elapsed();
+    result
+}
+
 /// The CPU SPH solver.
 #[derive(Clone, Debug)]
 pub struct CpuSolver {
@@ -278,38 +286,33 @@ impl CpuSolver {
         self.time = 0.0;
     }
 
-    /// Force evaluations per step of the current integrator (kick-drift-kick adds one on the first
-    /// step after a spawn or parameter change).
+    /// Force evaluations the next step takes: two for the design's leapfrog, one otherwise, plus
+    /// one for kick-drift-kick right after a spawn or parameter change.
     pub fn evaluations_per_step(&self) -> u32 {
         match self.params.integrator {
             Integrator::Leapfrog => 2,
-            Integrator::SymplecticEuler | Integrator::KickDriftKick => 1,
+            Integrator::SymplecticEuler => 1,
+            Integrator::KickDriftKick => 1 + self.forces_stale as u32,
         }
     }
 
     /// Sort by cell, then density/pressure, normals (with surface tension) and accelerations at
     /// the current positions; the viscosity term reads `velocity_predicted` unless `use_velocity`.
     fn evaluate(&mut self, ctx: &StageContext, use_velocity: bool) {
-        let t = Instant::now();
-        let order = self.neighbors.sort(&self.particles.position);
-        self.particles.reorder(order, &mut self.scratch);
-        let p = &mut self.particles;
-        self.timings.sort += t.elapsed();
-        let t = Instant::now();
-        compute_density_pressure(
-            ctx,
-            &self.neighbors,
-            &p.position,
-            &mut p.density,
-            &mut p.pressure,
-        );
-        self.timings.density += t.elapsed();
+        let (neighbors, p, t) = (&mut self.neighbors, &mut self.particles, &mut self.timings);
+        timed(&mut t.sort, || {
+            let order = neighbors.sort(&p.position);
+            p.reorder(order, &mut self.scratch);
+        });
+        let neighbors = &*neighbors;
+        timed(&mut t.density, || {
+            compute_density_pressure(ctx, neighbors, &p.position, &mut p.density, &mut p.pressure)
+        });
         if self.params.has_surface_tension() {
-            let t = Instant::now();
-            compute_normals(ctx, &self.neighbors, &p.position, &p.density, &mut p.normal);
-            self.timings.normals += t.elapsed();
+            timed(&mut t.normals, || {
+                compute_normals(ctx, neighbors, &p.position, &p.density, &mut p.normal)
+            });
         }
-        let t = Instant::now();
         let input = ForceInputs {
             position: &p.position,
             velocity: if use_velocity {
@@ -321,8 +324,9 @@ impl CpuSolver {
             pressure: &p.pressure,
             normal: &p.normal,
         };
-        compute_accelerations(ctx, &self.neighbors, &input, &mut p.acceleration);
-        self.timings.forces += t.elapsed();
+        timed(&mut t.forces, || {
+            compute_accelerations(ctx, neighbors, &input, &mut p.acceleration)
+        });
     }
 
     /// Advances the simulation by one time step with the selected integrator.
@@ -333,91 +337,76 @@ impl CpuSolver {
         match self.params.integrator {
             Integrator::SymplecticEuler => {
                 self.evaluate(&ctx, true);
-                let t = Instant::now();
                 let p = &mut self.particles;
-                integrate::euler(
-                    &mut p.position,
-                    &mut p.velocity,
-                    &p.acceleration,
-                    dt,
-                    &walls,
-                );
-                self.timings.integrate += t.elapsed();
+                timed(&mut self.timings.integrate, || {
+                    integrate::euler(
+                        &mut p.position,
+                        &mut p.velocity,
+                        &p.acceleration,
+                        dt,
+                        &walls,
+                    )
+                });
             }
             Integrator::KickDriftKick => {
                 if self.forces_stale {
                     // The closing kick of the previous step left no valid acceleration.
                     self.evaluate(&ctx, true);
                 }
-                let t = Instant::now();
                 let p = &mut self.particles;
-                integrate::kick_drift(
-                    &mut p.position,
-                    &mut p.velocity,
-                    &mut p.velocity_predicted,
-                    &p.acceleration,
-                    dt,
-                    &walls,
-                );
-                self.timings.integrate += t.elapsed();
+                timed(&mut self.timings.integrate, || {
+                    integrate::kick_drift(
+                        &mut p.position,
+                        &mut p.velocity,
+                        &mut p.velocity_predicted,
+                        &p.acceleration,
+                        dt,
+                        &walls,
+                    )
+                });
                 self.evaluate(&ctx, false);
-                let t = Instant::now();
                 let p = &mut self.particles;
-                integrate::kick(
-                    &mut p.position,
-                    &mut p.velocity,
-                    &p.acceleration,
-                    dt,
-                    &walls,
-                );
-                self.timings.integrate += t.elapsed();
+                timed(&mut self.timings.integrate, || {
+                    integrate::kick(
+                        &mut p.position,
+                        &mut p.velocity,
+                        &p.acceleration,
+                        dt,
+                        &walls,
+                    )
+                });
             }
             Integrator::Leapfrog => {
                 self.evaluate(&ctx, true);
-                let t = Instant::now();
                 let p = &mut self.particles;
-                p.acceleration_start.copy_from_slice(&p.acceleration);
-                integrate::leapfrog_drift(
-                    &mut p.position,
-                    &p.velocity,
-                    &mut p.velocity_predicted,
-                    &p.acceleration_start,
-                    dt,
-                    &walls,
-                );
-                self.timings.integrate += t.elapsed();
+                timed(&mut self.timings.integrate, || {
+                    p.acceleration_start.copy_from_slice(&p.acceleration);
+                    integrate::leapfrog_drift(
+                        &mut p.position,
+                        &p.velocity,
+                        &mut p.velocity_predicted,
+                        &p.acceleration_start,
+                        dt,
+                        &walls,
+                    )
+                });
                 self.evaluate(&ctx, false);
-                let t = Instant::now();
                 let p = &mut self.particles;
-                integrate::leapfrog_kick(
-                    &mut p.position,
-                    &mut p.velocity,
-                    &p.acceleration_start,
-                    &p.acceleration,
-                    dt,
-                    &walls,
-                );
-                self.timings.integrate += t.elapsed();
+                timed(&mut self.timings.integrate, || {
+                    integrate::leapfrog_kick(
+                        &mut p.position,
+                        &mut p.velocity,
+                        &p.acceleration_start,
+                        &p.acceleration,
+                        dt,
+                        &walls,
+                    )
+                });
             }
         }
         self.forces_stale = false;
         self.step_count += 1;
         self.time += dt as f64;
-    }
-
-    /// Runs the density pass only (sorting first), e.g. to measure an initial state.
-    pub fn update_densities(&mut self) {
-        let ctx = StageContext::new(&self.params);
-        let order = self.neighbors.sort(&self.particles.position);
-        self.particles.reorder(order, &mut self.scratch);
-        let p = &mut self.particles;
-        compute_density_pressure(
-            &ctx,
-            &self.neighbors,
-            &p.position,
-            &mut p.density,
-            &mut p.pressure,
-        );
     }
 
     /// Wall-clock time per stage accumulated since creation or [`Self::reset_timings`].

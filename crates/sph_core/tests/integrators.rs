@@ -55,7 +55,14 @@ fn leapfrog_evaluates_forces_twice_per_step() {
     let solver = CpuSolver::new(params, BoxContainer::default(), 1).unwrap();
     assert_eq!(solver.evaluations_per_step(), 2);
     params.integrator = Integrator::KickDriftKick;
-    let solver = CpuSolver::new(params, BoxContainer::default(), 1).unwrap();
+    let mut solver = CpuSolver::new(params, BoxContainer::default(), 1).unwrap();
+    solver.spawn(&[Vec3::splat(0.1)], Vec3::ZERO);
+    assert_eq!(
+        solver.evaluations_per_step(),
+        2,
+        "stale forces after a spawn"
+    );
+    solver.step();
     assert_eq!(solver.evaluations_per_step(), 1);
 }
 
