@@ -77,7 +77,39 @@ impl Default for RunArgs {
 pub const USAGE: &str =
     "usage: sph-bench run [--scenario dam-break] [--backend cpu|gpu] [--particles N]
        [--integrator euler|leapfrog|kdk] [--search grid|hash] [--surface-tension on|off]
-       [--dt X | --cfl X] [--steps N | --time T] [--substeps K] [--json FILE]";
+       [--dt X | --cfl X] [--steps N | --time T] [--substeps K] [--json FILE]
+       sph-bench validate [--particles N] [--a A] [--json FILE]";
+
+/// Parses the options after `validate`.
+pub fn parse_validate(args: &[String]) -> Result<crate::validate::ValidateArgs, String> {
+    let mut out = crate::validate::ValidateArgs {
+        particles: 8_000,
+        a: 0.146,
+        json: None,
+    };
+    let mut k = 0;
+    while k < args.len() {
+        let flag = args[k].as_str();
+        let v = value(args, k, flag)?;
+        match flag {
+            "--particles" => out.particles = number(v, flag, "1 ..= 4194304")?,
+            "--a" => out.a = number(v, flag, "(0, 10] m")?,
+            "--json" => out.json = Some(v.to_string()),
+            other => return Err(format!("unknown option {other:?}\n{USAGE}")),
+        }
+        k += 2;
+    }
+    if !(1..=4_194_304).contains(&out.particles) {
+        return Err(format!(
+            "--particles = {}: allowed 1 ..= 4194304",
+            out.particles
+        ));
+    }
+    if !(out.a > 0.0 && out.a <= 10.0) {
+        return Err(format!("--a = {}: allowed (0, 10] m", out.a));
+    }
+    Ok(out)
+}
 
 fn value<'a>(args: &'a [String], k: usize, flag: &str) -> Result<&'a str, String> {
     args.get(k + 1)

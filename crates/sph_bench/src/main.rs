@@ -4,6 +4,7 @@
 mod args;
 mod report;
 mod run;
+mod validate;
 
 use args::{parse_run, Backend, USAGE};
 
@@ -33,6 +34,24 @@ fn main() {
                 report.ms_per_step_median,
                 report.dispatches_per_step,
                 report.density_error_mean_pct
+            );
+            Ok(())
+        }),
+        Some("validate") => args::parse_validate(&argv[1..]).and_then(|args| {
+            eprintln!(
+                "sph-bench: Martin & Moyce dam break, a = {} m, about {} particles, CPU",
+                args.a, args.particles
+            );
+            let report = validate::run(&args)?;
+            let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+            match &args.json {
+                Some(path) => std::fs::write(path, json + "\n")
+                    .map_err(|e| format!("cannot write {path}: {e}"))?,
+                None => println!("{json}"),
+            }
+            eprintln!(
+                "sph-bench: RMS Z error (T <= 2.5) {:.3} raw, {:.3} with the best shift {:.2}; {}",
+                report.rms_z_raw, report.rms_z_shifted, report.best_shift, report.health
             );
             Ok(())
         }),

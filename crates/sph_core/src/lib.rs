@@ -24,6 +24,7 @@ pub mod density;
 pub mod diagnostics;
 pub mod eos;
 pub mod forces;
+pub mod front;
 pub mod gpu_layout;
 pub mod integrate;
 pub mod kernel;
