@@ -8,6 +8,20 @@ mod validate;
 
 use args::{parse_run, Backend, USAGE};
 
+/// Writes a report as pretty JSON to `path`, or to stdout without one.
+fn write_json(report: &impl serde::Serialize, path: &Option<String>) -> Result<(), String> {
+    let json = serde_json::to_string_pretty(report).map_err(|e| e.to_string())?;
+    match path {
+        Some(path) => {
+            std::fs::write(path, json + "\n").map_err(|e| format!("cannot write {path}: {e}"))
+        }
+        None => {
+            println!("{json}");
+            Ok(())
+        }
+    }
+}
+
 fn main() {
     let argv: Vec<String> = std::env::args().skip(1).collect();
     let result = match argv.first().map(String::as_str) {
@@ -20,12 +34,7 @@ fn main() {
                 Backend::Cpu => run::run_cpu(&args),
                 Backend::Gpu => run::run_gpu(&args),
             }?;
-            let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
-            match &args.json {
-                Some(path) => std::fs::write(path, json + "\n")
-                    .map_err(|e| format!("cannot write {path}: {e}"))?,
-                None => println!("{json}"),
-            }
+            write_json(&report, &args.json)?;
             eprintln!(
                 "sph-bench: {} particles, {} steps, {:.3} ms/step median, {} dispatches/step, \
                  density error {:.3} % mean",
@@ -43,12 +52,7 @@ fn main() {
                 args.a, args.particles
             );
             let report = validate::run(&args)?;
-            let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
-            match &args.json {
-                Some(path) => std::fs::write(path, json + "\n")
-                    .map_err(|e| format!("cannot write {path}: {e}"))?,
-                None => println!("{json}"),
-            }
+            write_json(&report, &args.json)?;
             eprintln!(
                 "sph-bench: RMS Z error (T <= 2.5) {:.3} raw, {:.3} with the best shift {:.2}; {}",
                 report.rms_z_raw, report.rms_z_shifted, report.best_shift, report.health
