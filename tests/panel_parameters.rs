@@ -61,14 +61,21 @@ fn each_panel_parameter_changes_the_next_step() {
     app.update();
     step_to(&mut app, 3);
 
-    let changes: [(&str, Change); 9] = [
+    let changes: [(&str, Change); 10] = [
         ("viscosity", |p| p.viscosity *= 20.0),
         ("stiffness", |p| p.stiffness *= 3.0),
-        ("rest density", |p| p.rest_density *= 1.05),
+        ("rest density (the mass follows)", |p| {
+            p.rest_density *= 1.05;
+            p.particle_mass *= 1.05;
+        }),
         ("surface tension", |p| p.surface_tension = 0.5),
         ("wall damping", |p| p.wall_damping = 0.0),
         ("gravity", |p| p.gravity.y = -3.0),
         ("time step", |p| p.time_step *= 0.5),
+        ("adaptive time step, CFL factor 0.1", |p| {
+            p.adaptive_time_step = true;
+            p.cfl_factor = 0.1;
+        }),
         ("integrator: leapfrog", |p| {
             p.integrator = Integrator::Leapfrog
         }),

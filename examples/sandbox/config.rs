@@ -39,8 +39,10 @@ pub struct SandboxConfig {
     pub preset: Preset,
     /// Integrator.
     pub integrator: Integrator,
-    /// Time step [s].
+    /// Time step [s] (the largest step with the adaptive rule).
     pub time_step: f32,
+    /// Choose dt every step by the CFL rule.
+    pub adaptive_time_step: bool,
     /// Neighbour search.
     pub search: NeighborSearch,
     /// Surface tension on.
@@ -55,6 +57,7 @@ impl Default for SandboxConfig {
             preset: Preset::Water,
             integrator: Integrator::KickDriftKick,
             time_step: 0.0,
+            adaptive_time_step: false,
             search: NeighborSearch::Grid,
             surface_tension: false,
         };
@@ -108,6 +111,7 @@ impl SandboxConfig {
         let mut p = self.params_with_defaults();
         p.integrator = self.integrator;
         p.time_step = self.time_step;
+        p.adaptive_time_step = self.adaptive_time_step;
         p.neighbor_search = self.search;
         p.surface_tension = match (self.surface_tension, self.preset) {
             (false, _) => 0.0,

@@ -11,6 +11,7 @@ mod config;
 mod debug;
 mod flat_material;
 mod particles;
+mod ranges;
 mod scene;
 mod ui;
 
@@ -44,6 +45,7 @@ struct Cli {
     hide_particles: bool,
     no_gpu_timings: bool,
     debug: bool,
+    adaptive: bool,
 }
 
 fn parse_cli() -> Result<Cli, String> {
@@ -84,6 +86,7 @@ fn parse_cli() -> Result<Cli, String> {
             "--hide-particles" => cli.hide_particles = true,
             "--no-gpu-timings" => cli.no_gpu_timings = true,
             "--debug" => cli.debug = true,
+            "--adaptive" => cli.adaptive = true,
             other => return Err(format!("unknown option {other:?}")),
         }
         k += 1;
@@ -97,7 +100,8 @@ fn main() {
         Err(e) => {
             eprintln!(
                 "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
-                 [--hide-particles] [--no-gpu-timings] [--debug] [--screenshot FILE --frames N]"
+                 [--hide-particles] [--no-gpu-timings] [--debug] [--adaptive] \
+                 [--screenshot FILE --frames N]"
             );
             std::process::exit(2);
         }
@@ -108,6 +112,7 @@ fn main() {
         config.budget = n;
         config.apply_preset_defaults();
     }
+    config.adaptive_time_step = cli.adaptive;
     let mut app = App::new();
     app.add_plugins(
         DefaultPlugins

@@ -3,6 +3,7 @@
 
 use crate::config::{Preset, SandboxConfig, SpawnMode, BUDGET_RANGE};
 use crate::particles::{ColorMode, ParticleDrawing};
+use crate::ranges;
 use crate::AppState;
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
@@ -91,7 +92,10 @@ pub fn setup_panel(
             let mut integrator = config.integrator;
             integrator_combo(ui, "setup", &mut integrator);
             config.integrator = integrator;
-            ui.add(slider(&mut config.time_step, 1e-5..=0.01, "time step [s]").logarithmic(true));
+            ui.add(
+                slider(&mut config.time_step, ranges::TIME_STEP, "time step [s]").logarithmic(true),
+            );
+            ui.checkbox(&mut config.adaptive_time_step, "adaptive dt (CFL)");
             ui.horizontal(|ui| {
                 ui.label("neighbour search");
                 ui.radio_value(
@@ -188,19 +192,35 @@ pub fn runtime_panel(
         .default_width(300.0)
         .show(contexts.ctx_mut()?, |ui| {
             let mut p = params.0;
-            ui.add(slider(&mut p.viscosity, 0.0..=100.0, "viscosity μ [Pa s]").logarithmic(true));
-            ui.add(slider(&mut p.stiffness, 1e-2..=1e7, "stiffness k").logarithmic(true));
             ui.add(
-                slider(&mut p.rest_density, 0.5..=2000.0, "rest density [kg/m³]").logarithmic(true),
+                slider(&mut p.viscosity, ranges::VISCOSITY, "viscosity μ [Pa s]").logarithmic(true),
             );
+            ui.add(slider(&mut p.stiffness, ranges::STIFFNESS, "stiffness k").logarithmic(true));
+            let mut rest_density = p.rest_density;
+            ui.add(
+                slider(&mut rest_density, ranges::REST_DENSITY, "rest density [kg/m³]")
+                    .logarithmic(true),
+            );
+            if rest_density != p.rest_density {
+                ranges::set_rest_density(&mut p, rest_density);
+            }
             ui.add(slider(
                 &mut p.surface_tension,
-                0.0..=2.0,
+                ranges::SURFACE_TENSION,
                 "surface tension γ",
             ));
-            ui.add(slider(&mut p.wall_damping, 0.0..=1.0, "wall damping"));
-            ui.add(slider(&mut p.gravity.y, -20.0..=0.0, "gravity y [m/s²]"));
-            ui.add(slider(&mut p.time_step, 1e-5..=0.01, "dt [s]").logarithmic(true));
+            ui.add(slider(&mut p.wall_damping, ranges::WALL_DAMPING, "wall damping"));
+            ui.add(slider(&mut p.gravity.y, ranges::GRAVITY_Y, "gravity y [m/s²]"));
+            let dt_label = if p.adaptive_time_step {
+                "largest dt [s]"
+            } else {
+                "dt [s]"
+            };
+            ui.add(slider(&mut p.time_step, ranges::TIME_STEP, dt_label).logarithmic(true));
+            ui.checkbox(&mut p.adaptive_time_step, "adaptive dt (CFL)");
+            if p.adaptive_time_step {
+                ui.add(slider(&mut p.cfl_factor, ranges::CFL_FACTOR, "CFL factor λ"));
+            }
             integrator_combo(ui, "runtime", &mut p.integrator);
             if p != params.0 {
                 params.0 = p;
@@ -258,13 +278,22 @@ pub fn runtime_panel(
                 stats.backend, stats.adapter, history.steps_per_second
             ));
             ui.label(format!(
-                "particles {} / {} (refused {}) · t = {:.3} s · step {}",
+                "particles {} / {} (refused {}) · t = {:.3} s · step {} · dt {:.2e} s",
                 stats.particle_count,
                 stats.capacity,
                 stats.refused_spawns,
                 stats.sim_time,
-                stats.step_count
+                stats.step_count,
+                stats.time_step
             ));
+            if let SphHealth::Unstable { step } = stats.health {
+                ui.colored_label(
+                    Color32::RED,
+                    format!(
+                        "unstable at step {step}: frozen; lower dt or turn on adaptive dt, then Reset"
+                    ),
+                );
+            }
             if let Some(d) = stats.diagnostics {
                 ui.label(format!(
                     "density error {:.2} % mean, {:.2} % max · v_max {:.2} m/s · {:?}",

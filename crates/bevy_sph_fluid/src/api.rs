@@ -68,18 +68,28 @@ pub enum SphHealth {
     Unknown,
     /// No NaN, nothing outside the container.
     Ok,
-    /// NaN or escaped particles were seen.
-    Unstable,
+    /// A step went unstable (see `sph_core::stability`: a non-finite speed or acceleration, a
+    /// particle crossing more than h in one step), or NaN or escaped particles were seen. The
+    /// simulation is frozen (GPU) or rolled back to the step before and frozen (CPU) until reset.
+    Unstable {
+        /// The step (1-based, since the last reset) at which the instability was detected.
+        step: u64,
+    },
 }
 
 impl SphHealth {
-    /// Ok without NaN and escapes, Unstable otherwise.
-    pub fn of(d: &Diagnostics) -> Self {
+    /// Ok without NaN and escapes, Unstable (at `step`) otherwise.
+    pub fn of(d: &Diagnostics, step: u64) -> Self {
         if d.non_finite_count == 0 && d.outside_count == 0 {
             Self::Ok
         } else {
-            Self::Unstable
+            Self::Unstable { step }
         }
+    }
+
+    /// Whether an instability was detected.
+    pub fn is_unstable(&self) -> bool {
+        matches!(self, Self::Unstable { .. })
     }
 }
 
@@ -93,8 +103,10 @@ pub struct SphStats {
     pub adapter: String,
     /// Steps taken since the last reset.
     pub step_count: u64,
-    /// Simulated time since the last reset [s].
+    /// Simulated time since the last reset [s] (GPU: read back from the GPU clock).
     pub sim_time: f64,
+    /// The time step of the last step [s] (the adaptive rule's choice when it is on).
+    pub time_step: f32,
     /// Live particles.
     pub particle_count: u32,
     /// Particle slots.
@@ -176,4 +188,7 @@ pub struct SphGpuBuffers {
     pub density: Handle<bevy::render::storage::ShaderBuffer>,
     /// `array<u32>`: neighbours within h, written while [`SphControl::record_neighbor_counts`].
     pub neighbor_count: Handle<bevy::render::storage::ShaderBuffer>,
+    /// `SphClock` ([`sph_core::gpu_layout::GpuClock`]): dt, steps, simulated time, the last
+    /// step's extremes and the instability freeze. Read back every frame into [`SphStats`].
+    pub clock: Handle<bevy::render::storage::ShaderBuffer>,
 }

@@ -9,7 +9,7 @@ use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use sph_core::diagnostics::DiagnosticsInput;
-use sph_core::gpu_layout::w_to_id;
+use sph_core::gpu_layout::{w_to_id, GpuClock};
 use sph_core::Diagnostics;
 
 /// Which state buffer a readback entity copies.
@@ -32,13 +32,60 @@ struct PendingReadback {
     step: u64,
 }
 
+/// The GPU clock as last read back (every frame, asynchronously, 32 bytes).
+#[derive(Resource, Default)]
+pub(crate) struct ClockReadback {
+    /// The clock buffer being read and the entity reading it.
+    source: Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>,
+    /// The latest clock that arrived.
+    pub latest: Option<GpuClock>,
+}
+
 pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
-    app.init_resource::<PendingReadback>().add_systems(
-        schedule,
-        (sph_request_readback, sph_deliver_snapshot)
-            .chain()
-            .in_set(SphSystems::Writeback),
-    );
+    app.init_resource::<PendingReadback>()
+        .init_resource::<ClockReadback>()
+        .add_systems(
+            schedule,
+            (sph_request_readback, sph_deliver_snapshot, sph_read_clock)
+                .chain()
+                .in_set(SphSystems::Writeback),
+        );
+}
+
+/// Keeps one `Readback` of the current clock buffer alive (GPU backend).
+fn sph_read_clock(
+    sim: Res<SphSimulation>,
+    mut clock: ResMut<ClockReadback>,
+    mut commands: Commands,
+) {
+    let Some(buffers) = sim.frame.buffers.as_ref() else {
+        return;
+    };
+    if sim.backend != SphBackend::Gpu
+        || clock
+            .source
+            .as_ref()
+            .is_some_and(|(handle, _)| *handle == buffers.clock)
+    {
+        return;
+    }
+    if let Some((_, entity)) = clock.source.take() {
+        commands.entity(entity).despawn();
+    }
+    clock.latest = None;
+    let entity = commands
+        .spawn(Readback::buffer(buffers.clock.clone()))
+        .observe(
+            |event: On<ReadbackComplete>, mut clock: ResMut<ClockReadback>| {
+                if event.data.len() >= std::mem::size_of::<GpuClock>() {
+                    clock.latest = Some(bytemuck::pod_read_unaligned(
+                        &event.data[..std::mem::size_of::<GpuClock>()],
+                    ));
+                }
+            },
+        )
+        .id();
+    clock.source = Some((buffers.clock.clone(), entity));
 }
 
 fn sph_request_readback(
@@ -159,7 +206,9 @@ fn sph_deliver_snapshot(
                 density: &snapshot.densities,
             },
         );
-        stats.health = SphHealth::of(&d);
+        if !stats.health.is_unstable() {
+            stats.health = SphHealth::of(&d, pending.step);
+        }
         stats.diagnostics = Some(d);
     }
     snapshots.write(snapshot);

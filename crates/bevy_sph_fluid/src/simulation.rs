@@ -390,6 +390,7 @@ fn sph_plan_step(
 
 fn sph_update_stats(
     sim: Res<SphSimulation>,
+    clock: Res<crate::readback::ClockReadback>,
     feedback: Option<Res<crate::render::SphRenderFeedback>>,
     diagnostics: Option<Res<bevy::diagnostic::DiagnosticsStore>>,
     mut stats: ResMut<SphStats>,
@@ -403,9 +404,13 @@ fn sph_update_stats(
         (SphBackend::Cpu, Some(solver)) => {
             stats.step_count = solver.step_count();
             stats.sim_time = solver.time();
+            stats.time_step = solver.last_time_step();
             stats.dispatches_per_step = 0;
             let d = solver.diagnostics();
-            stats.health = SphHealth::of(&d);
+            stats.health = match solver.unstable_step() {
+                Some(step) => SphHealth::Unstable { step },
+                None => SphHealth::of(&d, solver.step_count()),
+            };
             stats.diagnostics = Some(d);
             stats.stage_ms = solver
                 .timings()
@@ -418,7 +423,6 @@ fn sph_update_stats(
             if let Some(feedback) = feedback {
                 let f = feedback.get();
                 stats.step_count = f.step_count;
-                stats.sim_time = f.sim_time;
                 stats.dispatches_per_step = f.dispatches_per_step;
                 stats.gpu_bytes_per_particle = f.gpu_bytes_per_particle;
                 if let Some(status) = f.status {
@@ -429,6 +433,20 @@ fn sph_update_stats(
                     .is_some_and(|e| e.starts_with("gpu:"))
                 {
                     stats.error = None;
+                }
+            }
+            if sim.frame.reset {
+                stats.health = SphHealth::Unknown;
+            }
+            if let Some(clock) = clock.latest {
+                stats.sim_time = clock.time();
+                stats.time_step = clock.dt();
+                if clock.unstable_step != 0 {
+                    stats.health = SphHealth::Unstable {
+                        step: clock.unstable_step as u64,
+                    };
+                } else if clock.step > 0 && stats.health == SphHealth::Unknown {
+                    stats.health = SphHealth::Ok;
                 }
             }
             if let Some(store) = diagnostics {

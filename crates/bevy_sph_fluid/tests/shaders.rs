@@ -6,7 +6,7 @@ use naga_oil::compose::{
 };
 use std::collections::HashMap;
 
-const LIBRARY: [(&str, &str); 4] = [
+const LIBRARY: [(&str, &str); 5] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -23,10 +23,19 @@ const LIBRARY: [(&str, &str); 4] = [
         "neighbors.wgsl",
         include_str!("../src/render/shaders/neighbors.wgsl"),
     ),
+    (
+        "clock.wgsl",
+        include_str!("../src/render/shaders/clock.wgsl"),
+    ),
 ];
 
 /// Each stage with the role defs the plugin queues it with.
-const STAGES: [(&str, &str, &[&[&str]]); 9] = [
+const STAGES: [(&str, &str, &[&[&str]]); 10] = [
+    (
+        "time_step.wgsl",
+        include_str!("../src/render/stages/time_step.wgsl"),
+        &[&[]],
+    ),
     (
         "count_cells.wgsl",
         include_str!("../src/render/stages/count_cells.wgsl"),
@@ -141,14 +150,14 @@ fn every_stage_and_variant_composes_and_validates() {
             }
         }
     }
-    // 9 stages, 8 common variants, roles: count 3, density 2, forces 4, the others 1.
-    assert_eq!(validated, 8 * (3 + 1 + 1 + 1 + 1 + 2 + 1 + 4 + 1));
+    // 10 stages, 8 common variants, roles: count 3, density 2, forces 4, the others 1.
+    assert_eq!(validated, 8 * (1 + 3 + 1 + 1 + 1 + 1 + 2 + 1 + 4 + 1));
 }
 
 #[test]
 fn variant_defs_change_the_code() {
     let mut composer = composer();
-    let (_, forces, _) = STAGES[7];
+    let (_, forces, _) = STAGES[8];
     let plain = compose(&mut composer, "forces.wgsl", forces, &[]);
     let full = compose(
         &mut composer,
@@ -166,7 +175,7 @@ fn variant_defs_change_the_code() {
 #[test]
 fn uniform_block_matches_the_rust_layout() {
     let mut composer = composer();
-    let (_, density, _) = STAGES[5];
+    let (_, density, _) = STAGES[6];
     let module = compose(&mut composer, "density.wgsl", density, &[]);
     let uniforms = module
         .types
@@ -178,5 +187,23 @@ fn uniform_block_matches_the_rust_layout() {
     assert_eq!(
         layouter[uniforms.0].size as usize,
         std::mem::size_of::<sph_core::gpu_layout::GpuSphParams>()
+    );
+}
+
+#[test]
+fn clock_matches_the_rust_layout() {
+    let mut composer = composer();
+    let (_, time_step, _) = STAGES[0];
+    let module = compose(&mut composer, "time_step.wgsl", time_step, &[]);
+    let clock = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.contains("SphClock")))
+        .expect("SphClock type");
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).unwrap();
+    assert_eq!(
+        layouter[clock.0].size as usize,
+        std::mem::size_of::<sph_core::gpu_layout::GpuClock>()
     );
 }

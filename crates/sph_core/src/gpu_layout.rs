@@ -44,8 +44,54 @@ pub struct GpuSphParams {
     pub kernel_b: [f32; 4],
     /// ρ0, stiffness k, viscosity μ, surface tension γ.
     pub material: [f32; 4],
-    /// Equation of state (0 linear, 1 Tait), clamp negative pressure (0/1), unused, unused.
+    /// Equation of state (0 linear, 1 Tait), clamp negative pressure (0/1), adaptive time step
+    /// (0/1), unused.
     pub flags: [u32; 4],
+    /// The time-step rule: largest dt, CFL factor λ, viscous limit 0.125 h² ρ0/μ (f32::MAX
+    /// without viscosity), speed of sound c0.
+    pub time_step: [f32; 4],
+}
+
+/// The simulation clock (WGSL `SphClock`), a storage buffer written only by the GPU: the
+/// `sph_time_step` pass chooses each step's dt from the extremes the last pass of the previous
+/// step recorded, advances time and freezes the simulation when a step went unstable.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct GpuClock {
+    /// dt of the step in progress or last taken [s], as f32 bits.
+    pub dt_bits: u32,
+    /// Steps taken since the reset.
+    pub step: u32,
+    /// Simulated time [ns], low and high words (exact integer sum of the steps' dt).
+    pub time_ns: [u32; 2],
+    /// Largest |v| of the last step, f32 bits (non-finite values compare above every finite one).
+    pub max_speed_bits: u32,
+    /// Largest |a| of the last step, f32 bits.
+    pub max_acceleration_bits: u32,
+    /// 0 while healthy; otherwise the step (1-based) detected as unstable. Frozen until reset.
+    pub unstable_step: u32,
+    /// Padding.
+    pub pad: u32,
+}
+
+impl GpuClock {
+    /// dt [s].
+    pub fn dt(&self) -> f32 {
+        f32::from_bits(self.dt_bits)
+    }
+
+    /// Simulated time [s].
+    pub fn time(&self) -> f64 {
+        ((self.time_ns[1] as u64) << 32 | self.time_ns[0] as u64) as f64 * 1e-9
+    }
+
+    /// The extremes the last step recorded.
+    pub fn extremes(&self) -> crate::stability::StepExtremes {
+        crate::stability::StepExtremes {
+            max_speed: f32::from_bits(self.max_speed_bits),
+            max_acceleration: f32::from_bits(self.max_acceleration_bits),
+        }
+    }
 }
 
 impl GpuSphParams {
@@ -104,8 +150,14 @@ impl GpuSphParams {
             flags: [
                 (params.equation_of_state == EquationOfState::Tait) as u32,
                 params.clamp_negative_pressure as u32,
+                params.adaptive_time_step as u32,
                 0,
-                0,
+            ],
+            time_step: [
+                params.time_step,
+                params.cfl_factor,
+                crate::stability::viscous_limit(params).min(f32::MAX),
+                params.speed_of_sound(),
             ],
         }
     }

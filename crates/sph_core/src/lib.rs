@@ -34,6 +34,7 @@ pub mod rng;
 pub mod scenario;
 pub mod solver;
 pub mod spawn;
+pub mod stability;
 pub mod stage;
 pub mod surface_tension_akinci2013;
 
@@ -47,6 +48,7 @@ pub use params::{
 };
 pub use solver::{CpuSolver, ParticleData, SpawnReport, StageTimings};
 pub use spawn::{BlockSpawn, Emission, PipeEmitter};
+pub use stability::StepExtremes;
 pub use stage::StageContext;
 
 /// Re-export of the vector math crate used in the public API.

@@ -66,8 +66,13 @@ pub struct SphParams {
     pub gravity: Vec3,
     /// Fraction of the normal velocity kept after a wall bounce, in [0, 1].
     pub wall_damping: f32,
-    /// Time step dt [s].
+    /// Time step dt [s]; with [`Self::adaptive_time_step`] the largest step allowed.
     pub time_step: f32,
+    /// Choose every step's dt by the CFL rule of [`crate::stability::adaptive_time_step`]
+    /// (bounded by `time_step`) instead of using `time_step` as is.
+    pub adaptive_time_step: bool,
+    /// CFL factor λ of the adaptive rule dt = λ h / (c0 + v_max), in (0, 1].
+    pub cfl_factor: f32,
     /// Time integrator.
     pub integrator: Integrator,
     /// Neighbour-search structure.
@@ -144,7 +149,7 @@ impl Default for SpacingDerivation {
             spacing: 0.02,
             rest_density: 1000.0,
             expected_peak_speed: 3.0,
-            cfl: 0.4,
+            cfl: DEFAULT_CFL_FACTOR,
             viscosity_alpha: 0.05,
         }
     }
@@ -153,6 +158,9 @@ impl Default for SpacingDerivation {
 /// A surface tension γ for SI water scenes (Akinci 2013's order of magnitude, as used by
 /// SPlisHSPlasH's scenes); the water preset starts with surface tension off.
 pub const WATER_SURFACE_TENSION: f32 = 0.05;
+
+/// The CFL factor λ of the derived and the adaptive time steps.
+pub const DEFAULT_CFL_FACTOR: f32 = 0.4;
 
 /// Ratio h / Δx: a cell of size h then holds 8 lattice particles, 27 cells hold 216 candidates.
 pub const SMOOTHING_RATIO: f32 = 2.0;
@@ -175,6 +183,8 @@ impl SphParams {
             gravity: Vec3::new(0.0, -9.81, 0.0),
             wall_damping: 0.5,
             time_step: 0.005,
+            adaptive_time_step: false,
+            cfl_factor: DEFAULT_CFL_FACTOR,
             integrator: Integrator::Leapfrog,
             neighbor_search: NeighborSearch::Grid,
         }
@@ -204,6 +214,8 @@ impl SphParams {
             gravity: Vec3::new(0.0, -9.81, 0.0),
             wall_damping: 0.5,
             time_step: d.cfl * h / (c0 + d.expected_peak_speed),
+            adaptive_time_step: false,
+            cfl_factor: d.cfl,
             integrator: Integrator::KickDriftKick,
             neighbor_search: NeighborSearch::Grid,
         }
@@ -287,6 +299,7 @@ impl SphParams {
         }
         check_range("wall_damping", self.wall_damping, 0.0, true, 1.0, "[0, 1]")?;
         check_range("time_step", self.time_step, 0.0, false, 1.0, "(0, 1] s")?;
+        check_range("cfl_factor", self.cfl_factor, 0.0, false, 1.0, "(0, 1]")?;
         Ok(())
     }
 

@@ -8,6 +8,7 @@ use crate::forces::{compute_accelerations, ForceInputs};
 use crate::integrate;
 use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
+use crate::stability::{adaptive_time_step, StepExtremes};
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::compute_normals;
 use glam::Vec3;
@@ -46,6 +47,21 @@ impl ParticleData {
     /// Whether there are no particles.
     pub fn is_empty(&self) -> bool {
         self.position.is_empty()
+    }
+
+    /// Copies `other` into `self`, reusing the allocations.
+    fn copy_from(&mut self, other: &Self) {
+        self.position.clone_from(&other.position);
+        self.velocity.clone_from(&other.velocity);
+        self.velocity_predicted
+            .clone_from(&other.velocity_predicted);
+        self.acceleration.clone_from(&other.acceleration);
+        self.acceleration_start
+            .clone_from(&other.acceleration_start);
+        self.density.clone_from(&other.density);
+        self.pressure.clone_from(&other.pressure);
+        self.normal.clone_from(&other.normal);
+        self.id.clone_from(&other.id);
     }
 
     /// Gathers every per-particle array by `order` (sorted slot k takes particle order[k]).
@@ -127,6 +143,12 @@ pub struct CpuSolver {
     /// Set when particles were added or parameters changed since the last force evaluation, so
     /// the kick-drift-kick integrator must evaluate forces before its first kick.
     forces_stale: bool,
+    /// The time step of the last step [s].
+    last_dt: f32,
+    /// The state before the last step, restored when that step went unstable.
+    checkpoint: ParticleData,
+    /// The step (1-based) that went unstable; the solver is frozen until [`CpuSolver::clear`].
+    unstable_step: Option<u64>,
 }
 
 /// Checks a particle capacity (1 ..= 2^26).
@@ -170,6 +192,9 @@ impl CpuSolver {
             time: 0.0,
             timings: StageTimings::default(),
             forces_stale: true,
+            last_dt: params.time_step,
+            checkpoint: ParticleData::default(),
+            unstable_step: None,
         })
     }
 
@@ -278,14 +303,40 @@ impl CpuSolver {
         }
     }
 
-    /// Removes every particle and resets time.
+    /// Removes every particle, resets time and clears an instability freeze.
     pub fn clear(&mut self) {
         self.particles = ParticleData::default();
         self.next_id = 0;
         self.step_count = 0;
         self.time = 0.0;
+        self.unstable_step = None;
     }
 
+    /// The step (1-based) detected as unstable, if any (see [`crate::stability`]). That step was
+    /// rolled back and the solver is frozen: [`Self::step`] does nothing until [`Self::clear`].
+    pub fn unstable_step(&self) -> Option<u64> {
+        self.unstable_step
+    }
+
+    /// The time step of the last step [s] (the adaptive choice with `adaptive_time_step`).
+    pub fn last_time_step(&self) -> f32 {
+        self.last_dt
+    }
+
+    /// The time step the rule gives for the current velocities and accelerations [s]. A step
+    /// applies it right before its first integration phase: after the first force evaluation
+    /// (symplectic Euler, the design's leapfrog) or with the previous step's closing
+    /// acceleration (kick-drift-kick).
+    pub fn next_time_step(&self) -> f32 {
+        if !self.params.adaptive_time_step {
+            return self.params.time_step;
+        }
+        let p = &self.particles;
+        adaptive_time_step(
+            &self.params,
+            &StepExtremes::measure(&p.velocity, &p.acceleration),
+        )
+    }
     /// Force evaluations the next step takes: two for the design's leapfrog, one otherwise, plus
     /// one for kick-drift-kick right after a spawn or parameter change.
     pub fn evaluations_per_step(&self) -> u32 {
@@ -329,14 +380,37 @@ impl CpuSolver {
         });
     }
 
-    /// Advances the simulation by one time step with the selected integrator.
+    /// Advances the simulation by one time step with the selected integrator and time-step rule.
+    /// A step that goes unstable is rolled back and freezes the solver (see
+    /// [`Self::unstable_step`]).
     pub fn step(&mut self) {
+        if self.unstable_step.is_some() {
+            return;
+        }
+        self.checkpoint.copy_from(&self.particles);
+        let dt = self.advance();
+        let p = &self.particles;
+        let after = StepExtremes::measure(&p.velocity, &p.acceleration);
+        if after.is_unstable(dt, self.params.smoothing_radius) {
+            std::mem::swap(&mut self.particles, &mut self.checkpoint);
+            self.unstable_step = Some(self.step_count + 1);
+            self.forces_stale = true;
+            return;
+        }
+        self.last_dt = dt;
+        self.step_count += 1;
+        self.time += dt as f64;
+    }
+
+    /// One step with the selected integrator; returns its dt.
+    fn advance(&mut self) -> f32 {
         let ctx = StageContext::new(&self.params);
-        let dt = self.params.time_step;
+        let dt;
         let walls = self.container.walls(self.params.wall_damping);
         match self.params.integrator {
             Integrator::SymplecticEuler => {
                 self.evaluate(&ctx, true);
+                dt = self.next_time_step();
                 let p = &mut self.particles;
                 timed(&mut self.timings.integrate, || {
                     integrate::euler(
@@ -353,6 +427,7 @@ impl CpuSolver {
                     // The closing kick of the previous step left no valid acceleration.
                     self.evaluate(&ctx, true);
                 }
+                dt = self.next_time_step();
                 let p = &mut self.particles;
                 timed(&mut self.timings.integrate, || {
                     integrate::kick_drift(
@@ -378,6 +453,7 @@ impl CpuSolver {
             }
             Integrator::Leapfrog => {
                 self.evaluate(&ctx, true);
+                dt = self.next_time_step();
                 let p = &mut self.particles;
                 timed(&mut self.timings.integrate, || {
                     p.acceleration_start.copy_from_slice(&p.acceleration);
@@ -405,8 +481,7 @@ impl CpuSolver {
             }
         }
         self.forces_stale = false;
-        self.step_count += 1;
-        self.time += dt as f64;
+        dt
     }
 
     /// Wall-clock time per stage accumulated since creation or [`Self::reset_timings`].

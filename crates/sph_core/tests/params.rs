@@ -97,6 +97,9 @@ fn every_invalid_parameter_is_rejected_by_name() {
         ("time_step", |p| p.time_step = -0.001),
         ("time_step", |p| p.time_step = f32::NAN),
         ("time_step", |p| p.time_step = 10.0),
+        ("cfl_factor", |p| p.cfl_factor = 0.0),
+        ("cfl_factor", |p| p.cfl_factor = 1.5),
+        ("cfl_factor", |p| p.cfl_factor = f32::NAN),
     ];
     for (field, mutate) in cases {
         let mut p = SphParams::water();

@@ -10,7 +10,7 @@ use bevy::render::render_resource::{
 };
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::storage::GpuShaderBuffer;
-use sph_core::gpu_layout::{bitonic_steps, sort_length, GpuSphParams};
+use sph_core::gpu_layout::{bitonic_steps, sort_length, GpuClock, GpuSphParams};
 use sph_core::neighbor::grid::DenseGrid;
 use sph_core::neighbor::hash::hash_table_size;
 use sph_core::NeighborSearch;
@@ -33,7 +33,7 @@ pub struct GpuBuffers {
     pub sort_length: u32,
     /// The uniform block.
     pub uniform: Buffer,
-    /// Bindings 1 ..= 21 (see `shaders/bindings.wgsl`).
+    /// Bindings 1 ..= 23 (see `shaders/bindings.wgsl`).
     pub storage: Vec<Buffer>,
     /// The bitonic steps (hash mode).
     pub bitonic_steps: Buffer,
@@ -61,6 +61,8 @@ pub mod slot {
     pub const CELL_COUNTS: usize = 15;
     /// Per-bucket start (+1).
     pub const BUCKET_START: usize = 19;
+    /// The clock (`GpuClock`).
+    pub const CLOCK: usize = 22;
 }
 
 impl GpuBuffers {
@@ -113,7 +115,7 @@ fn allocate(
     capacity: u32,
     grid_dims: UVec3,
     key: VariantKey,
-    readable: [Buffer; 5],
+    readable: [Buffer; 6],
 ) -> GpuBuffers {
     let n = capacity as u64;
     let cells = (grid_dims.x * grid_dims.y * grid_dims.z) as u64;
@@ -125,7 +127,7 @@ fn allocate(
         0
     };
     let normals = if key.surface_tension { 16 * n } else { 0 };
-    let [position, velocity, acceleration, density, neighbor_count] = readable;
+    let [position, velocity, acceleration, density, neighbor_count, clock] = readable;
     let storage = vec![
         position,
         velocity,
@@ -149,6 +151,7 @@ fn allocate(
         storage_buffer(device, "sph_bucket_start", 4 * table),
         storage_buffer(device, "sph_bucket_end", 4 * table),
         neighbor_count,
+        clock,
     ];
     debug_assert_eq!(storage.len(), STORAGE_BINDINGS as usize);
     let steps = if hash {
@@ -209,10 +212,7 @@ pub(crate) fn prepare_sph_buffers(
         state.pending_spawns.clear();
         state.particle_count = 0;
         state.forces_stale = true;
-        feedback.update(|f| {
-            f.step_count = 0;
-            f.sim_time = 0.0;
-        });
+        feedback.update(|f| f.step_count = 0);
     }
     if !frame.spawn_positions.is_empty() {
         state.pending_spawns.push((
@@ -227,9 +227,10 @@ pub(crate) fn prepare_sph_buffers(
         &handles.acceleration,
         &handles.density,
         &handles.neighbor_count,
+        &handles.clock,
     ]
     .map(|h| assets.get(h).map(|b| b.buffer.clone()));
-    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(neighbor_count)] =
+    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(neighbor_count), Some(clock)] =
         readable
     else {
         state.status = Some("gpu: preparing buffers".into());
@@ -260,7 +261,14 @@ pub(crate) fn prepare_sph_buffers(
             frame.capacity,
             grid.dims,
             key,
-            [position, velocity, acceleration, density, neighbor_count],
+            [
+                position,
+                velocity,
+                acceleration,
+                density,
+                neighbor_count,
+                clock,
+            ],
         );
         let bytes_per_particle = (buffers.bytes / frame.capacity.max(1) as u64) as u32;
         feedback.update(|f| f.gpu_bytes_per_particle = bytes_per_particle);
@@ -272,6 +280,14 @@ pub(crate) fn prepare_sph_buffers(
     let Some(buffers) = state.buffers.clone() else {
         return;
     };
+    if frame.reset {
+        // Time, steps and the instability freeze start again.
+        queue.write_buffer(
+            buffers.at(slot::CLOCK),
+            0,
+            bytemuck::bytes_of(&GpuClock::default()),
+        );
+    }
     for (offset, positions, velocities) in std::mem::take(&mut state.pending_spawns) {
         let offset = offset as u64;
         let zeros = vec![[0.0f32; 4]; positions.len()];
@@ -293,6 +309,15 @@ pub(crate) fn prepare_sph_buffers(
     if state.last_params != Some(frame.params) {
         state.forces_stale = true;
         state.last_params = Some(frame.params);
+    }
+    if state.forces_stale {
+        // The re-evaluation records the acceleration the next kick uses; the one recorded with
+        // the old state or parameters must not bound the adaptive step.
+        queue.write_buffer(
+            buffers.at(slot::CLOCK),
+            std::mem::offset_of!(GpuClock, max_acceleration_bits) as u64,
+            &[0; 4],
+        );
     }
     let uniforms = GpuSphParams::with_grid(
         &frame.params,

@@ -26,7 +26,8 @@ use sph_core::Integrator;
 use std::sync::{Arc, Mutex};
 
 /// The stage passes, as named in GPU timings (`render/<name>/elapsed_gpu`).
-pub const STAGE_NAMES: [&str; 9] = [
+pub const STAGE_NAMES: [&str; 10] = [
+    "sph_time_step",
     "sph_count_cells",
     "sph_prefix_sum",
     "sph_bitonic_sort",
@@ -38,9 +39,10 @@ pub const STAGE_NAMES: [&str; 9] = [
     "sph_integrate",
 ];
 
-/// The public, chained set of stage systems in the [`SphStep`] schedule: count cells, prefix
+/// The public, chained set of stage systems in the [`SphStep`] schedule: time step (before a
+/// drifting count pass), count cells, prefix
 /// sum (grid) or bitonic sort + hash offsets (hash), scatter, density, normals (surface tension
-/// only), forces, integrate (symplectic Euler only).
+/// only), forces, time step and integrate (symplectic Euler only).
 #[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SphGraphSystems;
 
@@ -84,6 +86,22 @@ pub struct EvaluationPlan {
     pub forces: ForcesRole,
     /// Run the symplectic-Euler integrate pass after the forces.
     pub euler: bool,
+    /// Where the time-step pass runs in this evaluation: right before the step's first
+    /// integration phase.
+    pub time_step: TimeStepPoint,
+}
+
+/// Where an evaluation runs the time-step pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TimeStepPoint {
+    /// Not in this evaluation.
+    #[default]
+    None,
+    /// Before the count pass (its pre-phase drifts: kick-drift-kick, the leapfrog's second
+    /// evaluation).
+    Start,
+    /// Between the forces and the integrate pass (symplectic Euler).
+    BeforeIntegrate,
 }
 
 /// The evaluations of one step (kick-drift-kick with stale forces evaluates them first).
@@ -92,13 +110,15 @@ pub fn evaluation_plans(integrator: Integrator, forces_stale: bool) -> Vec<Evalu
     match integrator {
         Integrator::SymplecticEuler => vec![EvaluationPlan {
             euler: true,
+            time_step: TimeStepPoint::BeforeIntegrate,
             ..plain
         }],
         Integrator::KickDriftKick => {
             let step = EvaluationPlan {
                 pre: PrePhase::KickDrift,
                 forces: ForcesRole::KickClose,
-                euler: false,
+                time_step: TimeStepPoint::Start,
+                ..plain
             };
             if forces_stale {
                 vec![plain, step]
@@ -114,7 +134,8 @@ pub fn evaluation_plans(integrator: Integrator, forces_stale: bool) -> Vec<Evalu
             EvaluationPlan {
                 pre: PrePhase::LeapfrogDrift,
                 forces: ForcesRole::LeapfrogSecond,
-                euler: false,
+                time_step: TimeStepPoint::Start,
+                ..plain
             },
         ],
     }
@@ -146,8 +167,6 @@ pub struct SphRun {
 pub struct RenderFeedback {
     /// Steps taken since the last reset.
     pub step_count: u64,
-    /// Simulated time since the last reset [s].
-    pub sim_time: f64,
     /// Dispatches of the last step.
     pub dispatches_per_step: u32,
     /// GPU bytes allocated per particle slot (all buffers / capacity).
@@ -182,6 +201,7 @@ pub(crate) fn build(app: &mut App) {
     load_shader_library!(app, "shaders/bindings.wgsl");
     load_shader_library!(app, "shaders/kernels.wgsl");
     load_shader_library!(app, "shaders/neighbors.wgsl");
+    load_shader_library!(app, "shaders/clock.wgsl");
     stages::embed_shaders(app);
     let feedback = SphRenderFeedback::default();
     app.insert_resource(feedback.clone());
@@ -249,6 +269,7 @@ impl SphGpuBuffers {
             acceleration: make(16 * n),
             density: make(4 * n),
             neighbor_count: make(4 * n),
+            clock: make(std::mem::size_of::<sph_core::gpu_layout::GpuClock>()),
         }
     }
 }
@@ -330,7 +351,6 @@ pub fn sph_simulate(world: &mut World) {
     world.resource_mut::<SphGpuState>().forces_stale = false;
     feedback.update(|f| {
         f.step_count += steps as u64;
-        f.sim_time += steps as f64 * params.time_step as f64;
         f.dispatches_per_step = last_step_dispatches;
         f.status = None;
     });

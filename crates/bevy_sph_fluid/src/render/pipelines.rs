@@ -15,8 +15,8 @@ use bevy::shader::ShaderDefVal;
 use sph_core::{NeighborSearch, SphParams};
 use std::num::NonZeroU64;
 
-/// Storage buffers in the shared group 0 (bindings 1 ..= 22).
-pub const STORAGE_BINDINGS: u32 = 22;
+/// Storage buffers in the shared group 0 (bindings 1 ..= 23).
+pub const STORAGE_BINDINGS: u32 = 23;
 
 /// Which variant of the pipelines a parameter set needs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -82,6 +82,8 @@ pub struct StagePipelines {
     pub forces: [CachedComputePipelineId; 4],
     /// Symplectic Euler integration.
     pub integrate: CachedComputePipelineId,
+    /// The clock: stability check, dt, time.
+    pub time_step: CachedComputePipelineId,
 }
 
 impl StagePipelines {
@@ -91,7 +93,7 @@ impl StagePipelines {
         ids.extend(self.prefix_sum);
         ids.extend(self.bitonic_sort);
         ids.extend(self.hash_offsets);
-        ids.extend([self.scatter, self.density, self.integrate]);
+        ids.extend([self.scatter, self.density, self.integrate, self.time_step]);
         ids.extend(self.normals);
         ids.extend(self.forces);
         ids

@@ -2,7 +2,7 @@
 // position.w holds the particle id (bit-cast). `sorted_*` receive the scatter and are copied back.
 #define_import_path sph::bindings
 
-#import sph::types::SphUniforms
+#import sph::types::{SphUniforms, SphClock}
 
 @group(0) @binding(0) var<uniform> params: SphUniforms;
 @group(0) @binding(1) var<storage, read_write> position: array<vec4<f32>>;
@@ -30,3 +30,5 @@
 @group(0) @binding(21) var<storage, read_write> bucket_end: array<u32>;
 // Debug: neighbours within h of each particle (written by the density pass with NEIGHBOR_COUNT).
 @group(0) @binding(22) var<storage, read_write> neighbor_count: array<u32>;
+// The clock: each step's dt, simulated time, the step's extremes and the instability freeze.
+@group(0) @binding(23) var<storage, read_write> clock: SphClock;

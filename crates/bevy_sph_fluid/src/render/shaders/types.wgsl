@@ -22,8 +22,24 @@ struct SphUniforms {
     kernel_b: vec4<f32>,
     // ρ0, stiffness k, viscosity μ, surface tension γ
     material: vec4<f32>,
-    // x: Tait (1) or linear (0); y: clamp negative pressure
+    // x: Tait (1) or linear (0); y: clamp negative pressure; z: adaptive time step
     flags: vec4<u32>,
+    // largest dt, CFL factor λ, viscous limit 0.125 h² ρ0/μ, speed of sound c0
+    time_step: vec4<f32>,
+}
+
+// The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).
+struct SphClock {
+    dt: f32,
+    step: u32,
+    time_ns_lo: u32,
+    time_ns_hi: u32,
+    // f32 bits of the largest |v| and |a| of the last step (non-finite compares above finite).
+    max_speed_bits: atomic<u32>,
+    max_acceleration_bits: atomic<u32>,
+    // 0 while healthy, else the step detected as unstable: integration is frozen until reset.
+    unstable_step: u32,
+    pad_a: u32,
 }
 
 struct BitonicStep {

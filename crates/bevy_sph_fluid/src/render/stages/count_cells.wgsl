@@ -1,9 +1,10 @@
 // Pass 1 of the neighbour sort, fused with the integrator's pre-evaluation phase:
 // PRE_KDK   v½ = v + a dt/2; x += v½ dt; collide; v* = v½ + a dt/2   (sph_core::integrate::kick_drift)
 // PRE_LEAPFROG  x += v dt + a0 dt²/2; v* = v + a0 dt; collide(x, v*)  (design eqs. 18-19)
-// then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
+// (skipped while the clock is frozen), then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
 #import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, cell_of, rank_in_cell, cell_counts, sort_keys, sort_values}
 #import sph::kernels::collide
+#import sph::clock::{step_dt, frozen}
 #import sph::neighbors::{grid_cell, grid_index, hash_cell, hash_key}
 
 @compute @workgroup_size(64)
@@ -25,8 +26,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 #endif
     var x = position[i].xyz;
-    let dt = params.box_max.w;
+    let dt = step_dt();
+    let integrating = !frozen();
 #ifdef PRE_KDK
+    if integrating {
     let a = acceleration[i].xyz;
     let kicked = velocity[i].xyz + a * (0.5 * dt);
     let moved = collide(x + kicked * dt, kicked);
@@ -34,14 +37,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     velocity[i] = vec4<f32>(moved.v, 0.0);
     velocity_predicted[i] = vec4<f32>(moved.v + a * (0.5 * dt), 0.0);
     position[i] = vec4<f32>(x, position[i].w);
+    }
 #endif
 #ifdef PRE_LEAPFROG
+    if integrating {
     let a0 = acceleration_start[i].xyz;
     let v = velocity[i].xyz;
     let moved = collide(x + v * dt + a0 * (0.5 * dt * dt), v + a0 * dt);
     x = moved.x;
     velocity_predicted[i] = vec4<f32>(moved.v, 0.0);
     position[i] = vec4<f32>(x, position[i].w);
+    }
 #endif
 #ifdef SEARCH_HASH
     sort_keys[i] = hash_key(hash_cell(x));

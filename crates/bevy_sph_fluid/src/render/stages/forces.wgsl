@@ -7,10 +7,14 @@
 // POST_KDK            v = v½ + a dt/2, wall response          (sph_core::integrate::kick)
 // POST_LEAPFROG_SAVE  a0 = a                                   (first of two evaluations)
 // POST_LEAPFROG_KICK  v += (a0 + a) dt/2, wall response        (design eqs. 20-21)
+// |a| is recorded for the time-step pass (except by the leapfrog's second evaluation, whose
+// acceleration the next step does not start from), |v| by the closing kicks; nothing is
+// integrated or recorded while the clock is frozen.
 // Rust twin: sph_core::forces.
 #import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal}
 #import sph::kernels::{spiky_grad, viscosity_laplacian, cohesion, collide}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
+#import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
 
 fn viscosity_velocity(j: u32) -> vec3<f32> {
 #ifdef USE_PREDICTED_VELOCITY
@@ -73,15 +77,25 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     a += surface;
 #endif
     acceleration[i] = vec4<f32>(a, 0.0);
-    let dt = params.box_max.w;
+    let dt = step_dt();
+    if frozen() {
+        return;
+    }
+#ifndef POST_LEAPFROG_KICK
+    record_acceleration(a);
+#endif
 #ifdef POST_KDK
-    velocity[i] = vec4<f32>(collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v, 0.0);
+    let v = collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v;
+    velocity[i] = vec4<f32>(v, 0.0);
+    record_speed(v);
 #endif
 #ifdef POST_LEAPFROG_SAVE
     acceleration_start[i] = vec4<f32>(a, 0.0);
 #endif
 #ifdef POST_LEAPFROG_KICK
     let a0 = acceleration_start[i].xyz;
-    velocity[i] = vec4<f32>(collide(x_i, velocity[i].xyz + (a0 + a) * (0.5 * dt)).v, 0.0);
+    let v = collide(x_i, velocity[i].xyz + (a0 + a) * (0.5 * dt)).v;
+    velocity[i] = vec4<f32>(v, 0.0);
+    record_speed(v);
 #endif
 }

@@ -2,16 +2,19 @@
 // phases are fused into count_cells (before) and forces (after).
 #import sph::bindings::{params, position, velocity, acceleration}
 #import sph::kernels::collide
+#import sph::clock::{step_dt, frozen, record_speed}
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
-    if i >= params.particle_count {
+    if i >= params.particle_count || frozen() {
         return;
     }
-    let dt = params.box_max.w;
-    let v = velocity[i].xyz + acceleration[i].xyz * dt;
+    let dt = step_dt();
+    let a = acceleration[i].xyz;
+    let v = velocity[i].xyz + a * dt;
     let moved = collide(position[i].xyz + v * dt, v);
     position[i] = vec4<f32>(moved.x, position[i].w);
     velocity[i] = vec4<f32>(moved.v, 0.0);
+    record_speed(moved.v);
 }

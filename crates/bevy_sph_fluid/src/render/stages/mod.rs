@@ -10,6 +10,7 @@ pub mod integrate;
 pub mod normals;
 pub mod prefix_sum;
 pub mod scatter;
+pub mod time_step;
 
 use super::pipelines::{SphPipelines, StagePipelines, VariantKey};
 use super::SphRun;
@@ -36,6 +37,7 @@ pub struct StageShaders {
     normals: Handle<Shader>,
     forces: Handle<Shader>,
     integrate: Handle<Shader>,
+    time_step: Handle<Shader>,
 }
 
 impl StageShaders {
@@ -50,6 +52,7 @@ impl StageShaders {
             normals: normals::load(asset_server),
             forces: forces::load(asset_server),
             integrate: integrate::load(asset_server),
+            time_step: time_step::load(asset_server),
         }
     }
 }
@@ -64,6 +67,7 @@ pub(crate) fn embed_shaders(app: &mut App) {
     normals::embed(app);
     forces::embed(app);
     integrate::embed(app);
+    time_step::embed(app);
 }
 
 /// Queues every pipeline the variant needs, and nothing it does not.
@@ -106,12 +110,14 @@ pub(crate) fn queue_variant(
             ),
         ],
         integrate: q("sph_integrate", &s.integrate, &[]),
+        time_step: q("sph_time_step", &s.time_step, &[]),
     }
 }
 
 /// The stage systems, chained in pipeline order.
 pub(crate) fn stage_systems() -> ScheduleConfigs<ScheduleSystem> {
     (
+        time_step::sph_time_step,
         count_cells::sph_count_cells,
         prefix_sum::sph_prefix_sum,
         bitonic_sort::sph_bitonic_sort,
@@ -120,6 +126,7 @@ pub(crate) fn stage_systems() -> ScheduleConfigs<ScheduleSystem> {
         density::sph_density,
         normals::sph_normals,
         forces::sph_forces,
+        time_step::sph_time_step_before_integrate,
         integrate::sph_integrate,
     )
         .chain()

@@ -1,0 +1,25 @@
+// Reading the clock from the integrating passes (see stages/time_step.wgsl).
+#define_import_path sph::clock
+
+#import sph::bindings::clock
+
+// dt of the step in progress, chosen by the time-step pass at the start of the step.
+fn step_dt() -> f32 {
+    return clock.dt;
+}
+
+// Integration stops (state frozen) once a step was detected as unstable.
+fn frozen() -> bool {
+    return clock.unstable_step != 0u;
+}
+
+// Record |v| (a step's final velocity) and |a| (the acceleration the next integration phase
+// uses) for the time-step pass. Lengths are non-negative, so their f32 bits order like the
+// values; NaN and infinity order above them all.
+fn record_speed(v: vec3<f32>) {
+    atomicMax(&clock.max_speed_bits, bitcast<u32>(length(v)));
+}
+
+fn record_acceleration(a: vec3<f32>) {
+    atomicMax(&clock.max_acceleration_bits, bitcast<u32>(length(a)));
+}
