@@ -107,6 +107,9 @@ pub struct SphStats {
     pub sim_time: f64,
     /// The time step of the last step [s] (the adaptive rule's choice when it is on).
     pub time_step: f32,
+    /// Steps the simulation clock has counted: the solver's steps (CPU), or the GPU clock as last
+    /// read back, a frame or two behind `step_count`, and no longer counting once frozen.
+    pub clock_steps: u64,
     /// Live particles.
     pub particle_count: u32,
     /// Particle slots.

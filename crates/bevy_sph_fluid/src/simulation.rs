@@ -319,7 +319,14 @@ fn sph_emit(
     if steps == 0 {
         return;
     }
-    let dt = params.time_step * steps as f32;
+    // With the adaptive rule the GPU chooses dt; the last one read back (or the solver's) is
+    // the best estimate of this frame's steps.
+    let step_dt = if params.adaptive_time_step && stats.time_step > 0.0 {
+        stats.time_step.min(params.time_step)
+    } else {
+        params.time_step
+    };
+    let dt = step_dt * steps as f32;
     for mut emitter in &mut emitters {
         if let Err(e) = emitter.0.validate() {
             stats.error = Some(e.to_string());
@@ -405,6 +412,7 @@ fn sph_update_stats(
             stats.step_count = solver.step_count();
             stats.sim_time = solver.time();
             stats.time_step = solver.last_time_step();
+            stats.clock_steps = solver.step_count();
             stats.dispatches_per_step = 0;
             let d = solver.diagnostics();
             stats.health = match solver.unstable_step() {
@@ -441,6 +449,7 @@ fn sph_update_stats(
             if let Some(clock) = clock.latest {
                 stats.sim_time = clock.time();
                 stats.time_step = clock.dt();
+                stats.clock_steps = clock.step as u64;
                 if clock.unstable_step != 0 {
                     stats.health = SphHealth::Unstable {
                         step: clock.unstable_step as u64,

@@ -1,7 +1,27 @@
 //! The JSON report of one run.
 
+use crate::hydrostatic::HydrostaticFigures;
 use serde::Serialize;
 use std::collections::BTreeMap;
+
+/// The dam break's front against Martin & Moyce (1952).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DamBreakFigures {
+    /// Column width a [m].
+    pub column_width_a: f32,
+    /// [[t, x]]: front [m] from the wall behind the column, every 0.01 s. The front is the largest
+    /// x of the water body connected (particles closer than h) to the particle nearest the
+    /// corner behind the column: detached droplets and splashes are not the front.
+    pub front: Vec<[f64; 2]>,
+    /// [[T, Z]] with T = t sqrt(2g/a), Z = x/a.
+    pub front_nd: Vec<[f64; 2]>,
+    /// RMS of Z_sim(T) - Z_exp(T) over the experiment's points with T <= 2.5.
+    pub rms_z_raw: f64,
+    /// The same with the experiment's best lag in [0, 0.3] (gate removal) taken out.
+    pub rms_z_shifted: f64,
+    /// That lag in T.
+    pub best_shift: f64,
+}
 
 /// One run's figures (the fields the issue asks for, plus context).
 #[derive(Clone, Debug, Default, Serialize)]
@@ -20,8 +40,14 @@ pub struct Report {
     pub search: String,
     /// Surface tension on.
     pub surface_tension: bool,
-    /// Time step [s].
+    /// dt chosen every step by the CFL rule.
+    pub adaptive_time_step: bool,
+    /// CFL factor λ of the adaptive rule.
+    pub cfl_factor: f32,
+    /// Time step [s] (the largest step with the adaptive rule).
     pub dt: f32,
+    /// Simulated time / steps [s].
+    pub dt_mean: f64,
     /// Steps taken.
     pub steps: u64,
     /// Simulated time [s].
@@ -40,6 +66,9 @@ pub struct Report {
     pub density_error_mean_pct: f32,
     /// Largest compression error [%] at the end.
     pub density_error_max_pct: f32,
+    /// The largest mean compression error seen over the run [%] (sampled every 0.01 s in the
+    /// dam-break and hydrostatic scenarios; the end value otherwise).
+    pub density_error_mean_max_pct: f32,
     /// Particles with NaN/infinite state at the end.
     pub nan_count: usize,
     /// Particles outside the container at the end.
@@ -50,4 +79,14 @@ pub struct Report {
     pub gpu_bytes_per_particle: u32,
     /// GPU memory of one million particles at that rate [MiB].
     pub gpu_mib_per_million: f64,
+    /// "ok", or "unstable" (a step went unstable, or NaN or escaped particles at the end).
+    pub health: String,
+    /// The step at which the instability was detected (the run stops there).
+    pub unstable_step: Option<u64>,
+    /// Dam-break scenarios: the front and its error against the experiment.
+    #[serde(flatten)]
+    pub dam_break: Option<DamBreakFigures>,
+    /// The hydrostatic scenario: pressure against depth.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hydrostatic: Option<HydrostaticFigures>,
 }

@@ -1,41 +1,60 @@
-//! Runs one scenario on the CPU solver or on the plugin's GPU passes.
+//! Runs one scenario on either backend: steps in chunks, samples the state every 0.01 s where the
+//! scenario measures something over time, shows a progress bar, and fills the report.
 
-use crate::args::{Backend, Duration, RunArgs, TimeStep};
-use crate::report::Report;
-use bevy::prelude::*;
-use bevy_sph_fluid::headless;
-use bevy_sph_fluid::prelude::*;
+use crate::args::{Backend, Duration, RunArgs};
+use crate::hydrostatic::HydrostaticSampler;
+use crate::report::{DamBreakFigures, Report};
+use crate::scenarios::{setup, Setup, G};
+use crate::sim::{CpuSimulation, GpuSimulation, Simulation, State};
+use crate::validate::{experiment, rms_error_and_best_shift};
 use sph_core::diagnostics::DiagnosticsInput;
-use sph_core::scenario::{dam_break_with_particles, Scene};
-use sph_core::{CpuSolver, Diagnostics, NeighborSearch};
-use std::time::Instant;
+use sph_core::front::surge_front;
+use sph_core::{Diagnostics, Integrator, NeighborSearch};
+use std::io::Write;
 
-/// The scene of the arguments.
-pub fn scene(args: &RunArgs) -> Scene {
-    let mut scene = dam_break_with_particles(args.particles);
-    let p = &mut scene.params;
+/// Interval between samples of the state [s].
+pub const SAMPLE_INTERVAL: f64 = 0.01;
+
+/// The setup of the arguments: the scenario with the integrator, search, surface tension and
+/// time-step overrides applied.
+pub fn configured_setup(args: &RunArgs) -> Setup {
+    let mut s = setup(args.scenario, args.particles, args.a);
+    let p = &mut s.scene.params;
     p.integrator = args.integrator;
     p.neighbor_search = args.search;
     if args.surface_tension {
         p.surface_tension = sph_core::params::WATER_SURFACE_TENSION;
     }
-    match args.time_step {
-        TimeStep::Default => {}
-        TimeStep::Fixed(dt) => p.time_step = dt,
-        TimeStep::Cfl(lambda) => {
-            // Same rule as the derivation: dt = λ h / (c0 + v_peak), v_peak = c0 / 10.
-            let c0 = p.speed_of_sound();
-            p.time_step = lambda * p.smoothing_radius / (1.1 * c0);
+    if let Some(alpha) = args.viscosity_alpha {
+        // ν = α h c0 / 10, as in the derivation.
+        p.viscosity = p.rest_density * alpha * p.smoothing_radius * p.speed_of_sound() / 10.0;
+    }
+    if let Some(dt) = args.dt {
+        p.time_step = dt;
+    }
+    p.adaptive_time_step = args.adaptive;
+    if let Some(lambda) = args.cfl {
+        p.cfl_factor = lambda;
+        if !args.adaptive && args.dt.is_none() {
+            // A fixed step from the CFL factor: dt = λ h / (c0 + v_peak), v_peak = c0 / 10.
+            p.time_step = lambda * p.smoothing_radius / (1.1 * p.speed_of_sound());
         }
     }
-    scene
+    s
 }
 
-fn steps_of(args: &RunArgs, dt: f32) -> u64 {
-    match args.duration {
-        Duration::Steps(n) => n,
-        Duration::Time(t) => (t / dt as f64).ceil() as u64,
-    }
+/// Names of the integrator and search, as on the command line.
+pub fn names(integrator: Integrator, search: NeighborSearch) -> (&'static str, &'static str) {
+    let integrator = match integrator {
+        Integrator::SymplecticEuler => "euler",
+        Integrator::Leapfrog => "leapfrog",
+        Integrator::KickDriftKick => "kdk",
+    };
+    let search = match search {
+        NeighborSearch::Grid => "grid",
+        NeighborSearch::Hash => "hash",
+    };
+    (integrator, search)
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -46,162 +65,238 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-fn progress(done: u64, total: u64, last: &mut u64) {
-    let percent = done * 100 / total.max(1);
-    if percent >= *last + 10 || done == total {
-        *last = percent;
-        eprintln!("  {percent:3}% ({done}/{total} steps)");
+/// A one-line progress bar on stderr, redrawn when the percentage changes.
+pub struct Progress {
+    label: String,
+    shown: Option<u32>,
+}
+
+impl Progress {
+    /// A bar labelled `label`.
+    pub fn new(label: impl Into<String>) -> Self {
+        Self {
+            label: label.into(),
+            shown: None,
+        }
+    }
+
+    /// Shows `fraction` done, with `detail`.
+    pub fn show(&mut self, fraction: f64, detail: &str) {
+        let percent = (fraction.clamp(0.0, 1.0) * 100.0) as u32;
+        if self.shown == Some(percent) {
+            return;
+        }
+        self.shown = Some(percent);
+        let filled = (percent / 5) as usize;
+        eprint!(
+            "\r  {} [{}{}] {percent:3}% {detail}   ",
+            self.label,
+            "#".repeat(filled),
+            ".".repeat(20 - filled)
+        );
+        let _ = std::io::stderr().flush();
+    }
+
+    /// Ends the line.
+    pub fn finish(&mut self) {
+        if self.shown.is_some() {
+            eprintln!();
+        }
     }
 }
 
-fn names(args: &RunArgs) -> (String, String) {
-    let integrator = match args.integrator {
-        sph_core::Integrator::SymplecticEuler => "euler",
-        sph_core::Integrator::Leapfrog => "leapfrog",
-        sph_core::Integrator::KickDriftKick => "kdk",
-    };
-    let search = match args.search {
-        NeighborSearch::Grid => "grid",
-        NeighborSearch::Hash => "hash",
-    };
-    (integrator.into(), search.into())
+/// What a scenario records while it runs.
+#[derive(Default)]
+struct Samples {
+    dam_break: Option<DamBreakFigures>,
+    hydrostatic: Option<HydrostaticSampler>,
+    /// The largest mean compression error seen [%].
+    density_error_peak: f32,
 }
 
-fn base_report(args: &RunArgs, scene: &Scene, steps: u64, times: Vec<f64>) -> Report {
-    let (integrator, search) = names(args);
+impl Samples {
+    fn for_setup(setup: &Setup) -> Self {
+        Self {
+            dam_break: setup.column_width_a.map(|a| DamBreakFigures {
+                column_width_a: a,
+                ..Default::default()
+            }),
+            hydrostatic: setup.water_depth.map(|_| HydrostaticSampler::new(setup)),
+            density_error_peak: 0.0,
+        }
+    }
+
+    fn wanted(&self) -> bool {
+        self.dam_break.is_some() || self.hydrostatic.is_some()
+    }
+
+    fn record(&mut self, setup: &Setup, time: f64, state: &State) {
+        let d = diagnostics(setup, state);
+        self.density_error_peak = self.density_error_peak.max(d.density_error_mean_pct);
+        if let Some(d) = &mut self.dam_break {
+            let a = d.column_width_a as f64;
+            let link = setup.scene.params.smoothing_radius;
+            let x = surge_front(&state.positions, &setup.scene.container, link).unwrap_or(0.0);
+            d.front.push([time, x as f64]);
+            d.front_nd.push([time * (2.0 * G / a).sqrt(), x as f64 / a]);
+        }
+        if let Some(h) = &mut self.hydrostatic {
+            h.record(setup, time, state);
+        }
+    }
+}
+
+/// Diagnostics of `state` in the scenario.
+pub fn diagnostics(setup: &Setup, state: &State) -> Diagnostics {
+    Diagnostics::measure(
+        &setup.scene.params,
+        &setup.scene.container,
+        &DiagnosticsInput {
+            position: &state.positions,
+            velocity: &state.velocities,
+            density: &state.densities,
+        },
+    )
+}
+
+/// The backend's simulation of `setup` (the GPU's first step taken, so shaders are compiled).
+pub fn simulation(
+    setup: &Setup,
+    backend: Backend,
+    substeps: u32,
+) -> Result<Box<dyn Simulation>, String> {
+    Ok(match backend {
+        Backend::Cpu => Box::new(CpuSimulation::new(setup)?),
+        Backend::Gpu => {
+            let mut gpu = GpuSimulation::new(setup, substeps)?;
+            eprintln!("  compiling shaders and taking the first step");
+            gpu.advance(1)?;
+            Box::new(gpu)
+        }
+    })
+}
+
+/// Runs `setup` on `backend` for `duration` and reports.
+pub fn run_setup(
+    setup: &Setup,
+    backend: Backend,
+    substeps: u32,
+    duration: Duration,
+) -> Result<Report, String> {
+    let mut sim = simulation(setup, backend, substeps)?;
+    let params = setup.scene.params;
+    let mut samples = Samples::for_setup(setup);
+    let mut times = Vec::new();
+    let mut next_sample = 0.0;
+    let mut progress = Progress::new(setup.scenario.name());
+    let finished = |sim: &dyn Simulation| match duration {
+        Duration::Steps(n) => sim.steps() >= n,
+        Duration::Time(t) => sim.time() >= t - 1e-9,
+    };
+    loop {
+        if samples.wanted() && sim.time() + 1e-9 >= next_sample {
+            let state = sim.state()?;
+            samples.record(setup, sim.time(), &state);
+            next_sample += SAMPLE_INTERVAL;
+        }
+        if finished(sim.as_ref()) || sim.unstable_step().is_some() {
+            break;
+        }
+        let dt = if sim.last_dt() > 0.0 {
+            sim.last_dt()
+        } else {
+            params.time_step
+        } as f64;
+        let mut chunk = match duration {
+            Duration::Steps(n) => n.saturating_sub(sim.steps()),
+            Duration::Time(t) => ((t - sim.time()) / dt).ceil().max(1.0) as u64,
+        };
+        if samples.wanted() {
+            chunk = chunk.min(((next_sample - sim.time()) / dt).ceil().max(1.0) as u64);
+        }
+        let chunk = chunk.clamp(1, 500) as u32;
+        let (taken, ms) = sim.advance(chunk)?;
+        if taken > 0 {
+            times.push(ms / taken as f64);
+        }
+        let fraction = match duration {
+            Duration::Steps(n) => sim.steps() as f64 / n.max(1) as f64,
+            Duration::Time(t) => sim.time() / t,
+        };
+        progress.show(
+            fraction,
+            &format!("t = {:.3} s, step {}", sim.time(), sim.steps()),
+        );
+    }
+    progress.finish();
+    let state = sim.state()?;
+    let d = diagnostics(setup, &state);
+    let (integrator, search) = names(params.integrator, params.neighbor_search);
+    let steps = sim.steps();
     let ms = median(times);
-    let dt = scene.params.time_step;
-    Report {
-        scenario: args.scenario.clone(),
-        backend: if args.backend == Backend::Gpu {
+    let sim_time = sim.time();
+    let dt_mean = if steps > 0 {
+        sim_time / steps as f64
+    } else {
+        params.time_step as f64
+    };
+    let particles = setup.scene.particle_count().max(setup.capacity);
+    let unstable_step = sim.unstable_step();
+    let mut report = Report {
+        scenario: setup.scenario.name().into(),
+        backend: if backend == Backend::Gpu {
             "gpu"
         } else {
             "cpu"
         }
         .into(),
-        particles: scene.particle_count(),
-        integrator,
-        search,
-        surface_tension: args.surface_tension,
-        dt,
+        adapter: sim.adapter(),
+        particles,
+        integrator: integrator.into(),
+        search: search.into(),
+        surface_tension: params.has_surface_tension(),
+        adaptive_time_step: params.adaptive_time_step,
+        cfl_factor: params.cfl_factor,
+        dt: params.time_step,
+        dt_mean,
         steps,
-        sim_time: steps as f64 * dt as f64,
+        sim_time,
         ms_per_step_median: ms,
-        cost_per_sim_second_s: ms / 1e3 / dt as f64,
-        ns_per_particle_step: ms * 1e6 / scene.particle_count().max(1) as f64,
-        ..Default::default()
-    }
-}
-
-fn finish(report: &mut Report, d: &Diagnostics) {
-    report.density_error_mean_pct = d.density_error_mean_pct;
-    report.density_error_max_pct = d.density_error_max_pct;
-    report.nan_count = d.non_finite_count;
-    report.escaped_count = d.outside_count;
-    report.particles_final = d.particle_count;
-}
-
-/// Runs on the CPU solver.
-pub fn run_cpu(args: &RunArgs) -> Result<Report, String> {
-    let scene = scene(args);
-    let n = scene.particle_count();
-    let mut solver =
-        CpuSolver::new(scene.params, scene.container, n.max(1)).map_err(|e| e.to_string())?;
-    solver.spawn(&scene.positions(), Vec3::ZERO);
-    let steps = steps_of(args, scene.params.time_step);
-    let mut times = Vec::with_capacity(steps as usize);
-    let mut last = 0;
-    for k in 0..steps {
-        let t = Instant::now();
-        solver.step();
-        times.push(t.elapsed().as_secs_f64() * 1e3);
-        progress(k + 1, steps, &mut last);
-    }
-    let mut report = base_report(args, &scene, steps, times);
-    report.adapter = "cpu".into();
-    report.stage_ms = solver
-        .timings()
-        .stages()
-        .iter()
-        .map(|(name, t)| {
-            (
-                name.to_string(),
-                t.as_secs_f64() * 1e3 / steps.max(1) as f64,
-            )
-        })
-        .collect();
-    finish(&mut report, &solver.diagnostics());
-    Ok(report)
-}
-
-/// Runs on the GPU passes of `SphFluidPlugin` in a headless app.
-pub fn run_gpu(args: &RunArgs) -> Result<Report, String> {
-    let adapter = headless::vulkan_adapter()?;
-    let scene = scene(args);
-    let n = scene.particle_count();
-    let mut app = headless::headless_app(
-        DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>(),
-        n.max(1) as u32,
-        SphBackend::Gpu,
-        true,
-    );
-    app.insert_resource(SphParams(scene.params));
-    app.world_mut().spawn(SphContainer(scene.container));
-    for block in &scene.blocks {
-        app.world_mut().spawn(SphBlockSpawn {
-            block: *block,
-            velocity: Vec3::ZERO,
-        });
-    }
-    app.update();
-    let steps = steps_of(args, scene.params.time_step);
-    eprintln!("  compiling shaders and taking the first step on {adapter}");
-    headless::step_to(&mut app, 1)?;
-    let mut times = Vec::new();
-    let mut last = 0;
-    let mut done = 1;
-    while done < steps {
-        let k = (args.substeps as u64).min(steps - done) as u32;
-        app.insert_resource(SphControl {
-            running: true,
-            substeps: k,
-            ..default()
-        });
-        let t = Instant::now();
-        app.update();
-        headless::wait_for_gpu(&app);
-        let taken = headless::steps_taken(&app) - done;
-        if taken == 0 {
-            let error = app.world().resource::<SphStats>().error.clone();
-            return Err(format!("the GPU stopped stepping: {error:?}"));
+        cost_per_sim_second_s: ms / 1e3 / dt_mean,
+        ns_per_particle_step: ms * 1e6 / particles.max(1) as f64,
+        dispatches_per_step: sim.dispatches_per_step(),
+        stage_ms: sim.stage_ms().into_iter().collect(),
+        density_error_mean_pct: d.density_error_mean_pct,
+        density_error_max_pct: d.density_error_max_pct,
+        density_error_mean_max_pct: samples.density_error_peak.max(d.density_error_mean_pct),
+        nan_count: d.non_finite_count,
+        escaped_count: d.outside_count,
+        particles_final: d.particle_count,
+        gpu_bytes_per_particle: sim.gpu_bytes_per_particle(),
+        gpu_mib_per_million: sim.gpu_bytes_per_particle() as f64 * 1e6 / (1024.0 * 1024.0),
+        health: if unstable_step.is_some() || d.non_finite_count > 0 || d.outside_count > 0 {
+            "unstable"
+        } else {
+            "ok"
         }
-        times.push(t.elapsed().as_secs_f64() * 1e3 / taken as f64);
-        done += taken;
-        progress(done, steps, &mut last);
+        .into(),
+        unstable_step,
+        ..Default::default()
+    };
+    if let Some(mut figures) = samples.dam_break {
+        let (raw, shifted, shift) = rms_error_and_best_shift(&figures.front_nd, &experiment());
+        figures.rms_z_raw = raw;
+        figures.rms_z_shifted = shifted;
+        figures.best_shift = shift;
+        report.dam_break = Some(figures);
     }
-    app.insert_resource(SphControl {
-        running: false,
-        ..default()
-    });
-    let snapshot = headless::snapshot(&mut app)?;
-    // Read after the snapshot's extra frames: the main world sees the render world's feedback
-    // one frame late.
-    let stats = app.world().resource::<SphStats>().clone();
-    let mut report = base_report(args, &scene, done, times);
-    report.adapter = adapter;
-    report.dispatches_per_step = stats.dispatches_per_step;
-    report.gpu_bytes_per_particle = stats.gpu_bytes_per_particle;
-    report.gpu_mib_per_million = stats.gpu_bytes_per_particle as f64 * 1e6 / (1024.0 * 1024.0);
-    report.stage_ms = stats.stage_ms.into_iter().collect();
-    let d = Diagnostics::measure(
-        &scene.params,
-        &scene.container,
-        &DiagnosticsInput {
-            position: &snapshot.positions,
-            velocity: &snapshot.velocities,
-            density: &snapshot.densities,
-        },
-    );
-    finish(&mut report, &d);
+    report.hydrostatic = samples.hydrostatic.map(|h| h.finish(&params));
     Ok(report)
+}
+
+/// `sph-bench run`.
+pub fn run(args: &RunArgs) -> Result<Report, String> {
+    let setup = configured_setup(args);
+    let duration = args.duration.unwrap_or(Duration::Time(setup.duration));
+    run_setup(&setup, args.backend, args.substeps, duration)
 }

@@ -1,53 +1,66 @@
-//! `sph-bench validate`: the Martin & Moyce (1952) dam break against experiment, on the CPU
-//! solver. Reports the RMS of the front error Z for T <= 2.5, raw and with the best time shift
-//! in [0, 0.3] (the experiments lag because the gate takes time to remove).
+//! `sph-bench validate`: the Martin & Moyce (1952) dam break against experiment (the RMS of the
+//! front error Z for T <= 2.5, raw and with the best time shift in [0, 0.3]: the experiments lag
+//! because the gate takes time to remove) and the hydrostatic tank against ρ0 g depth.
 
+use crate::args::{Backend, RunArgs};
+use crate::report::Report;
+use crate::scenarios::Scenario;
 use serde::Serialize;
-use sph_core::front::surge_front;
-use sph_core::glam::Vec3;
-use sph_core::scenario::dam_break;
-use sph_core::{CpuSolver, Diagnostics};
 
 /// Martin & Moyce's surge front, n² = 2 (copied from the shared validation data, with its source).
 const MARTIN_MOYCE: &str = include_str!("../data/martin_moyce_1952_n2.csv");
 
-/// Gravity used for T = t sqrt(2g/a).
-const G: f64 = 9.81;
-
 /// Options of `sph-bench validate`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ValidateArgs {
-    /// Particles in the column (about).
+    /// Backend.
+    pub backend: Backend,
+    /// Particles in the dam break's column (about).
     pub particles: usize,
+    /// Particles in the hydrostatic tank (about).
+    pub hydrostatic_particles: usize,
     /// Column width a [m].
     pub a: f32,
+    /// Artificial viscosity α (ν = α h c0 / 10), or the derivation's default.
+    pub viscosity_alpha: Option<f32>,
+    /// Steps per frame on the GPU.
+    pub substeps: u32,
     /// Where the JSON goes.
     pub json: Option<String>,
 }
 
-/// The validation report.
-#[derive(Clone, Debug, Default, Serialize)]
+/// Both validations.
+#[derive(Clone, Debug, Serialize)]
 pub struct ValidateReport {
-    /// "dam-break".
-    pub scenario: String,
-    /// Column width a [m].
-    pub column_width_a: f32,
-    /// Particles.
-    pub particles: usize,
-    /// Time step [s].
-    pub dt: f32,
-    /// [[t, x]]: front position [m] from the wall, every 0.01 s.
-    pub front: Vec<[f64; 2]>,
-    /// [[T, Z]] with T = t sqrt(2g/a), Z = x/a.
-    pub front_nd: Vec<[f64; 2]>,
-    /// RMS of Z_sim(T) - Z_exp(T) over the experimental points with T <= 2.5.
-    pub rms_z_raw: f64,
-    /// The same with the simulation delayed by the best shift in [0, 0.3].
-    pub rms_z_shifted: f64,
-    /// That shift in T.
-    pub best_shift: f64,
-    /// "ok" or "unstable".
-    pub health: String,
+    /// The dam break against Martin & Moyce.
+    pub dam_break: Report,
+    /// The tank at rest against ρ0 g depth.
+    pub hydrostatic: Report,
+}
+
+/// Runs the dam break and the hydrostatic tank.
+pub fn run(args: &ValidateArgs) -> Result<ValidateReport, String> {
+    let base = RunArgs {
+        backend: args.backend,
+        a: args.a,
+        viscosity_alpha: args.viscosity_alpha,
+        substeps: args.substeps,
+        ..Default::default()
+    };
+    let dam_break = crate::run::run(&RunArgs {
+        scenario: Scenario::DamBreak,
+        particles: args.particles,
+        ..base.clone()
+    })?;
+    let hydrostatic = crate::run::run(&RunArgs {
+        scenario: Scenario::Hydrostatic,
+        particles: args.hydrostatic_particles,
+        ..base
+    })?;
+    Ok(ValidateReport {
+        dam_break,
+        hydrostatic,
+    })
 }
 
 /// Parses the experiment: (T, Z) rows after the comment lines and the header.
@@ -84,63 +97,15 @@ pub fn rms_error(series: &[[f64; 2]], experiment: &[(f64, f64)], shift: f64) -> 
     (errors.iter().map(|e| e * e).sum::<f64>() / errors.len().max(1) as f64).sqrt()
 }
 
-/// Runs the dam break and compares it with the experiment.
-pub fn run(args: &ValidateArgs) -> Result<ValidateReport, String> {
-    let spacing = args.a / (args.particles.max(1) as f32).cbrt();
-    let cells = |length: f32| (length / spacing).round().max(1.0) * spacing;
-    let (a, depth) = (cells(args.a), cells(0.5 * args.a));
-    let scene = dam_break(a, depth, spacing);
-    let n = scene.particle_count();
-    let mut solver =
-        CpuSolver::new(scene.params, scene.container, n.max(1)).map_err(|e| e.to_string())?;
-    solver.spawn(&scene.positions(), Vec3::ZERO);
-    let time_scale = (2.0 * G / a as f64).sqrt();
-    let t_end = 2.8 / time_scale;
-    let link = scene.params.smoothing_radius;
-    let mut report = ValidateReport {
-        scenario: "dam-break".into(),
-        column_width_a: a,
-        particles: n,
-        dt: scene.params.time_step,
-        health: "ok".into(),
-        ..Default::default()
-    };
-    let mut next_sample = 0.0;
-    let mut last_progress = 0;
-    loop {
-        if solver.time() + 1e-9 >= next_sample {
-            let positions = &solver.particles().position;
-            let x = surge_front(positions, &scene.container, link).unwrap_or(0.0) as f64;
-            report.front.push([solver.time(), x]);
-            report
-                .front_nd
-                .push([solver.time() * time_scale, x / a as f64]);
-            next_sample += 0.01;
-        }
-        if solver.time() >= t_end {
-            break;
-        }
-        solver.step();
-        let percent = (solver.time() / t_end * 100.0) as u32;
-        if percent >= last_progress + 10 {
-            last_progress = percent;
-            eprintln!("  {percent:3}% (t = {:.3} s)", solver.time());
-        }
-    }
-    let d: Diagnostics = solver.diagnostics();
-    if d.non_finite_count > 0 || d.outside_count > 0 {
-        report.health = "unstable".into();
-    }
-    let experiment = experiment();
-    report.rms_z_raw = rms_error(&report.front_nd, &experiment, 0.0);
-    let (shift, rms) = (0..=30)
+/// (raw RMS, RMS at the best shift, best shift) with shifts 0, 0.01, ..., 0.3.
+pub fn rms_error_and_best_shift(series: &[[f64; 2]], experiment: &[(f64, f64)]) -> (f64, f64, f64) {
+    let raw = rms_error(series, experiment, 0.0);
+    let (shift, shifted) = (0..=30)
         .map(|k| k as f64 * 0.01)
-        .map(|s| (s, rms_error(&report.front_nd, &experiment, s)))
+        .map(|s| (s, rms_error(series, experiment, s)))
         .min_by(|a, b| a.1.total_cmp(&b.1))
-        .unwrap_or((0.0, report.rms_z_raw));
-    report.best_shift = shift;
-    report.rms_z_shifted = rms;
-    Ok(report)
+        .unwrap_or((0.0, raw));
+    (raw, shifted, shift)
 }
 
 #[cfg(test)]
@@ -162,10 +127,8 @@ mod tests {
         assert!(rms_error(&series, &e, 0.0) < 1e-12);
         // A series that leads the experiment by 0.2 in T is best matched by a 0.2 shift.
         let leading: Vec<[f64; 2]> = e.iter().map(|&(t, z)| [t - 0.2, z]).collect();
-        let best = (0..=30)
-            .map(|k| k as f64 * 0.01)
-            .min_by(|a, b| rms_error(&leading, &e, *a).total_cmp(&rms_error(&leading, &e, *b)))
-            .unwrap();
+        let (raw, shifted, best) = rms_error_and_best_shift(&leading, &e);
         assert!((best - 0.2).abs() < 0.011, "best shift {best}");
+        assert!(shifted < 0.02 && raw > 0.05, "raw {raw}, shifted {shifted}");
     }
 }

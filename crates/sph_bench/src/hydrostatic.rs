@@ -1,0 +1,123 @@
+//! The hydrostatic tank: pressure against ρ0 g depth, layer by layer, averaged over the last 40 %
+//! of the run (the column's acoustic oscillation averages out), for the interior particles (at
+//! least h from the side walls, which have no boundary particles). Depth is measured from the
+//! water's initial surface (weak compressibility changes the height by the density error, well
+//! under 1 %), so a splashing particle cannot move the reference.
+
+use crate::scenarios::Setup;
+use crate::sim::State;
+use serde::Serialize;
+use sph_core::{Eos, SphParams};
+
+/// One lattice layer's pressure.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Layer {
+    /// Mean depth below the free surface [m].
+    pub depth: f64,
+    /// Mean SPH pressure [Pa].
+    pub pressure: f64,
+    /// ρ0 g depth [Pa].
+    pub expected: f64,
+    /// (pressure - expected) / expected [%].
+    pub error_pct: f64,
+}
+
+/// The hydrostatic figures.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct HydrostaticFigures {
+    /// Layers from the top (layer 0 is the top particle layer).
+    pub layers: Vec<Layer>,
+    /// Largest |error| of the layers below the top one [%] (target <= 5).
+    pub max_error_below_top_pct: f64,
+    /// Mean |error| of the layers below the top one [%].
+    pub mean_error_below_top_pct: f64,
+    /// Mean compression error over the averaging window [%] (target <= 1).
+    pub density_error_mean_pct: f64,
+}
+
+/// Accumulates layer pressures over the averaging window.
+pub struct HydrostaticSampler {
+    start: f64,
+    spacing: f32,
+    surface: f32,
+    margin: f32,
+    /// Per layer: Σ depth, Σ pressure, count.
+    sums: Vec<(f64, f64, u64)>,
+    density_error_sum: f64,
+    density_samples: u64,
+}
+
+impl HydrostaticSampler {
+    /// A sampler for the tank of `setup`.
+    pub fn new(setup: &Setup) -> Self {
+        let p = &setup.scene.params;
+        Self {
+            start: 0.6 * setup.duration,
+            spacing: p.spacing(),
+            surface: setup.scene.container.min().y + setup.water_depth.unwrap_or(0.0),
+            margin: p.smoothing_radius,
+            sums: Vec::new(),
+            density_error_sum: 0.0,
+            density_samples: 0,
+        }
+    }
+
+    /// Adds the state at `time` (ignored before the window).
+    pub fn record(&mut self, setup: &Setup, time: f64, state: &State) {
+        if time < self.start || state.positions.is_empty() {
+            return;
+        }
+        let params = &setup.scene.params;
+        let eos = Eos::from_params(params);
+        let (lo, hi) = (setup.scene.container.min(), setup.scene.container.max());
+        let surface = self.surface;
+        let mut error = 0.0;
+        for (x, &rho) in state.positions.iter().zip(&state.densities) {
+            error += ((rho / params.rest_density - 1.0).max(0.0) * 100.0) as f64;
+            let interior = x.x - lo.x >= self.margin
+                && hi.x - x.x >= self.margin
+                && x.z - lo.z >= self.margin
+                && hi.z - x.z >= self.margin;
+            if !interior {
+                continue;
+            }
+            let depth = surface - x.y;
+            let layer = (depth / self.spacing).floor().max(0.0) as usize;
+            if self.sums.len() <= layer {
+                self.sums.resize(layer + 1, (0.0, 0.0, 0));
+            }
+            let s = &mut self.sums[layer];
+            s.0 += depth as f64;
+            s.1 += eos.pressure(rho) as f64;
+            s.2 += 1;
+        }
+        self.density_error_sum += error / state.positions.len() as f64;
+        self.density_samples += 1;
+    }
+
+    /// The figures.
+    pub fn finish(self, params: &SphParams) -> HydrostaticFigures {
+        let layers: Vec<Layer> = self
+            .sums
+            .iter()
+            .filter(|s| s.2 > 0)
+            .map(|&(depth, pressure, n)| {
+                let (depth, pressure) = (depth / n as f64, pressure / n as f64);
+                let expected = params.rest_density as f64 * params.gravity.length() as f64 * depth;
+                Layer {
+                    depth,
+                    pressure,
+                    expected,
+                    error_pct: (pressure - expected) / expected * 100.0,
+                }
+            })
+            .collect();
+        let below: Vec<f64> = layers.iter().skip(1).map(|l| l.error_pct.abs()).collect();
+        HydrostaticFigures {
+            max_error_below_top_pct: below.iter().copied().fold(0.0, f64::max),
+            mean_error_below_top_pct: below.iter().sum::<f64>() / below.len().max(1) as f64,
+            density_error_mean_pct: self.density_error_sum / self.density_samples.max(1) as f64,
+            layers,
+        }
+    }
+}
