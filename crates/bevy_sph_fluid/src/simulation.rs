@@ -446,7 +446,8 @@ fn sph_update_stats(
             if sim.frame.reset {
                 stats.health = SphHealth::Unknown;
             }
-            if let Some(clock) = clock.latest {
+            // A clock read before a reset counts more steps than were taken since: stale.
+            if let Some(clock) = clock.latest.filter(|c| c.step as u64 <= stats.step_count) {
                 stats.sim_time = clock.time();
                 stats.time_step = clock.dt();
                 stats.clock_steps = clock.step as u64;

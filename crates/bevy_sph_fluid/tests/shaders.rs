@@ -172,38 +172,33 @@ fn variant_defs_change_the_code() {
     );
 }
 
-#[test]
-fn uniform_block_matches_the_rust_layout() {
+/// The size naga lays out for the WGSL struct named `name` in `stage`.
+fn wgsl_struct_size(stage: usize, name: &str) -> usize {
     let mut composer = composer();
-    let (_, density, _) = STAGES[6];
-    let module = compose(&mut composer, "density.wgsl", density, &[]);
-    let uniforms = module
+    let (path, source, _) = STAGES[stage];
+    let module = compose(&mut composer, path, source, &[]);
+    let ty = module
         .types
         .iter()
-        .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.contains("SphUniforms")))
-        .expect("SphUniforms type");
+        .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.contains(name)))
+        .unwrap_or_else(|| panic!("{name} in {path}"));
     let mut layouter = naga::proc::Layouter::default();
     layouter.update(module.to_ctx()).unwrap();
+    layouter[ty.0].size as usize
+}
+
+#[test]
+fn uniform_block_matches_the_rust_layout() {
     assert_eq!(
-        layouter[uniforms.0].size as usize,
+        wgsl_struct_size(6, "SphUniforms"),
         std::mem::size_of::<sph_core::gpu_layout::GpuSphParams>()
     );
 }
 
 #[test]
 fn clock_matches_the_rust_layout() {
-    let mut composer = composer();
-    let (_, time_step, _) = STAGES[0];
-    let module = compose(&mut composer, "time_step.wgsl", time_step, &[]);
-    let clock = module
-        .types
-        .iter()
-        .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.contains("SphClock")))
-        .expect("SphClock type");
-    let mut layouter = naga::proc::Layouter::default();
-    layouter.update(module.to_ctx()).unwrap();
     assert_eq!(
-        layouter[clock.0].size as usize,
+        wgsl_struct_size(0, "SphClock"),
         std::mem::size_of::<sph_core::gpu_layout::GpuClock>()
     );
 }

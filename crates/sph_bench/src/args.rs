@@ -194,81 +194,76 @@ fn unknown(flag: &str) -> String {
     format!("unknown option {flag:?}\n{USAGE}")
 }
 
+/// Applies one option of `run` (also the ones `validate` shares) to `out`.
+fn apply_run_flag(out: &mut RunArgs, flag: &str, v: &str) -> Result<(), String> {
+    match flag {
+        "--scenario" => out.scenario = Scenario::parse(v)?,
+        "--backend" => out.backend = backend(v, flag)?,
+        "--particles" => out.particles = particles(v, flag)?,
+        "--a" => out.a = positive(v, flag, 10.0, "(0, 10] m")?,
+        "--integrator" => {
+            out.integrator = match v {
+                "euler" => Integrator::SymplecticEuler,
+                "leapfrog" => Integrator::Leapfrog,
+                "kdk" => Integrator::KickDriftKick,
+                other => {
+                    return Err(format!(
+                        "--integrator = {other:?}: allowed euler, leapfrog, kdk"
+                    ))
+                }
+            }
+        }
+        "--search" => {
+            out.search = match v {
+                "grid" => NeighborSearch::Grid,
+                "hash" => NeighborSearch::Hash,
+                other => return Err(format!("--search = {other:?}: allowed grid, hash")),
+            }
+        }
+        "--surface-tension" => out.surface_tension = on_off(v, flag)?,
+        "--dt" => out.dt = Some(positive(v, flag, 1.0, "(0, 1] s")?),
+        "--cfl" => out.cfl = Some(positive(v, flag, 1.0, "(0, 1]")?),
+        "--adaptive" => out.adaptive = on_off(v, flag)?,
+        "--viscosity-alpha" => out.viscosity_alpha = Some(number(v, flag, 0.0, 10.0, "[0, 10]")?),
+        "--steps" => out.duration = Some(Duration::Steps(number(v, flag, 1, u64::MAX, "1 ..")?)),
+        "--time" => {
+            out.duration = Some(Duration::Time(positive(v, flag, 1e6, "(0, 1e6] s")? as f64))
+        }
+        "--substeps" => out.substeps = substeps(v, flag)?,
+        "--json" => out.json = Some(v.to_string()),
+        other => return Err(unknown(other)),
+    }
+    Ok(())
+}
+
 /// Parses the options after `run`.
 pub fn parse_run(args: &[String]) -> Result<RunArgs, String> {
     let mut out = RunArgs::default();
     let mut flags = Flags::new(args);
     while let Some(pair) = flags.next_pair() {
         let (flag, v) = pair?;
-        match flag {
-            "--scenario" => out.scenario = Scenario::parse(v)?,
-            "--backend" => out.backend = backend(v, flag)?,
-            "--particles" => out.particles = particles(v, flag)?,
-            "--a" => out.a = positive(v, flag, 10.0, "(0, 10] m")?,
-            "--integrator" => {
-                out.integrator = match v {
-                    "euler" => Integrator::SymplecticEuler,
-                    "leapfrog" => Integrator::Leapfrog,
-                    "kdk" => Integrator::KickDriftKick,
-                    other => {
-                        return Err(format!(
-                            "--integrator = {other:?}: allowed euler, leapfrog, kdk"
-                        ))
-                    }
-                }
-            }
-            "--search" => {
-                out.search = match v {
-                    "grid" => NeighborSearch::Grid,
-                    "hash" => NeighborSearch::Hash,
-                    other => return Err(format!("--search = {other:?}: allowed grid, hash")),
-                }
-            }
-            "--surface-tension" => out.surface_tension = on_off(v, flag)?,
-            "--dt" => out.dt = Some(positive(v, flag, 1.0, "(0, 1] s")?),
-            "--cfl" => out.cfl = Some(positive(v, flag, 1.0, "(0, 1]")?),
-            "--adaptive" => out.adaptive = on_off(v, flag)?,
-            "--viscosity-alpha" => {
-                out.viscosity_alpha = Some(number(v, flag, 0.0, 10.0, "[0, 10]")?)
-            }
-            "--steps" => {
-                out.duration = Some(Duration::Steps(number(v, flag, 1, u64::MAX, "1 ..")?))
-            }
-            "--time" => {
-                out.duration = Some(Duration::Time(positive(v, flag, 1e6, "(0, 1e6] s")? as f64))
-            }
-            "--substeps" => out.substeps = substeps(v, flag)?,
-            "--json" => out.json = Some(v.to_string()),
-            other => return Err(unknown(other)),
-        }
+        apply_run_flag(&mut out, flag, v)?;
     }
     Ok(out)
 }
 
-/// Parses the options after `validate`.
+/// Parses the options after `validate`: the shared ones of `run`, and the tank's particles.
 pub fn parse_validate(args: &[String]) -> Result<ValidateArgs, String> {
     let mut out = ValidateArgs {
-        backend: Backend::Cpu,
-        particles: 8_000,
+        base: RunArgs {
+            particles: 8_000,
+            ..Default::default()
+        },
         hydrostatic_particles: 8_000,
-        a: 0.146,
-        viscosity_alpha: None,
-        substeps: 10,
-        json: None,
     };
     let mut flags = Flags::new(args);
     while let Some(pair) = flags.next_pair() {
         let (flag, v) = pair?;
         match flag {
-            "--backend" => out.backend = backend(v, flag)?,
-            "--particles" => out.particles = particles(v, flag)?,
             "--hydrostatic-particles" => out.hydrostatic_particles = particles(v, flag)?,
-            "--a" => out.a = positive(v, flag, 10.0, "(0, 10] m")?,
-            "--viscosity-alpha" => {
-                out.viscosity_alpha = Some(number(v, flag, 0.0, 10.0, "[0, 10]")?)
+            "--backend" | "--particles" | "--a" | "--viscosity-alpha" | "--substeps" | "--json" => {
+                apply_run_flag(&mut out.base, flag, v)?
             }
-            "--substeps" => out.substeps = substeps(v, flag)?,
-            "--json" => out.json = Some(v.to_string()),
             other => return Err(unknown(other)),
         }
     }

@@ -79,10 +79,10 @@ fn main() {
             eprintln!(
                 "sph-bench: validation on {:?}: Martin & Moyce dam break (a = {} m, about {} \
                  particles), hydrostatic tank (about {} particles)",
-                args.backend, args.a, args.particles, args.hydrostatic_particles
+                args.base.backend, args.base.a, args.base.particles, args.hydrostatic_particles
             );
             let report = validate::run(&args)?;
-            write_json(&report, &args.json)?;
+            write_json(&report, &args.base.json)?;
             if let Some(d) = &report.dam_break.dam_break {
                 eprintln!(
                     "sph-bench: dam break: RMS Z error (T <= 2.5) {:.3} raw, {:.3} with the best \

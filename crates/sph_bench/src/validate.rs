@@ -2,7 +2,7 @@
 //! front error Z for T <= 2.5, raw and with the best time shift in [0, 0.3]: the experiments lag
 //! because the gate takes time to remove) and the hydrostatic tank against ρ0 g depth.
 
-use crate::args::{Backend, RunArgs};
+use crate::args::RunArgs;
 use crate::report::Report;
 use crate::scenarios::Scenario;
 use serde::Serialize;
@@ -13,20 +13,10 @@ const MARTIN_MOYCE: &str = include_str!("../data/martin_moyce_1952_n2.csv");
 /// Options of `sph-bench validate`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ValidateArgs {
-    /// Backend.
-    pub backend: Backend,
-    /// Particles in the dam break's column (about).
-    pub particles: usize,
+    /// Backend, the dam break's particles and a, viscosity α, substeps and the JSON path.
+    pub base: RunArgs,
     /// Particles in the hydrostatic tank (about).
     pub hydrostatic_particles: usize,
-    /// Column width a [m].
-    pub a: f32,
-    /// Artificial viscosity α (ν = α h c0 / 10), or the derivation's default.
-    pub viscosity_alpha: Option<f32>,
-    /// Steps per frame on the GPU.
-    pub substeps: u32,
-    /// Where the JSON goes.
-    pub json: Option<String>,
 }
 
 /// Both validations.
@@ -40,22 +30,14 @@ pub struct ValidateReport {
 
 /// Runs the dam break and the hydrostatic tank.
 pub fn run(args: &ValidateArgs) -> Result<ValidateReport, String> {
-    let base = RunArgs {
-        backend: args.backend,
-        a: args.a,
-        viscosity_alpha: args.viscosity_alpha,
-        substeps: args.substeps,
-        ..Default::default()
-    };
     let dam_break = crate::run::run(&RunArgs {
         scenario: Scenario::DamBreak,
-        particles: args.particles,
-        ..base.clone()
+        ..args.base.clone()
     })?;
     let hydrostatic = crate::run::run(&RunArgs {
         scenario: Scenario::Hydrostatic,
         particles: args.hydrostatic_particles,
-        ..base
+        ..args.base.clone()
     })?;
     Ok(ValidateReport {
         dam_break,
