@@ -40,9 +40,9 @@ pub const STAGE_NAMES: [&str; 10] = [
 ];
 
 /// The public, chained set of stage systems in the [`SphStep`] schedule: time step (before a
-/// drifting count pass), count cells, prefix
-/// sum (grid) or bitonic sort + hash offsets (hash), scatter, density, normals (surface tension
-/// only), forces, time step and integrate (symplectic Euler only).
+/// drifting count pass), count cells, prefix sum (grid) or bitonic sort + hash offsets (hash),
+/// scatter, density, normals (surface tension only), forces, time step and integrate (symplectic
+/// Euler only).
 #[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SphGraphSystems;
 
