@@ -60,7 +60,7 @@ fn main() {
                 report.density_error_mean_pct,
                 health_text(&report)
             );
-            if let Some(d) = &report.dam_break {
+            if let Some(d) = report.dam_break.as_ref().filter(|d| d.rms_z_raw.is_finite()) {
                 eprintln!(
                     "sph-bench: RMS Z error (T <= 2.5) {:.3} raw, {:.3} with the best shift {:.2}",
                     d.rms_z_raw, d.rms_z_shifted, d.best_shift

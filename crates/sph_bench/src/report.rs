@@ -15,7 +15,8 @@ pub struct DamBreakFigures {
     pub front: Vec<[f64; 2]>,
     /// [[T, Z]] with T = t sqrt(2g/a), Z = x/a.
     pub front_nd: Vec<[f64; 2]>,
-    /// RMS of Z_sim(T) - Z_exp(T) over the experiment's points with T <= 2.5.
+    /// RMS of Z_sim(T) - Z_exp(T) over the experiment's points with T <= 2.5 (null when the run
+    /// stopped before T = 2.5).
     pub rms_z_raw: f64,
     /// The same with the experiment's best lag in [0, 0.3] (gate removal) taken out.
     pub rms_z_shifted: f64,
