@@ -10,15 +10,7 @@ use sph_core::scenario::dam_break_with_particles;
 use sph_core::{BoxContainer, CpuSolver, Diagnostics, PipeEmitter};
 
 fn diagnostics_of(s: &SphSnapshot, params: &sph_core::SphParams, c: &BoxContainer) -> Diagnostics {
-    Diagnostics::measure(
-        params,
-        c,
-        &sph_core::diagnostics::DiagnosticsInput {
-            position: &s.positions,
-            velocity: &s.velocities,
-            density: &s.densities,
-        },
-    )
+    s.diagnostics(params, c)
 }
 
 #[test]
@@ -36,12 +28,7 @@ fn gpu_dam_break_of_500_steps_agrees_with_the_cpu_solver() {
     let cpu_d = cpu.diagnostics();
 
     let mut app = headless_app(n as u32, SphBackend::Gpu);
-    app.insert_resource(SphParams(scene.params));
-    app.world_mut().spawn(SphContainer(scene.container));
-    app.world_mut().spawn(SphBlockSpawn {
-        block: scene.blocks[0],
-        velocity: Vec3::ZERO,
-    });
+    bevy_sph_fluid::headless::spawn_scene(&mut app, &scene);
     app.update();
     step_to(&mut app, 1);
     app.insert_resource(SphControl {

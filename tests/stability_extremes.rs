@@ -11,7 +11,6 @@ mod ranges;
 use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
 use common::*;
-use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::scenario::{dam_break_with_particles, Scene};
 use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Diagnostics, Integrator, NeighborSearch};
 
@@ -231,27 +230,12 @@ fn a_quarter_million_particles_take_one_cpu_step() {
 
 fn gpu_app(scene: &Scene) -> App {
     let mut app = headless_app(scene.particle_count() as u32, SphBackend::Gpu);
-    app.insert_resource(SphParams(scene.params));
-    app.world_mut().spawn(SphContainer(scene.container));
-    for block in &scene.blocks {
-        app.world_mut().spawn(SphBlockSpawn {
-            block: *block,
-            velocity: Vec3::ZERO,
-        });
-    }
+    bevy_sph_fluid::headless::spawn_scene(&mut app, scene);
     app
 }
 
 fn gpu_diagnostics(s: &SphSnapshot, scene: &Scene) -> Diagnostics {
-    Diagnostics::measure(
-        &scene.params,
-        &scene.container,
-        &DiagnosticsInput {
-            position: &s.positions,
-            velocity: &s.velocities,
-            density: &s.densities,
-        },
-    )
+    s.diagnostics(&scene.params, &scene.container)
 }
 
 #[test]

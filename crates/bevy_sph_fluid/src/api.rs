@@ -176,6 +176,25 @@ pub struct SphSnapshot {
     pub neighbor_counts: Option<Vec<u32>>,
 }
 
+impl SphSnapshot {
+    /// Diagnostics (density error, NaN, escapes, speeds...) of this state.
+    pub fn diagnostics(
+        &self,
+        params: &sph_core::SphParams,
+        container: &BoxContainer,
+    ) -> Diagnostics {
+        Diagnostics::measure(
+            params,
+            container,
+            &sph_core::diagnostics::DiagnosticsInput {
+                position: &self.positions,
+                velocity: &self.velocities,
+                density: &self.densities,
+            },
+        )
+    }
+}
+
 /// Handles of the GPU state buffers (GPU backend): read back by [`SphReadbackRequest`], and
 /// bindable by a material to draw particles straight from the GPU. The render world writes them;
 /// never modify these assets from the main world. Replaced when [`SphCapacity`] changes.

@@ -94,6 +94,18 @@ pub fn headless_app(
     app
 }
 
+/// Inserts a scene's parameters and spawns its container and its blocks at rest.
+pub fn spawn_scene(app: &mut App, scene: &sph_core::scenario::Scene) {
+    app.insert_resource(SphParams(scene.params));
+    app.world_mut().spawn(SphContainer(scene.container));
+    for block in &scene.blocks {
+        app.world_mut().spawn(SphBlockSpawn {
+            block: *block,
+            velocity: Vec3::ZERO,
+        });
+    }
+}
+
 /// Steps taken so far, as the render world (GPU) or the solver (CPU) reports them.
 pub fn steps_taken(app: &App) -> u64 {
     match app.world().resource::<SphStats>().backend {

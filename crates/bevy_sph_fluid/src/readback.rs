@@ -8,9 +8,7 @@ use crate::SphSystems;
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
-use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::gpu_layout::{w_to_id, GpuClock};
-use sph_core::Diagnostics;
 
 /// Which state buffer a readback entity copies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -197,15 +195,7 @@ fn sph_deliver_snapshot(
     };
     // The GPU backend measures health on readback.
     if let Some(container) = sim.container {
-        let d = Diagnostics::measure(
-            &sim.frame.params,
-            &container,
-            &DiagnosticsInput {
-                position: &snapshot.positions,
-                velocity: &snapshot.velocities,
-                density: &snapshot.densities,
-            },
-        );
+        let d = snapshot.diagnostics(&sim.frame.params, &container);
         if !stats.health.is_unstable() {
             stats.health = SphHealth::of(&d, pending.step);
         }

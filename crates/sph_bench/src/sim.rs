@@ -143,14 +143,7 @@ impl GpuSimulation {
             SphBackend::Gpu,
             true,
         );
-        app.insert_resource(SphParams(s.params));
-        app.world_mut().spawn(SphContainer(s.container));
-        for block in &s.blocks {
-            app.world_mut().spawn(SphBlockSpawn {
-                block: *block,
-                velocity: Vec3::ZERO,
-            });
-        }
+        headless::spawn_scene(&mut app, s);
         if let Some(emitter) = setup.emitter.clone() {
             app.world_mut().spawn(SphEmitter(emitter));
         }
