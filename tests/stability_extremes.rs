@@ -1,5 +1,6 @@
-//! Stability at the extremes: a time step beyond an integrator's limit is detected, reported as
-//! unstable and rolled back (CPU) or frozen (GPU); the adaptive CFL step keeps the same runs
+//! Stability at the extremes: with rollback off, a time step beyond an integrator's limit is
+//! detected, reported as unstable and rolled back (CPU) or frozen (GPU) (`tests/rollback.rs`
+//! covers rollback on); the adaptive CFL step keeps the same runs
 //! stable; every sandbox parameter at both ends of its slider's range, tiny and degenerate particle
 //! sets and a quarter of a million particles stay sane. Every test asserts: no NaN, the particle
 //! count conserved, nothing outside the container.
@@ -44,10 +45,11 @@ fn too_large_a_step(integrator: Integrator, adaptive: bool) -> Scene {
 }
 
 #[test]
-fn a_step_beyond_each_integrators_limit_is_detected_rolled_back_and_frozen() {
+fn without_rollback_a_step_beyond_each_integrators_limit_is_detected_rolled_back_and_frozen() {
     for integrator in INTEGRATORS {
         let scene = too_large_a_step(integrator, false);
         let mut solver = solver_of(&scene);
+        solver.set_rollback(sph_core::Rollback::off()).unwrap();
         for _ in 0..400 {
             solver.step();
         }
@@ -239,15 +241,17 @@ fn gpu_diagnostics(s: &SphSnapshot, scene: &Scene) -> Diagnostics {
 }
 
 #[test]
-fn the_gpu_reports_a_step_beyond_the_limit_as_unstable_and_freezes() {
+fn without_rollback_the_gpu_reports_a_step_beyond_the_limit_as_unstable_and_freezes() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
     let scene = too_large_a_step(Integrator::KickDriftKick, false);
     let mut cpu = solver_of(&scene);
+    cpu.set_rollback(sph_core::Rollback::off()).unwrap();
     for _ in 0..400 {
         cpu.step();
     }
     let cpu_step = cpu.unstable_step().expect("the CPU detects it");
     let mut app = gpu_app(&scene);
+    app.world_mut().resource_mut::<SphControl>().rollback = sph_core::Rollback::off();
     step_to(&mut app, cpu_step + 20);
     let first = snapshot(&mut app);
     let stats = app.world().resource::<SphStats>().clone();

@@ -1,7 +1,9 @@
 //! The main-world API: resources users edit and read, components that describe the scene, and
 //! the readback messages.
 
+use bevy::asset::RenderAssetUsages;
 use bevy::prelude::*;
+use bevy::render::storage::ShaderBuffer;
 use sph_core::{BlockSpawn, BoxContainer, Diagnostics, PipeEmitter};
 
 /// Which solver runs the simulation.
@@ -209,16 +211,38 @@ impl SphSnapshot {
 #[derive(Resource, Clone, Debug, PartialEq, Eq)]
 pub struct SphGpuBuffers {
     /// `array<vec4<f32>>`: xyz position [m], w = particle id (bit-cast u32).
-    pub position: Handle<bevy::render::storage::ShaderBuffer>,
+    pub position: Handle<ShaderBuffer>,
     /// `array<vec4<f32>>`: xyz velocity [m/s].
-    pub velocity: Handle<bevy::render::storage::ShaderBuffer>,
+    pub velocity: Handle<ShaderBuffer>,
     /// `array<vec4<f32>>`: xyz acceleration of the last force evaluation [m/s²].
-    pub acceleration: Handle<bevy::render::storage::ShaderBuffer>,
+    pub acceleration: Handle<ShaderBuffer>,
     /// `array<f32>`: density [kg/m³].
-    pub density: Handle<bevy::render::storage::ShaderBuffer>,
+    pub density: Handle<ShaderBuffer>,
     /// `array<u32>`: neighbours within h, written while [`SphControl::record_neighbor_counts`].
-    pub neighbor_count: Handle<bevy::render::storage::ShaderBuffer>,
+    pub neighbor_count: Handle<ShaderBuffer>,
     /// `SphClock` ([`sph_core::gpu_layout::GpuClock`]): dt, steps, simulated time, the last
     /// step's extremes and the instability freeze. Read back every frame into [`SphStats`].
-    pub clock: Handle<bevy::render::storage::ShaderBuffer>,
+    pub clock: Handle<ShaderBuffer>,
+}
+
+impl SphGpuBuffers {
+    /// Render-world-only buffers for `capacity` particles (read back, drawn, never written by
+    /// the main world).
+    pub fn new(assets: &mut Assets<ShaderBuffer>, capacity: u32) -> Self {
+        let n = capacity as usize;
+        let mut make = |bytes: usize| {
+            assets.add(ShaderBuffer::with_size(
+                bytes.max(16),
+                RenderAssetUsages::RENDER_WORLD,
+            ))
+        };
+        Self {
+            position: make(16 * n),
+            velocity: make(16 * n),
+            acceleration: make(16 * n),
+            density: make(4 * n),
+            neighbor_count: make(4 * n),
+            clock: make(std::mem::size_of::<sph_core::gpu_layout::GpuClock>()),
+        }
+    }
 }

@@ -1,8 +1,9 @@
 //! Headless apps: the plugin with no window, driven by a manual `app.update()` loop (tests, the
 //! bench command). A missing Vulkan adapter is a clear error naming the package to install.
 
-use crate::prelude::*;
-use crate::render::SphRenderFeedback;
+use crate::api::*;
+use crate::plugin::SphFluidPlugin;
+use crate::shared::SphRenderFeedback;
 use bevy::app::PluginGroupBuilder;
 use bevy::prelude::*;
 use bevy::render::pipelined_rendering::PipelinedRenderingPlugin;

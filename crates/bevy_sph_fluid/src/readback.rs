@@ -3,8 +3,8 @@
 //! backend the solver's arrays are copied.
 
 use crate::api::*;
-use crate::simulation::SphSimulation;
-use crate::SphSystems;
+use crate::sets::SphSystems;
+use crate::shared::{ClockReadback, SphSimulation};
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
@@ -28,15 +28,6 @@ struct PendingReadback {
     with_neighbor_counts: bool,
     in_flight: bool,
     step: u64,
-}
-
-/// The GPU clock as last read back (every frame, asynchronously, 32 bytes).
-#[derive(Resource, Default)]
-pub(crate) struct ClockReadback {
-    /// The clock buffer being read and the entity reading it.
-    source: Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>,
-    /// The latest clock that arrived.
-    pub latest: Option<GpuClock>,
 }
 
 pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {

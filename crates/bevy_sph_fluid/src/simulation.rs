@@ -1,117 +1,16 @@
-//! Main-world simulation state: the container, resets and spawners become this frame's plan
-//! ([`SphFrame`], extracted to the render world), or are stepped directly on the CPU backend.
+//! Main-world simulation systems: the container, resets and spawners become this frame's plan
+//! ([`SphFrame`](crate::shared::SphFrame), extracted to the render world), or are stepped directly on the CPU backend;
+//! statistics are gathered from the solver or from the render world's feedback.
 
 use crate::api::*;
-use crate::SphSystems;
+use crate::sets::SphSystems;
+use crate::shared::{ClockReadback, SphRenderFeedback, SphSimulation, MAX_SUBSTEPS};
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::render_resource::DownlevelFlags;
 use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo};
-use sph_core::gpu_layout::id_to_w;
-use sph_core::{BoxContainer, CpuSolver};
-
-/// Most substeps per frame.
-pub const MAX_SUBSTEPS: u32 = 64;
-
-/// What the render world does this frame; extracted every frame.
-#[derive(Resource, Clone, Debug, Default)]
-pub struct SphFrame {
-    /// Whether the GPU backend runs.
-    pub active: bool,
-    /// Parameters (validated).
-    pub params: sph_core::SphParams,
-    /// Container.
-    pub container: BoxContainer,
-    /// Particle slots.
-    pub capacity: u32,
-    /// Drop every particle before spawning.
-    pub reset: bool,
-    /// Live particles before this frame's spawns.
-    pub spawn_offset: u32,
-    /// New particles: xyz position, w = id.
-    pub spawn_positions: Vec<[f32; 4]>,
-    /// New particles' velocities.
-    pub spawn_velocities: Vec<[f32; 4]>,
-    /// Steps to take this frame.
-    pub steps: u32,
-    /// The density pass records neighbour counts.
-    pub neighbor_counts: bool,
-    /// The state buffers.
-    pub buffers: Option<SphGpuBuffers>,
-}
-
-impl SphFrame {
-    /// Live particles after this frame's spawns.
-    pub fn particle_count(&self) -> u32 {
-        self.spawn_offset + self.spawn_positions.len() as u32
-    }
-}
-
-/// Main-world bookkeeping shared by both backends.
-#[derive(Resource)]
-pub struct SphSimulation {
-    /// Particle slots.
-    pub capacity: u32,
-    /// The requested backend.
-    pub requested: SphBackend,
-    /// The backend in use (resolved in `finish`).
-    pub backend: SphBackend,
-    /// Adapter name.
-    pub adapter: String,
-    /// Live particles (the main world is the authority: there are no sinks).
-    pub particle_count: u32,
-    /// Next particle id.
-    pub next_id: u32,
-    /// Refused particles since the last reset.
-    pub refused: u64,
-    /// The CPU solver (CPU backend).
-    pub cpu: Option<CpuSolver>,
-    /// This frame's plan for the render world.
-    pub frame: SphFrame,
-    /// Container the solver was built for.
-    pub container: Option<BoxContainer>,
-}
-
-impl SphSimulation {
-    pub(crate) fn new(capacity: u32, requested: SphBackend) -> Self {
-        Self {
-            capacity,
-            requested,
-            backend: requested,
-            adapter: String::new(),
-            particle_count: 0,
-            next_id: 0,
-            refused: 0,
-            cpu: None,
-            frame: SphFrame::default(),
-            container: None,
-        }
-    }
-
-    /// Queues particles for spawning; refuses (and counts) what exceeds the capacity.
-    fn spawn(&mut self, positions: &[Vec3], velocity: Vec3) {
-        let free = (self.capacity - self.particle_count) as usize;
-        let take = positions.len().min(free);
-        self.refused += (positions.len() - take) as u64;
-        match (&mut self.cpu, self.backend) {
-            (Some(solver), SphBackend::Cpu) => {
-                solver.spawn(&positions[..take], velocity);
-            }
-            _ => {
-                for &p in &positions[..take] {
-                    self.frame
-                        .spawn_positions
-                        .push([p.x, p.y, p.z, id_to_w(self.next_id)]);
-                    self.frame
-                        .spawn_velocities
-                        .push([velocity.x, velocity.y, velocity.z, 0.0]);
-                    self.next_id += 1;
-                }
-            }
-        }
-        self.particle_count += take as u32;
-    }
-}
+use bevy::render::storage::ShaderBuffer;
+use sph_core::CpuSolver;
 
 pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
     app.add_systems(
@@ -168,6 +67,17 @@ pub(crate) fn resolve_backend(app: &mut App) {
         SphBackend::Gpu => adapter_name.unwrap_or_default(),
         SphBackend::Cpu => "cpu".to_string(),
     };
+    // The readable state buffers, once the backend is known to be the GPU.
+    let (backend, capacity) = (sim.backend, sim.capacity);
+    if backend != SphBackend::Gpu {
+        return;
+    }
+    let Some(mut assets) = world.get_resource_mut::<Assets<ShaderBuffer>>() else {
+        return;
+    };
+    let buffers = SphGpuBuffers::new(&mut assets, capacity);
+    world.insert_resource(buffers.clone());
+    world.resource_mut::<SphSimulation>().frame.buffers = Some(buffers);
 }
 
 pub(crate) fn clear_frame(mut sim: ResMut<SphSimulation>) {
@@ -255,7 +165,7 @@ fn sph_apply_capacity(
     capacity: Res<SphCapacity>,
     mut sim: ResMut<SphSimulation>,
     mut stats: ResMut<SphStats>,
-    buffers: Option<ResMut<Assets<bevy::render::storage::ShaderBuffer>>>,
+    buffers: Option<ResMut<Assets<ShaderBuffer>>>,
     mut commands: Commands,
     mut blocks: Query<&mut SphBlockSpawn>,
     mut emitters: Query<&mut SphEmitter>,
@@ -397,14 +307,15 @@ fn sph_plan_step(
             frame.capacity = capacity;
             frame.steps = steps;
             frame.neighbor_counts = control.record_neighbor_counts;
+            frame.rollback = control.rollback;
         }
     }
 }
 
 fn sph_update_stats(
     sim: Res<SphSimulation>,
-    clock: Res<crate::readback::ClockReadback>,
-    feedback: Option<Res<crate::render::SphRenderFeedback>>,
+    clock: Res<ClockReadback>,
+    feedback: Option<Res<SphRenderFeedback>>,
     diagnostics: Option<Res<bevy::diagnostic::DiagnosticsStore>>,
     mut stats: ResMut<SphStats>,
 ) {
@@ -435,7 +346,7 @@ fn sph_update_stats(
                 .collect();
         }
         (SphBackend::Gpu, _) => {
-            if let Some(feedback) = feedback {
+            if let Some(feedback) = &feedback {
                 let f = feedback.get();
                 stats.step_count = f.step_count;
                 stats.dispatches_per_step = f.dispatches_per_step;
@@ -457,6 +368,7 @@ fn sph_update_stats(
             if let Some(clock) = clock.latest.filter(|c| c.step as u64 <= stats.step_count) {
                 stats.sim_time = clock.time();
                 stats.time_step = clock.dt();
+                stats.rollbacks = clock.rollbacks as u64;
                 stats.clock_steps = clock.step as u64;
                 if clock.unstable_step != 0 {
                     stats.health = SphHealth::Unstable {
@@ -467,7 +379,8 @@ fn sph_update_stats(
                 }
             }
             if let Some(store) = diagnostics {
-                stats.stage_ms = crate::render::STAGE_NAMES
+                let names = feedback.map(|f| f.get().stage_names).unwrap_or_default();
+                stats.stage_ms = names
                     .iter()
                     .filter_map(|name| {
                         let path = bevy::diagnostic::DiagnosticPath::new(format!(

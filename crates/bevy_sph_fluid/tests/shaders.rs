@@ -1,12 +1,14 @@
 //! Composes every WGSL entry point with the shared library, in every variant the plugin queues,
 //! and validates it with naga: no GPU needed.
 
+use bevy_sph_fluid::render::stage::GpuStage;
+use bevy_sph_fluid::render::stages::ALL;
 use naga_oil::compose::{
     ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue,
 };
 use std::collections::HashMap;
 
-const LIBRARY: [(&str, &str); 5] = [
+const LIBRARY: [(&str, &str); 6] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -27,66 +29,25 @@ const LIBRARY: [(&str, &str); 5] = [
         "clock.wgsl",
         include_str!("../src/render/shaders/clock.wgsl"),
     ),
+    (
+        "checkpoint.wgsl",
+        include_str!("../src/render/shaders/checkpoint.wgsl"),
+    ),
 ];
 
-/// Each stage with the role defs the plugin queues it with.
-const STAGES: [(&str, &str, &[&[&str]]); 10] = [
-    (
-        "time_step.wgsl",
-        include_str!("../src/render/stages/time_step.wgsl"),
-        &[&[]],
-    ),
-    (
-        "count_cells.wgsl",
-        include_str!("../src/render/stages/count_cells.wgsl"),
-        &[&[], &["PRE_KDK"], &["PRE_LEAPFROG"]],
-    ),
-    (
-        "prefix_sum.wgsl",
-        include_str!("../src/render/stages/prefix_sum.wgsl"),
-        &[&[]],
-    ),
-    (
-        "bitonic_sort.wgsl",
-        include_str!("../src/render/stages/bitonic_sort.wgsl"),
-        &[&[]],
-    ),
-    (
-        "hash_offsets.wgsl",
-        include_str!("../src/render/stages/hash_offsets.wgsl"),
-        &[&[]],
-    ),
-    (
-        "scatter.wgsl",
-        include_str!("../src/render/stages/scatter.wgsl"),
-        &[&[]],
-    ),
-    (
-        "density.wgsl",
-        include_str!("../src/render/stages/density.wgsl"),
-        &[&[], &["NEIGHBOR_COUNT"]],
-    ),
-    (
-        "normals.wgsl",
-        include_str!("../src/render/stages/normals.wgsl"),
-        &[&[]],
-    ),
-    (
-        "forces.wgsl",
-        include_str!("../src/render/stages/forces.wgsl"),
-        &[
-            &[],
-            &["USE_PREDICTED_VELOCITY", "POST_KDK"],
-            &["POST_LEAPFROG_SAVE"],
-            &["USE_PREDICTED_VELOCITY", "POST_LEAPFROG_KICK"],
-        ],
-    ),
-    (
-        "integrate.wgsl",
-        include_str!("../src/render/stages/integrate.wgsl"),
-        &[&[]],
-    ),
-];
+/// The WGSL of a registered stage: `sph_<stem>` lives in `stages/<stem>.wgsl`.
+fn stage_source(stage: &GpuStage) -> (String, String) {
+    let stem = stage
+        .name
+        .strip_prefix("sph_")
+        .unwrap_or_else(|| panic!("{}: stage names start with sph_", stage.name));
+    let path = format!(
+        "{}/src/render/stages/{stem}.wgsl",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let source = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    (format!("{stem}.wgsl"), source)
+}
 
 fn composer() -> Composer {
     let mut composer = Composer::default();
@@ -105,11 +66,21 @@ fn composer() -> Composer {
     composer
 }
 
-fn compose(composer: &mut Composer, path: &str, source: &str, defs: &[&str]) -> naga::Module {
-    let shader_defs: HashMap<String, ShaderDefValue> = defs
+fn compose(
+    composer: &mut Composer,
+    path: &str,
+    source: &str,
+    defs: &[&str],
+    workgroup_size: u32,
+) -> naga::Module {
+    let mut shader_defs: HashMap<String, ShaderDefValue> = defs
         .iter()
         .map(|d| (d.to_string(), ShaderDefValue::Bool(true)))
         .collect();
+    shader_defs.insert(
+        "WORKGROUP_SIZE".into(),
+        ShaderDefValue::UInt(workgroup_size),
+    );
     match composer.make_naga_module(NagaModuleDescriptor {
         source,
         file_path: path,
@@ -125,16 +96,25 @@ fn compose(composer: &mut Composer, path: &str, source: &str, defs: &[&str]) -> 
 fn every_stage_and_variant_composes_and_validates() {
     let mut composer = composer();
     let mut validated = 0;
-    for (path, source, roles) in STAGES {
+    let mut expected = 0;
+    for stage in ALL {
+        let (path, source) = stage_source(stage);
+        expected += 16 * stage.roles.len();
         for search in [None, Some("SEARCH_HASH")] {
             for surface_tension in [None, Some("SURFACE_TENSION")] {
                 for viscosity in [None, Some("VISCOSITY")] {
-                    for role in roles.iter() {
+                    for (role, neighbor_count) in stage
+                        .roles
+                        .iter()
+                        .flat_map(|r| [(r, None), (r, Some("NEIGHBOR_COUNT"))])
+                    {
                         let mut defs: Vec<&str> = role.to_vec();
                         defs.extend(search);
                         defs.extend(surface_tension);
                         defs.extend(viscosity);
-                        let module = compose(&mut composer, path, source, &defs);
+                        defs.extend(neighbor_count);
+                        let module =
+                            compose(&mut composer, &path, &source, &defs, stage.workgroup_size);
                         let mut validator = naga::valid::Validator::new(
                             naga::valid::ValidationFlags::all(),
                             naga::valid::Capabilities::default(),
@@ -143,27 +123,36 @@ fn every_stage_and_variant_composes_and_validates() {
                             panic!("{path} {defs:?}: {e:?}");
                         }
                         assert_eq!(module.entry_points.len(), 1, "{path}");
-                        assert_eq!(module.entry_points[0].stage, naga::ShaderStage::Compute);
+                        let entry = &module.entry_points[0];
+                        assert_eq!(entry.stage, naga::ShaderStage::Compute);
+                        assert_eq!(
+                            entry.workgroup_size,
+                            [stage.workgroup_size, 1, 1],
+                            "{path}: the declared workgroup size reaches the shader"
+                        );
                         validated += 1;
                     }
                 }
             }
         }
     }
-    // 10 stages, 8 common variants, roles: count 3, density 2, forces 4, the others 1.
-    assert_eq!(validated, 8 * (1 + 3 + 1 + 1 + 1 + 1 + 2 + 1 + 4 + 1));
+    // 11 registered stages (the time step in two places), 16 common variants each, times roles.
+    assert_eq!(validated, expected);
+    assert!(validated >= 16 * 16, "{validated}");
 }
 
 #[test]
 fn variant_defs_change_the_code() {
     let mut composer = composer();
-    let (_, forces, _) = STAGES[8];
-    let plain = compose(&mut composer, "forces.wgsl", forces, &[]);
+    let forces = ALL.iter().find(|s| s.name == "sph_forces").unwrap();
+    let (path, source) = stage_source(forces);
+    let plain = compose(&mut composer, &path, &source, &[], 64);
     let full = compose(
         &mut composer,
-        "forces.wgsl",
-        forces,
+        &path,
+        &source,
         &["VISCOSITY", "SURFACE_TENSION"],
+        64,
     );
     let size = |m: &naga::Module| m.entry_points[0].function.expressions.len();
     assert!(
@@ -173,10 +162,11 @@ fn variant_defs_change_the_code() {
 }
 
 /// The size naga lays out for the WGSL struct named `name` in `stage`.
-fn wgsl_struct_size(stage: usize, name: &str) -> usize {
+fn wgsl_struct_size(stage: &str, name: &str) -> usize {
     let mut composer = composer();
-    let (path, source, _) = STAGES[stage];
-    let module = compose(&mut composer, path, source, &[]);
+    let stage = ALL.iter().find(|s| s.name == stage).unwrap();
+    let (path, source) = stage_source(stage);
+    let module = compose(&mut composer, &path, &source, &[], stage.workgroup_size);
     let ty = module
         .types
         .iter()
@@ -190,7 +180,7 @@ fn wgsl_struct_size(stage: usize, name: &str) -> usize {
 #[test]
 fn uniform_block_matches_the_rust_layout() {
     assert_eq!(
-        wgsl_struct_size(6, "SphUniforms"),
+        wgsl_struct_size("sph_density", "SphUniforms"),
         std::mem::size_of::<sph_core::gpu_layout::GpuSphParams>()
     );
 }
@@ -198,7 +188,7 @@ fn uniform_block_matches_the_rust_layout() {
 #[test]
 fn clock_matches_the_rust_layout() {
     assert_eq!(
-        wgsl_struct_size(0, "SphClock"),
+        wgsl_struct_size("sph_time_step", "SphClock"),
         std::mem::size_of::<sph_core::gpu_layout::GpuClock>()
     );
 }

@@ -50,6 +50,9 @@ pub struct GpuSphParams {
     /// The time-step rule: largest dt, CFL factor λ, viscous limit 0.125 h² ρ0/μ (f32::MAX
     /// without viscosity), speed of sound c0.
     pub time_step: [f32; 4],
+    /// Rollback ([`crate::rollback`]): enabled (0/1), checkpoint interval, max retries, recovery
+    /// steps. All zero (off) until [`Self::with_rollback`].
+    pub rollback: [u32; 4],
 }
 
 /// The simulation clock (WGSL `SphClock`), a storage buffer written only by the GPU: the
@@ -70,8 +73,35 @@ pub struct GpuClock {
     pub max_acceleration_bits: u32,
     /// 0 while healthy; otherwise the step (1-based) detected as unstable. Frozen until reset.
     pub unstable_step: u32,
+    /// What the pass after the time-step pass does with the checkpoint: 0 nothing, 1 save,
+    /// 2 restore.
+    pub checkpoint_action: u32,
+    /// Rollbacks since the reset.
+    pub rollbacks: u32,
+    /// Rollbacks since the last checkpoint.
+    pub retries: u32,
+    /// Halvings of the rule's dt (dt scale 2^-halvings).
+    pub halvings: u32,
+    /// Stable steps since the last rollback or recovery.
+    pub stable_steps: u32,
+    /// 1 when a checkpoint exists.
+    pub has_checkpoint: u32,
+    /// The step count at the checkpoint.
+    pub checkpoint_step: u32,
+    /// Simulated time at the checkpoint [ns], low and high words.
+    pub checkpoint_time_ns: [u32; 2],
+    /// Particles the checkpoint holds.
+    pub checkpoint_count: u32,
+    /// Particles the checkpoint held before the last restore.
+    pub restore_count: u32,
+    /// Set by the CPU when particles were uploaded: checkpoint at the next stable step.
+    pub save_requested: u32,
+    /// The rule's dt before the rollback scale [s], f32 bits.
+    pub rule_dt_bits: u32,
+    /// The rule's dt at the checkpoint [s], f32 bits (a retry takes half of it).
+    pub checkpoint_rule_dt_bits: u32,
     /// Padding.
-    pub pad: u32,
+    pub pad: [u32; 3],
 }
 
 impl GpuClock {
@@ -84,6 +114,12 @@ impl GpuClock {
     pub fn time(&self) -> f64 {
         ((self.time_ns[1] as u64) << 32 | self.time_ns[0] as u64) as f64 * 1e-9
     }
+
+    /// Byte offset of the `save_requested` flag (written by the CPU after an upload).
+    pub const SAVE_REQUESTED_OFFSET: u64 = std::mem::offset_of!(GpuClock, save_requested) as u64;
+
+    /// Byte offset of `has_checkpoint` (cleared by the CPU when the buffers are reallocated).
+    pub const HAS_CHECKPOINT_OFFSET: u64 = std::mem::offset_of!(GpuClock, has_checkpoint) as u64;
 
     /// The extremes the last step recorded.
     pub fn extremes(&self) -> crate::stability::StepExtremes {
@@ -159,7 +195,19 @@ impl GpuSphParams {
                 crate::stability::viscous_limit(params).min(f32::MAX),
                 params.speed_of_sound(),
             ],
+            rollback: [0; 4],
         }
+    }
+
+    /// The same block with the rollback settings of `rollback`.
+    pub fn with_rollback(mut self, rollback: &crate::rollback::Rollback) -> Self {
+        self.rollback = [
+            rollback.enabled as u32,
+            rollback.checkpoint_interval,
+            rollback.max_retries,
+            crate::rollback::RECOVERY_STEPS,
+        ];
+        self
     }
 }
 

@@ -30,8 +30,8 @@ pub mod integrate;
 pub mod kernel;
 pub mod neighbor;
 pub mod params;
-pub mod rollback;
 pub mod rng;
+pub mod rollback;
 pub mod scenario;
 pub mod solver;
 pub mod spawn;
@@ -44,14 +44,14 @@ pub use diagnostics::Diagnostics;
 pub use eos::Eos;
 pub use kernel::Kernels;
 pub use neighbor::Neighbors;
-pub use rollback::Rollback;
 pub use params::{
     EquationOfState, Integrator, NeighborSearch, ParamError, SpacingDerivation, SphParams,
 };
+pub use rollback::Rollback;
 pub use solver::{CpuSolver, ParticleData, SpawnReport, StageTimings};
 pub use spawn::{BlockSpawn, Emission, PipeEmitter};
 pub use stability::StepExtremes;
-pub use stage::StageContext;
+pub use stage::{CpuStage, StageContext};
 
 /// Re-export of the vector math crate used in the public API.
 pub use glam;

@@ -154,7 +154,11 @@ mod tests {
             ..Rollback::default()
         };
         let mut s = RollbackState::default();
-        assert_eq!(s.after_check(&settings, true), Verdict::Freeze, "no checkpoint yet");
+        assert_eq!(
+            s.after_check(&settings, true),
+            Verdict::Freeze,
+            "no checkpoint yet"
+        );
         assert!(s.checkpoint_due(&settings, 0));
         s.saved(0);
         for k in 1..=3 {

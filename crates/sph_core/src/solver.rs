@@ -10,7 +10,7 @@ use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
 use crate::rollback::{Rollback, RollbackState, Verdict};
 use crate::stability::{adaptive_time_step, StepExtremes};
-use crate::stage::StageContext;
+use crate::stage::{evaluation_stages, CpuStage, StageContext};
 use crate::surface_tension_akinci2013::compute_normals;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -384,37 +384,49 @@ impl CpuSolver {
         }
     }
 
-    /// Sort by cell, then density/pressure, normals (with surface tension) and accelerations at
-    /// the current positions; the viscosity term reads `velocity_predicted` unless `use_velocity`.
+    /// One force evaluation: the stages of [`evaluation_stages`] in order (sort by cell,
+    /// density/pressure, normals with surface tension, accelerations) at the current positions;
+    /// the viscosity term reads `velocity_predicted` unless `use_velocity`.
     fn evaluate(&mut self, ctx: &StageContext, use_velocity: bool) {
         let (neighbors, p, t) = (&mut self.neighbors, &mut self.particles, &mut self.timings);
-        timed(&mut t.sort, || {
-            let order = neighbors.sort(&p.position);
-            p.reorder(order, &mut self.scratch);
-        });
-        let neighbors = &*neighbors;
-        timed(&mut t.density, || {
-            compute_density_pressure(ctx, neighbors, &p.position, &mut p.density, &mut p.pressure)
-        });
-        if self.params.has_surface_tension() {
-            timed(&mut t.normals, || {
-                compute_normals(ctx, neighbors, &p.position, &p.density, &mut p.normal)
-            });
+        for stage in evaluation_stages(&self.params) {
+            match stage {
+                CpuStage::Sort => timed(&mut t.sort, || {
+                    let order = neighbors.sort(&p.position);
+                    p.reorder(order, &mut self.scratch);
+                }),
+                CpuStage::Density => timed(&mut t.density, || {
+                    compute_density_pressure(
+                        ctx,
+                        neighbors,
+                        &p.position,
+                        &mut p.density,
+                        &mut p.pressure,
+                    )
+                }),
+                CpuStage::Normals => timed(&mut t.normals, || {
+                    compute_normals(ctx, neighbors, &p.position, &p.density, &mut p.normal)
+                }),
+                CpuStage::Forces => {
+                    let input = ForceInputs {
+                        position: &p.position,
+                        velocity: if use_velocity {
+                            &p.velocity
+                        } else {
+                            &p.velocity_predicted
+                        },
+                        density: &p.density,
+                        pressure: &p.pressure,
+                        normal: &p.normal,
+                    };
+                    timed(&mut t.forces, || {
+                        compute_accelerations(ctx, neighbors, &input, &mut p.acceleration)
+                    })
+                }
+                // Placed by the integrator around the evaluations (see `advance`).
+                CpuStage::TimeStep | CpuStage::Integrate => {}
+            }
         }
-        let input = ForceInputs {
-            position: &p.position,
-            velocity: if use_velocity {
-                &p.velocity
-            } else {
-                &p.velocity_predicted
-            },
-            density: &p.density,
-            pressure: &p.pressure,
-            normal: &p.normal,
-        };
-        timed(&mut t.forces, || {
-            compute_accelerations(ctx, neighbors, &input, &mut p.acceleration)
-        });
     }
 
     /// Advances the simulation by one time step with the selected integrator and time-step rule.

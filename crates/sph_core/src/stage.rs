@@ -38,3 +38,35 @@ impl StageContext {
         }
     }
 }
+
+/// The stages of the CPU solver, in pipeline order. The GPU stage registry
+/// (`bevy_sph_fluid::render::stages`) names one of these as the CPU twin of each of its passes;
+/// several GPU passes may share a twin (count cells, prefix sum and scatter are the CPU's sort).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CpuStage {
+    /// The time-step rule, the stability check and rollback ([`crate::stability`],
+    /// [`crate::rollback`]).
+    TimeStep,
+    /// Neighbour sort: cell counts, offsets and the reorder ([`crate::neighbor`]).
+    Sort,
+    /// Density and pressure ([`crate::density`]).
+    Density,
+    /// Akinci 2013 normals ([`crate::surface_tension_akinci2013`]).
+    Normals,
+    /// Accelerations ([`crate::forces`]).
+    Forces,
+    /// Integration phases ([`crate::integrate`]).
+    Integrate,
+}
+
+/// The stages of one force evaluation for `params`, in order: sort, density, normals (with
+/// surface tension only), forces. The integrator places the time step and its integration
+/// phases around the evaluations.
+pub fn evaluation_stages(params: &SphParams) -> Vec<CpuStage> {
+    let mut stages = vec![CpuStage::Sort, CpuStage::Density];
+    if params.has_surface_tension() {
+        stages.push(CpuStage::Normals);
+    }
+    stages.push(CpuStage::Forces);
+    stages
+}

@@ -1,9 +1,9 @@
 //! Rollback of unstable steps on the CPU solver: a dam break at three times the largest stable
 //! time step (kick-drift-kick, docs/trade.md) recovers by rolling back and halving dt.
 
+use glam::Vec3;
 use sph_core::scenario::dam_break_with_particles;
 use sph_core::{CpuSolver, Rollback};
-use glam::Vec3;
 
 /// The kick-drift-kick integrator's largest stable dt at 2,000 particles (docs/trade.md).
 const LARGEST_STABLE_DT: f32 = 9.405e-4;
@@ -33,7 +33,10 @@ fn an_unstable_dam_break_rolls_back_and_goes_on() {
     assert!(solver.last_time_step() < 3.0 * LARGEST_STABLE_DT);
     let mut ids = solver.particles().id.clone();
     ids.sort_unstable();
-    assert!(ids.iter().enumerate().all(|(k, &id)| id == k as u32), "ids lost or duplicated");
+    assert!(
+        ids.iter().enumerate().all(|(k, &id)| id == k as u32),
+        "ids lost or duplicated"
+    );
 }
 
 #[test]
@@ -44,7 +47,11 @@ fn without_rollback_the_same_run_freezes() {
     }
     assert!(solver.unstable_step().is_some());
     assert_eq!(solver.rollbacks(), 0);
-    assert_eq!(solver.diagnostics().non_finite_count, 0, "the last good state is kept");
+    assert_eq!(
+        solver.diagnostics().non_finite_count,
+        0,
+        "the last good state is kept"
+    );
 }
 
 #[test]

@@ -1,13 +1,14 @@
 //! GPU buffers: structure-of-arrays particle state sized by capacity, the sorted copies, the
-//! grid and hash arrays, the uniform block; spawns are uploaded at the end of the live range.
+//! grid and hash arrays, the rollback checkpoint, the uniform block; spawns are uploaded at the
+//! end of the live range. Every storage buffer is a [`Buf`] with a fixed binding in group 0
+//! (`shaders/bindings.wgsl`); each stage binds the ones it declares.
 
-use super::pipelines::{SphPipelines, VariantKey, STORAGE_BINDINGS};
-use super::{ExtractedSphFrame, SphRenderFeedback};
+use super::extract::ExtractedSphFrame;
+use super::plan::VariantKey;
+use crate::shared::SphRenderFeedback;
 use bevy::prelude::*;
 use bevy::render::render_asset::RenderAssets;
-use bevy::render::render_resource::{
-    BindGroup, BindGroupEntry, Buffer, BufferDescriptor, BufferUsages, PipelineCache,
-};
+use bevy::render::render_resource::{BindGroup, Buffer, BufferDescriptor, BufferUsages};
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::storage::GpuShaderBuffer;
 use sph_core::gpu_layout::{bitonic_steps, sort_length, GpuClock, GpuSphParams};
@@ -18,7 +19,125 @@ use sph_core::NeighborSearch;
 /// Byte stride of the bitonic steps in their uniform buffer (the dynamic-offset alignment).
 pub const BITONIC_STRIDE: u64 = 256;
 
-/// Every buffer of group 0, in binding order after the uniform.
+/// The storage buffers of group 0; `binding()` is the WGSL binding in `shaders/bindings.wgsl`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Buf {
+    /// Positions (w = id) [m].
+    Position = 1,
+    /// Velocities [m/s].
+    Velocity,
+    /// Predicted velocities (what viscosity sees).
+    VelocityPredicted,
+    /// Accelerations [m/s²].
+    Acceleration,
+    /// Start-of-step accelerations (the design's leapfrog).
+    AccelerationStart,
+    /// Densities [kg/m³].
+    Density,
+    /// Pressures [Pa].
+    Pressure,
+    /// Akinci normals (surface tension only).
+    Normal,
+    /// The scatter's sorted copies, in state order.
+    SortedPosition,
+    /// Sorted velocities.
+    SortedVelocity,
+    /// Sorted predicted velocities.
+    SortedVelocityPredicted,
+    /// Sorted accelerations.
+    SortedAcceleration,
+    /// Sorted start-of-step accelerations.
+    SortedAccelerationStart,
+    /// Grid: each particle's cell.
+    CellOf,
+    /// Grid: each particle's rank in its cell.
+    RankInCell,
+    /// Grid: per-cell counts.
+    CellCounts,
+    /// Grid: exclusive offsets.
+    CellStart,
+    /// Hash: sort keys.
+    SortKeys,
+    /// Hash: sort values (particle indices).
+    SortValues,
+    /// Hash: per-bucket start + 1.
+    BucketStart,
+    /// Hash: per-bucket end.
+    BucketEnd,
+    /// Debug: neighbours within h.
+    NeighborCount,
+    /// The clock (`GpuClock`).
+    Clock,
+    /// The rollback checkpoint: position, velocity, acceleration of every slot.
+    Checkpoint,
+}
+
+impl Buf {
+    /// Every storage buffer, in binding order.
+    pub const ALL: [Buf; 24] = [
+        Buf::Position,
+        Buf::Velocity,
+        Buf::VelocityPredicted,
+        Buf::Acceleration,
+        Buf::AccelerationStart,
+        Buf::Density,
+        Buf::Pressure,
+        Buf::Normal,
+        Buf::SortedPosition,
+        Buf::SortedVelocity,
+        Buf::SortedVelocityPredicted,
+        Buf::SortedAcceleration,
+        Buf::SortedAccelerationStart,
+        Buf::CellOf,
+        Buf::RankInCell,
+        Buf::CellCounts,
+        Buf::CellStart,
+        Buf::SortKeys,
+        Buf::SortValues,
+        Buf::BucketStart,
+        Buf::BucketEnd,
+        Buf::NeighborCount,
+        Buf::Clock,
+        Buf::Checkpoint,
+    ];
+
+    /// The WGSL binding in group 0 (the uniform block is binding 0).
+    pub fn binding(self) -> u32 {
+        self as u32
+    }
+
+    /// The buffer's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Buf::Position => "sph_position",
+            Buf::Velocity => "sph_velocity",
+            Buf::VelocityPredicted => "sph_velocity_predicted",
+            Buf::Acceleration => "sph_acceleration",
+            Buf::AccelerationStart => "sph_acceleration_start",
+            Buf::Density => "sph_density",
+            Buf::Pressure => "sph_pressure",
+            Buf::Normal => "sph_normal",
+            Buf::SortedPosition => "sph_sorted_position",
+            Buf::SortedVelocity => "sph_sorted_velocity",
+            Buf::SortedVelocityPredicted => "sph_sorted_velocity_predicted",
+            Buf::SortedAcceleration => "sph_sorted_acceleration",
+            Buf::SortedAccelerationStart => "sph_sorted_acceleration_start",
+            Buf::CellOf => "sph_cell_of",
+            Buf::RankInCell => "sph_rank_in_cell",
+            Buf::CellCounts => "sph_cell_counts",
+            Buf::CellStart => "sph_cell_start",
+            Buf::SortKeys => "sph_sort_keys",
+            Buf::SortValues => "sph_sort_values",
+            Buf::BucketStart => "sph_bucket_start",
+            Buf::BucketEnd => "sph_bucket_end",
+            Buf::NeighborCount => "sph_neighbor_count",
+            Buf::Clock => "sph_clock",
+            Buf::Checkpoint => "sph_checkpoint",
+        }
+    }
+}
+
+/// Every buffer of group 0.
 #[derive(Clone, Debug)]
 pub struct GpuBuffers {
     /// Particle slots.
@@ -33,7 +152,7 @@ pub struct GpuBuffers {
     pub sort_length: u32,
     /// The uniform block.
     pub uniform: Buffer,
-    /// Bindings 1 ..= 23 (see `shaders/bindings.wgsl`).
+    /// The storage buffers, in [`Buf::ALL`] order.
     pub storage: Vec<Buffer>,
     /// The bitonic steps (hash mode).
     pub bitonic_steps: Buffer,
@@ -41,34 +160,10 @@ pub struct GpuBuffers {
     pub bitonic_step_count: u32,
 }
 
-/// Indices into [`GpuBuffers::storage`] (binding - 1).
-pub mod slot {
-    /// Positions (w = id).
-    pub const POSITION: usize = 0;
-    /// Velocities.
-    pub const VELOCITY: usize = 1;
-    /// Predicted velocities.
-    pub const VELOCITY_PREDICTED: usize = 2;
-    /// Accelerations.
-    pub const ACCELERATION: usize = 3;
-    /// Start-of-step accelerations (leapfrog).
-    pub const ACCELERATION_START: usize = 4;
-    /// Densities.
-    pub const DENSITY: usize = 5;
-    /// First sorted copy (sorted_position); the five sorted arrays follow in state order.
-    pub const SORTED_POSITION: usize = 8;
-    /// Per-cell counts.
-    pub const CELL_COUNTS: usize = 15;
-    /// Per-bucket start (+1).
-    pub const BUCKET_START: usize = 19;
-    /// The clock (`GpuClock`).
-    pub const CLOCK: usize = 22;
-}
-
 impl GpuBuffers {
-    /// The state buffer at `slot`.
-    pub fn at(&self, slot: usize) -> &Buffer {
-        &self.storage[slot]
+    /// The storage buffer `buf`.
+    pub fn at(&self, buf: Buf) -> &Buffer {
+        &self.storage[buf as usize - 1]
     }
 }
 
@@ -83,13 +178,14 @@ pub struct SphGpuState {
     pub forces_stale: bool,
     /// Parameters of the last frame.
     pub last_params: Option<sph_core::SphParams>,
-    /// Group 0.
-    pub bind_group: Option<BindGroup>,
+    /// Each stage's group 0 (by stage name), built from the buffers it declares.
+    pub bind_groups: bevy::platform::collections::HashMap<&'static str, BindGroup>,
     /// Group 1 of the bitonic sort with each step's offset.
     pub bitonic_bind_group: Option<(BindGroup, Vec<u32>)>,
     /// Bumped when buffers are reallocated.
     pub generation: u64,
-    bind_group_generation: u64,
+    /// The generation the bind groups were made for.
+    pub bind_group_generation: u64,
     /// Why the buffers are not ready.
     pub status: Option<String>,
     /// Spawns that arrived before the buffers were ready.
@@ -128,32 +224,30 @@ fn allocate(
     };
     let normals = if key.surface_tension { 16 * n } else { 0 };
     let [position, velocity, acceleration, density, neighbor_count, clock] = readable;
-    let storage = vec![
-        position,
-        velocity,
-        storage_buffer(device, "sph_velocity_predicted", 16 * n),
-        acceleration,
-        storage_buffer(device, "sph_acceleration_start", 16 * n),
-        density,
-        storage_buffer(device, "sph_pressure", 4 * n),
-        storage_buffer(device, "sph_normal", normals),
-        storage_buffer(device, "sph_sorted_position", 16 * n),
-        storage_buffer(device, "sph_sorted_velocity", 16 * n),
-        storage_buffer(device, "sph_sorted_velocity_predicted", 16 * n),
-        storage_buffer(device, "sph_sorted_acceleration", 16 * n),
-        storage_buffer(device, "sph_sorted_acceleration_start", 16 * n),
-        storage_buffer(device, "sph_cell_of", 4 * n),
-        storage_buffer(device, "sph_rank_in_cell", 4 * n),
-        storage_buffer(device, "sph_cell_counts", 4 * cells),
-        storage_buffer(device, "sph_cell_start", 4 * (cells + 1)),
-        storage_buffer(device, "sph_sort_keys", 4 * sort_len as u64),
-        storage_buffer(device, "sph_sort_values", 4 * sort_len as u64),
-        storage_buffer(device, "sph_bucket_start", 4 * table),
-        storage_buffer(device, "sph_bucket_end", 4 * table),
-        neighbor_count,
-        clock,
-    ];
-    debug_assert_eq!(storage.len(), STORAGE_BINDINGS as usize);
+    let size = |buf: Buf| -> u64 {
+        match buf {
+            Buf::Normal => normals,
+            Buf::CellOf | Buf::RankInCell | Buf::Pressure => 4 * n,
+            Buf::CellCounts => 4 * cells,
+            Buf::CellStart => 4 * (cells + 1),
+            Buf::SortKeys | Buf::SortValues => 4 * sort_len as u64,
+            Buf::BucketStart | Buf::BucketEnd => 4 * table,
+            Buf::Checkpoint => 3 * 16 * n,
+            _ => 16 * n,
+        }
+    };
+    let storage: Vec<Buffer> = Buf::ALL
+        .iter()
+        .map(|&buf| match buf {
+            Buf::Position => position.clone(),
+            Buf::Velocity => velocity.clone(),
+            Buf::Acceleration => acceleration.clone(),
+            Buf::Density => density.clone(),
+            Buf::NeighborCount => neighbor_count.clone(),
+            Buf::Clock => clock.clone(),
+            _ => storage_buffer(device, buf.label(), size(buf)),
+        })
+        .collect();
     let steps = if hash {
         bitonic_steps(sort_len)
     } else {
@@ -240,7 +334,7 @@ pub(crate) fn prepare_sph_buffers(
         Ok(grid) => grid,
         Err(e) => {
             state.status = Some(format!("gpu: {e}"));
-            state.bind_group = None;
+            state.bind_groups.clear();
             return;
         }
     };
@@ -250,8 +344,8 @@ pub(crate) fn prepare_sph_buffers(
             || b.grid_dims != grid.dims
             || b.key.search != key.search
             || b.key.surface_tension != key.surface_tension
-            || b.at(slot::POSITION).id() != position.id()
-            || b.at(slot::DENSITY).id() != density.id()
+            || b.at(Buf::Position).id() != position.id()
+            || b.at(Buf::Density).id() != density.id()
     });
     if needs_allocation {
         // The readable state buffers are assets and survive a reallocation (a new container or
@@ -272,6 +366,12 @@ pub(crate) fn prepare_sph_buffers(
         );
         let bytes_per_particle = (buffers.bytes / frame.capacity.max(1) as u64) as u32;
         feedback.update(|f| f.gpu_bytes_per_particle = bytes_per_particle);
+        // A new checkpoint buffer holds nothing yet.
+        queue.write_buffer(
+            buffers.at(Buf::Clock),
+            GpuClock::HAS_CHECKPOINT_OFFSET,
+            &0u32.to_ne_bytes(),
+        );
         state.buffers = Some(buffers);
         state.generation += 1;
         state.forces_stale = true;
@@ -283,7 +383,7 @@ pub(crate) fn prepare_sph_buffers(
     if frame.reset {
         // Time, steps and the instability freeze start again.
         queue.write_buffer(
-            buffers.at(slot::CLOCK),
+            buffers.at(Buf::Clock),
             0,
             bytemuck::bytes_of(&GpuClock::default()),
         );
@@ -291,19 +391,21 @@ pub(crate) fn prepare_sph_buffers(
     for (offset, positions, velocities) in std::mem::take(&mut state.pending_spawns) {
         let offset = offset as u64;
         let zeros = vec![[0.0f32; 4]; positions.len()];
-        let write = |slot_index: usize, data: &[[f32; 4]]| {
-            queue.write_buffer(
-                buffers.at(slot_index),
-                16 * offset,
-                bytemuck::cast_slice(data),
-            );
+        let write = |buf: Buf, data: &[[f32; 4]]| {
+            queue.write_buffer(buffers.at(buf), 16 * offset, bytemuck::cast_slice(data));
         };
-        write(slot::POSITION, &positions);
-        write(slot::VELOCITY, &velocities);
-        write(slot::VELOCITY_PREDICTED, &velocities);
-        write(slot::ACCELERATION, &zeros);
-        write(slot::ACCELERATION_START, &zeros);
+        write(Buf::Position, &positions);
+        write(Buf::Velocity, &velocities);
+        write(Buf::VelocityPredicted, &velocities);
+        write(Buf::Acceleration, &zeros);
+        write(Buf::AccelerationStart, &zeros);
         state.forces_stale = true;
+        // The new particles join the rollback checkpoint at the next stable step.
+        queue.write_buffer(
+            buffers.at(Buf::Clock),
+            GpuClock::SAVE_REQUESTED_OFFSET,
+            &1u32.to_ne_bytes(),
+        );
     }
     state.particle_count = frame.particle_count();
     if state.last_params != Some(frame.params) {
@@ -314,7 +416,7 @@ pub(crate) fn prepare_sph_buffers(
         // The re-evaluation records the acceleration the next kick uses; the one recorded with
         // the old state or parameters must not bound the adaptive step.
         queue.write_buffer(
-            buffers.at(slot::CLOCK),
+            buffers.at(Buf::Clock),
             std::mem::offset_of!(GpuClock, max_acceleration_bits) as u64,
             &[0; 4],
         );
@@ -325,55 +427,7 @@ pub(crate) fn prepare_sph_buffers(
         grid.dims,
         frame.capacity,
         state.particle_count,
-    );
+    )
+    .with_rollback(&frame.rollback);
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
-}
-
-/// (Re)creates the bind groups after a reallocation.
-pub(crate) fn prepare_sph_bind_groups(
-    pipelines: Option<Res<SphPipelines>>,
-    cache: Res<PipelineCache>,
-    device: Res<RenderDevice>,
-    mut state: ResMut<SphGpuState>,
-) {
-    let Some(pipelines) = pipelines else {
-        return;
-    };
-    if state.bind_group.is_some() && state.bind_group_generation == state.generation {
-        return;
-    }
-    let Some(buffers) = state.buffers.clone() else {
-        return;
-    };
-    let layout = cache.get_bind_group_layout(&pipelines.layout);
-    let mut entries = vec![BindGroupEntry {
-        binding: 0,
-        resource: buffers.uniform.as_entire_binding(),
-    }];
-    for (k, buffer) in buffers.storage.iter().enumerate() {
-        entries.push(BindGroupEntry {
-            binding: k as u32 + 1,
-            resource: buffer.as_entire_binding(),
-        });
-    }
-    state.bind_group = Some(device.create_bind_group("sph_state", &layout, &entries));
-    let bitonic_layout = cache.get_bind_group_layout(&pipelines.bitonic_layout);
-    let step = bevy::render::render_resource::BufferBinding {
-        buffer: &buffers.bitonic_steps,
-        offset: 0,
-        size: std::num::NonZeroU64::new(16),
-    };
-    let bitonic = device.create_bind_group(
-        "sph_bitonic_step",
-        &bitonic_layout,
-        &[BindGroupEntry {
-            binding: 0,
-            resource: bevy::render::render_resource::BindingResource::Buffer(step),
-        }],
-    );
-    let offsets = (0..buffers.bitonic_step_count)
-        .map(|k| k * BITONIC_STRIDE as u32)
-        .collect();
-    state.bitonic_bind_group = Some((bitonic, offsets));
-    state.bind_group_generation = state.generation;
 }

@@ -1,170 +1,97 @@
-//! Bind-group layouts and the compute pipelines of each shader variant. Variants come from shader
-//! defs: the search mode (`SEARCH_HASH`), `SURFACE_TENSION`, `VISCOSITY`, and each stage's role
-//! in the integrator; a scene only compiles and runs the variant it needs.
+//! Pipelines and bind groups from the stage registry: each stage gets a bind-group layout of the
+//! buffers it declares, and one compute pipeline per role and scene variant. Variants come from
+//! shader defs: the search mode (`SEARCH_HASH`), `SURFACE_TENSION`, `VISCOSITY`,
+//! `NEIGHBOR_COUNT`, the stage's role defs and its `WORKGROUP_SIZE`; a scene only compiles and
+//! runs the stages of its list.
 
+use super::buffers::{SphGpuState, BITONIC_STRIDE};
+use super::extract::ExtractedSphFrame;
+use super::plan::VariantKey;
+use super::stage::{Dispatch, GpuStage, QueuedStage};
 use super::stages;
-use super::{ExtractedSphFrame, ForcesRole, PrePhase};
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use bevy::render::render_resource::binding_types::{storage_buffer_sized, uniform_buffer_sized};
 use bevy::render::render_resource::{
-    BindGroupLayoutDescriptor, BindGroupLayoutEntry, CachedComputePipelineId,
-    ComputePipelineDescriptor, PipelineCache, ShaderStages,
+    BindGroupEntry, BindGroupLayoutDescriptor, BindGroupLayoutEntry, BindingResource,
+    BufferBinding, CachedComputePipelineId, CachedPipelineState, ComputePipelineDescriptor,
+    PipelineCache, ShaderStages,
 };
+use bevy::render::renderer::RenderDevice;
 use bevy::shader::ShaderDefVal;
-use sph_core::{NeighborSearch, SphParams};
 use std::num::NonZeroU64;
-
-/// Storage buffers in the shared group 0 (bindings 1 ..= 23).
-pub const STORAGE_BINDINGS: u32 = 23;
-
-/// Which variant of the pipelines a parameter set needs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct VariantKey {
-    /// Neighbour-search mode.
-    pub search: NeighborSearch,
-    /// Surface tension on (normals pass, cohesion and curvature terms).
-    pub surface_tension: bool,
-    /// Viscosity term on.
-    pub viscosity: bool,
-    /// The density pass records neighbour counts (debug views).
-    pub neighbor_counts: bool,
-}
-
-impl VariantKey {
-    /// The variant `params` need.
-    pub fn of(params: &SphParams, neighbor_counts: bool) -> Self {
-        Self {
-            search: params.neighbor_search,
-            surface_tension: params.has_surface_tension(),
-            viscosity: params.has_viscosity(),
-            neighbor_counts,
-        }
-    }
-
-    /// Shader defs common to every stage of this variant.
-    pub fn shader_defs(&self) -> Vec<ShaderDefVal> {
-        let mut defs = Vec::new();
-        if self.search == NeighborSearch::Hash {
-            defs.push("SEARCH_HASH".into());
-        }
-        if self.surface_tension {
-            defs.push("SURFACE_TENSION".into());
-        }
-        if self.viscosity {
-            defs.push("VISCOSITY".into());
-        }
-        if self.neighbor_counts {
-            defs.push("NEIGHBOR_COUNT".into());
-        }
-        defs
-    }
-}
-
-/// The pipelines of one variant. Stages a variant does not need are `None` and never dispatched.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StagePipelines {
-    /// Count cells (or hash keys) for each pre-phase: none, kick-drift, leapfrog drift.
-    pub count_cells: [CachedComputePipelineId; 3],
-    /// Grid prefix sum.
-    pub prefix_sum: Option<CachedComputePipelineId>,
-    /// Hash mode: bitonic sort step and bucket offsets.
-    pub bitonic_sort: Option<CachedComputePipelineId>,
-    /// Hash mode: bucket offsets.
-    pub hash_offsets: Option<CachedComputePipelineId>,
-    /// Scatter.
-    pub scatter: CachedComputePipelineId,
-    /// Density and pressure.
-    pub density: CachedComputePipelineId,
-    /// Normals (surface tension only).
-    pub normals: Option<CachedComputePipelineId>,
-    /// Forces for each role: plain, kick close, leapfrog first, leapfrog second.
-    pub forces: [CachedComputePipelineId; 4],
-    /// Symplectic Euler integration.
-    pub integrate: CachedComputePipelineId,
-    /// The clock: stability check, dt, time.
-    pub time_step: CachedComputePipelineId,
-}
-
-impl StagePipelines {
-    /// Every pipeline of the variant.
-    pub fn all(&self) -> Vec<CachedComputePipelineId> {
-        let mut ids = self.count_cells.to_vec();
-        ids.extend(self.prefix_sum);
-        ids.extend(self.bitonic_sort);
-        ids.extend(self.hash_offsets);
-        ids.extend([self.scatter, self.density, self.integrate, self.time_step]);
-        ids.extend(self.normals);
-        ids.extend(self.forces);
-        ids
-    }
-
-    /// The count pipeline for a pre-phase.
-    pub fn count_for(&self, pre: PrePhase) -> CachedComputePipelineId {
-        self.count_cells[pre as usize]
-    }
-
-    /// The forces pipeline for a role.
-    pub fn forces_for(&self, role: ForcesRole) -> CachedComputePipelineId {
-        self.forces[role as usize]
-    }
-}
 
 /// Layouts, shaders and the variants queued so far.
 #[derive(Resource)]
 pub struct SphPipelines {
-    /// Group 0: the uniform and every storage buffer.
-    pub layout: BindGroupLayoutDescriptor,
+    /// Each stage's group 0 (by stage name): the uniform block and its declared buffers.
+    pub layouts: HashMap<&'static str, BindGroupLayoutDescriptor>,
     /// Group 1 of the bitonic sort: one step, at a dynamic offset.
     pub bitonic_layout: BindGroupLayoutDescriptor,
-    /// The stage shaders.
-    pub shaders: stages::StageShaders,
-    /// Pipelines per variant.
-    pub variants: HashMap<VariantKey, StagePipelines>,
+    /// Each stage's shader, by stage name.
+    pub shaders: HashMap<&'static str, Handle<Shader>>,
+    /// The stage list of each variant queued so far, with its pipelines.
+    pub variants: HashMap<VariantKey, Vec<QueuedStage>>,
 }
 
-impl SphPipelines {
-    /// Queues one pipeline of `shader` with the variant's defs plus `extra` defs.
-    pub fn queue(
-        &self,
-        cache: &PipelineCache,
-        label: &'static str,
-        shader: &Handle<Shader>,
-        key: &VariantKey,
-        extra: &[&'static str],
-    ) -> CachedComputePipelineId {
-        let mut shader_defs = key.shader_defs();
-        shader_defs.extend(extra.iter().map(|&d| d.into()));
-        let mut layout = vec![self.layout.clone()];
-        if label == "sph_bitonic_sort" {
-            layout.push(self.bitonic_layout.clone());
-        }
-        cache.queue_compute_pipeline(ComputePipelineDescriptor {
-            label: Some(label.into()),
-            layout,
-            shader: shader.clone(),
-            shader_defs,
-            ..default()
-        })
+/// The group-0 layout of `stage`: the uniform at binding 0 and its declared storage buffers.
+fn stage_layout(stage: &GpuStage) -> BindGroupLayoutDescriptor {
+    let mut entries: Vec<BindGroupLayoutEntry> =
+        vec![uniform_buffer_sized(false, None).build(0, ShaderStages::COMPUTE)];
+    for buf in stage.bindings {
+        entries.push(storage_buffer_sized(false, None).build(buf.binding(), ShaderStages::COMPUTE));
     }
+    BindGroupLayoutDescriptor::new(stage.name, &entries)
 }
 
 pub(crate) fn init_sph_pipelines(mut commands: Commands, asset_server: Res<AssetServer>) {
-    let mut entries: Vec<BindGroupLayoutEntry> =
-        vec![uniform_buffer_sized(false, None).build(0, ShaderStages::COMPUTE)];
-    for binding in 1..=STORAGE_BINDINGS {
-        entries.push(storage_buffer_sized(false, None).build(binding, ShaderStages::COMPUTE));
-    }
     let bitonic = [uniform_buffer_sized(true, NonZeroU64::new(16)).build(0, ShaderStages::COMPUTE)];
+    let mut layouts = HashMap::default();
+    let mut shaders = HashMap::default();
+    for stage in stages::ALL {
+        layouts.insert(stage.name, stage_layout(stage));
+        shaders
+            .entry(stage.name)
+            .or_insert_with(|| (stage.shader)(&asset_server));
+    }
     commands.insert_resource(SphPipelines {
-        layout: BindGroupLayoutDescriptor::new("sph_state", &entries),
+        layouts,
         bitonic_layout: BindGroupLayoutDescriptor::new("sph_bitonic_step", &bitonic),
-        shaders: stages::StageShaders::load(&asset_server),
+        shaders,
         variants: HashMap::default(),
     });
 }
 
-/// Queues the pipelines of the variant this frame's parameters need (once per variant).
+impl SphPipelines {
+    /// Queues the pipeline of one role of `stage` in the variant `key`.
+    fn queue(
+        &self,
+        cache: &PipelineCache,
+        stage: &GpuStage,
+        key: &VariantKey,
+        role: &[&'static str],
+    ) -> Option<CachedComputePipelineId> {
+        let mut shader_defs = key.shader_defs();
+        shader_defs.extend(role.iter().map(|&d| ShaderDefVal::from(d)));
+        shader_defs.push(ShaderDefVal::UInt(
+            "WORKGROUP_SIZE".into(),
+            stage.workgroup_size,
+        ));
+        let mut layout = vec![self.layouts.get(stage.name)?.clone()];
+        if matches!(stage.dispatch, Dispatch::BitonicSteps) {
+            layout.push(self.bitonic_layout.clone());
+        }
+        Some(cache.queue_compute_pipeline(ComputePipelineDescriptor {
+            label: Some(stage.name.into()),
+            layout,
+            shader: self.shaders.get(stage.name)?.clone(),
+            shader_defs,
+            ..default()
+        }))
+    }
+}
+
+/// Queues the pipelines of the stage list this frame's parameters need (once per variant).
 pub(crate) fn queue_sph_pipelines(
     frame: Res<ExtractedSphFrame>,
     pipelines: Option<ResMut<SphPipelines>>,
@@ -180,6 +107,89 @@ pub(crate) fn queue_sph_pipelines(
     if pipelines.variants.contains_key(&key) {
         return;
     }
-    let stage = stages::queue_variant(&pipelines, &cache, &key);
-    pipelines.variants.insert(key, stage);
+    let queued = stages::stage_list(&key)
+        .into_iter()
+        .map(|stage| QueuedStage {
+            stage,
+            pipelines: stage
+                .roles
+                .iter()
+                .filter_map(|role| pipelines.queue(&cache, stage, &key, role))
+                .collect(),
+        })
+        .collect();
+    pipelines.variants.insert(key, queued);
+}
+
+/// Why a stage list cannot run yet, or `None` when all its pipelines are ready.
+pub fn pipelines_not_ready(cache: &PipelineCache, list: &[QueuedStage]) -> Option<String> {
+    for queued in list {
+        if queued.pipelines.len() != queued.stage.roles.len() {
+            return Some(format!(
+                "gpu: no layout or shader for {}",
+                queued.stage.name
+            ));
+        }
+        for &id in &queued.pipelines {
+            match cache.get_compute_pipeline_state(id) {
+                CachedPipelineState::Ok(_) => {}
+                CachedPipelineState::Err(e) => return Some(format!("gpu: shader error: {e}")),
+                _ => return Some("gpu: compiling shaders".to_string()),
+            }
+        }
+    }
+    None
+}
+
+/// (Re)creates every stage's bind group, and the bitonic steps' group 1, after a reallocation.
+pub(crate) fn prepare_sph_bind_groups(
+    pipelines: Option<Res<SphPipelines>>,
+    cache: Res<PipelineCache>,
+    device: Res<RenderDevice>,
+    mut state: ResMut<SphGpuState>,
+) {
+    let Some(pipelines) = pipelines else {
+        return;
+    };
+    if !state.bind_groups.is_empty() && state.bind_group_generation == state.generation {
+        return;
+    }
+    let Some(buffers) = state.buffers.clone() else {
+        return;
+    };
+    state.bind_groups.clear();
+    for stage in stages::ALL {
+        let Some(layout) = pipelines.layouts.get(stage.name) else {
+            continue;
+        };
+        let mut entries = vec![BindGroupEntry {
+            binding: 0,
+            resource: buffers.uniform.as_entire_binding(),
+        }];
+        entries.extend(stage.bindings.iter().map(|&buf| BindGroupEntry {
+            binding: buf.binding(),
+            resource: buffers.at(buf).as_entire_binding(),
+        }));
+        let group =
+            device.create_bind_group(stage.name, &cache.get_bind_group_layout(layout), &entries);
+        state.bind_groups.insert(stage.name, group);
+    }
+    let step = BufferBinding {
+        buffer: &buffers.bitonic_steps,
+        offset: 0,
+        size: NonZeroU64::new(16),
+    };
+    let bitonic = device.create_bind_group(
+        "sph_bitonic_step",
+        &cache.get_bind_group_layout(&pipelines.bitonic_layout),
+        &[BindGroupEntry {
+            binding: 0,
+            resource: BindingResource::Buffer(step),
+        }],
+    );
+    let offsets = (0..buffers.bitonic_step_count)
+        .map(|k| k * BITONIC_STRIDE as u32)
+        .collect();
+    state.bitonic_bind_group = Some((bitonic, offsets));
+    state.bind_group_generation = state.generation;
 }

@@ -32,3 +32,6 @@
 @group(0) @binding(22) var<storage, read_write> neighbor_count: array<u32>;
 // The clock: each step's dt, simulated time, the step's extremes and the instability freeze.
 @group(0) @binding(23) var<storage, read_write> clock: SphClock;
+// Rollback: the last good state, three arrays of capacity vec4s (position, velocity,
+// acceleration) one after the other (see shaders/checkpoint.wgsl).
+@group(0) @binding(24) var<storage, read_write> checkpoint: array<vec4<f32>>;

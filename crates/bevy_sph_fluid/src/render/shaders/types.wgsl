@@ -26,6 +26,8 @@ struct SphUniforms {
     flags: vec4<u32>,
     // largest dt, CFL factor λ, viscous limit 0.125 h² ρ0/μ, speed of sound c0
     time_step: vec4<f32>,
+    // rollback: enabled (0/1), checkpoint interval, max retries, recovery steps
+    rollback: vec4<u32>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).
@@ -39,7 +41,31 @@ struct SphClock {
     max_acceleration_bits: atomic<u32>,
     // 0 while healthy, else the step detected as unstable: integration is frozen until reset.
     unstable_step: u32,
+    // What the pass right after the time-step pass does with the checkpoint: 0 nothing, 1 save,
+    // 2 restore (see shaders/checkpoint.wgsl).
+    checkpoint_action: u32,
+    // Rollback bookkeeping (Rust twin: sph_core::rollback::RollbackState): rollbacks since the
+    // reset, rollbacks since the checkpoint, halvings of dt, stable steps since the last change.
+    rollbacks: u32,
+    retries: u32,
+    halvings: u32,
+    stable_steps: u32,
+    // The checkpoint: whether one exists, its step and time [ns], the particles it holds.
+    has_checkpoint: u32,
+    checkpoint_step: u32,
+    checkpoint_time_lo: u32,
+    checkpoint_time_hi: u32,
+    checkpoint_count: u32,
+    // Particles the checkpoint held before a restore (the tail beyond are newer spawns).
+    restore_count: u32,
+    // Set by the CPU when particles were uploaded: take a checkpoint at the next stable step.
+    save_requested: u32,
+    // The time-step rule's dt before the rollback scale, now and at the checkpoint.
+    rule_dt: f32,
+    checkpoint_rule_dt: f32,
     pad_a: u32,
+    pad_b: u32,
+    pad_c: u32,
 }
 
 struct BitonicStep {

@@ -5,7 +5,7 @@
 
 @group(1) @binding(0) var<uniform> step: BitonicStep;
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.grid_dims.w {

@@ -1,47 +1,65 @@
-//! Pass 1 of the neighbour sort fused with the integrator's pre-evaluation phase
-//! (`count_cells.wgsl`; CPU twins `sph_core::neighbor::grid::DenseGrid::count_cells`,
-//! `sph_core::neighbor::hash::SpatialHash::sort` keys, `sph_core::integrate::{kick_drift,
-//! leapfrog_drift}`).
+//! Pass 1 of the neighbour sort fused with the integrator's pre-evaluation phase and the
+//! rollback checkpoint (`count_cells.wgsl`; CPU twins `sph_core::neighbor::grid::DenseGrid::
+//! count_cells`, `sph_core::neighbor::hash::SpatialHash::sort` keys, `sph_core::integrate::
+//! {kick_drift, leapfrog_drift}`, the checkpoint of `CpuSolver::step`).
 
-use super::{encode_pass, workgroups};
-use crate::render::buffers::slot;
-use crate::render::SphRun;
+use crate::render::buffers::Buf;
+use crate::render::plan::{EvaluationPlan, PrePhase};
+use crate::render::stage::{Dispatch, GpuStage, StageRun};
 use bevy::asset::{embedded_asset, load_embedded_asset};
-use bevy::prelude::*;
-use bevy::render::render_resource::PipelineCache;
-use bevy::render::renderer::RenderContext;
-
-pub(crate) fn embed(app: &mut App) {
-    embedded_asset!(app, "count_cells.wgsl");
-}
-
-pub(crate) fn load(asset_server: &AssetServer) -> Handle<Shader> {
-    load_embedded_asset!(asset_server, "count_cells.wgsl")
-}
+use bevy::render::render_resource::CommandEncoder;
+use sph_core::gpu_layout::WORKGROUP_SIZE;
+use sph_core::CpuStage;
 
 /// Clears the cell counts (grid) and counts every particle into its cell, or writes every
-/// slot's hash key (hash, padded to the sort length).
-pub fn sph_count_cells(mut ctx: RenderContext, mut run: ResMut<SphRun>, cache: Res<PipelineCache>) {
-    let grid = run.pipelines.prefix_sum.is_some();
-    if grid {
-        ctx.command_encoder()
-            .clear_buffer(run.buffers.at(slot::CELL_COUNTS), 0, None);
+/// slot's hash key (hash, padded to the sort length). Roles: no pre-phase, kick-drift,
+/// leapfrog drift (the drifting roles run right after the time-step pass, so they apply the
+/// checkpoint).
+pub const STAGE: GpuStage = GpuStage {
+    name: "sph_count_cells",
+    cpu_twin: CpuStage::Sort,
+    embed: |app| embedded_asset!(app, "count_cells.wgsl"),
+    shader: |server| load_embedded_asset!(server, "count_cells.wgsl"),
+    bindings: &[
+        Buf::Position,
+        Buf::Velocity,
+        Buf::VelocityPredicted,
+        Buf::Acceleration,
+        Buf::AccelerationStart,
+        Buf::CellOf,
+        Buf::RankInCell,
+        Buf::CellCounts,
+        Buf::SortKeys,
+        Buf::SortValues,
+        Buf::Clock,
+        Buf::Checkpoint,
+    ],
+    workgroup_size: WORKGROUP_SIZE,
+    roles: &[
+        &[],
+        &["PRE_KDK", "APPLY_CHECKPOINT"],
+        &["PRE_LEAPFROG", "APPLY_CHECKPOINT"],
+    ],
+    role: |plan: &EvaluationPlan| {
+        Some(match plan.pre {
+            PrePhase::None => 0,
+            PrePhase::KickDrift => 1,
+            PrePhase::LeapfrogDrift => 2,
+        })
+    },
+    dispatch: Dispatch::Threads(|run: &StageRun| {
+        if run.buffers.sort_length > 0 {
+            run.buffers.sort_length
+        } else {
+            run.particle_count
+        }
+    }),
+    before: Some(clear_cell_counts),
+    after: None,
+};
+
+fn clear_cell_counts(encoder: &mut CommandEncoder, run: &StageRun) {
+    if run.buffers.sort_length == 0 {
+        encoder.clear_buffer(run.buffers.at(Buf::CellCounts), 0, None);
     }
-    let pipeline = run.pipelines.count_for(run.plan.pre);
-    encode_pass(
-        &mut ctx,
-        &mut run,
-        &cache,
-        "sph_count_cells",
-        pipeline,
-        |pass, run| {
-            let threads = if grid {
-                run.particle_count
-            } else {
-                run.buffers.sort_length
-            };
-            pass.dispatch_workgroups(workgroups(threads), 1, 1);
-            1
-        },
-    );
 }

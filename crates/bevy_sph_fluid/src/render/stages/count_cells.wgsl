@@ -1,13 +1,15 @@
 // Pass 1 of the neighbour sort, fused with the integrator's pre-evaluation phase:
 // PRE_KDK   v½ = v + a dt/2; x += v½ dt; collide; v* = v½ + a dt/2   (sph_core::integrate::kick_drift)
 // PRE_LEAPFROG  x += v dt + a0 dt²/2; v* = v + a0 dt; collide(x, v*)  (design eqs. 18-19)
-// (skipped while the clock is frozen), then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
+// (skipped while the clock is frozen), after the rollback checkpoint is saved or restored
+// (APPLY_CHECKPOINT: the roles that run right after the time-step pass), then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
 #import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, cell_of, rank_in_cell, cell_counts, sort_keys, sort_values}
 #import sph::kernels::collide
 #import sph::clock::{step_dt, frozen}
+#import sph::checkpoint::apply_checkpoint
 #import sph::neighbors::{grid_cell, grid_index, hash_cell, hash_key}
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
 #ifdef SEARCH_HASH
@@ -24,6 +26,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.particle_count {
         return;
     }
+#endif
+#ifdef APPLY_CHECKPOINT
+    apply_checkpoint(i);
 #endif
     var x = position[i].xyz;
     let dt = step_dt();

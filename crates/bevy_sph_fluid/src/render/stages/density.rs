@@ -1,32 +1,31 @@
 //! Density and pressure pass (`density.wgsl`; CPU twin `sph_core::density`).
 
-use super::{encode_pass, workgroups};
-use crate::render::SphRun;
+use crate::render::buffers::Buf;
+use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
-use bevy::prelude::*;
-use bevy::render::render_resource::PipelineCache;
-use bevy::render::renderer::RenderContext;
+use sph_core::gpu_layout::WORKGROUP_SIZE;
+use sph_core::CpuStage;
 
-pub(crate) fn embed(app: &mut App) {
-    embedded_asset!(app, "density.wgsl");
-}
-
-pub(crate) fn load(asset_server: &AssetServer) -> Handle<Shader> {
-    load_embedded_asset!(asset_server, "density.wgsl")
-}
-
-/// ρ_i = m Σ W_poly6, p_i = EOS(ρ_i) for every particle.
-pub fn sph_density(mut ctx: RenderContext, mut run: ResMut<SphRun>, cache: Res<PipelineCache>) {
-    let pipeline = run.pipelines.density;
-    encode_pass(
-        &mut ctx,
-        &mut run,
-        &cache,
-        "sph_density",
-        pipeline,
-        |pass, run| {
-            pass.dispatch_workgroups(workgroups(run.particle_count), 1, 1);
-            1
-        },
-    );
-}
+/// ρ_i = m Σ W_poly6, p_i = EOS(ρ_i) for every particle (with `NEIGHBOR_COUNT`, the variant
+/// shader def of the debug views, also the neighbours within h).
+pub const STAGE: GpuStage = GpuStage {
+    name: "sph_density",
+    cpu_twin: CpuStage::Density,
+    embed: |app| embedded_asset!(app, "density.wgsl"),
+    shader: |server| load_embedded_asset!(server, "density.wgsl"),
+    bindings: &[
+        Buf::Position,
+        Buf::Density,
+        Buf::Pressure,
+        Buf::NeighborCount,
+        Buf::CellStart,
+        Buf::BucketStart,
+        Buf::BucketEnd,
+    ],
+    workgroup_size: WORKGROUP_SIZE,
+    roles: &[&[]],
+    role: GpuStage::always,
+    dispatch: Dispatch::Threads(GpuStage::per_particle),
+    before: None,
+    after: None,
+};

@@ -4,7 +4,7 @@
 #import sph::kernels::{poly6, eos_pressure}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.particle_count {

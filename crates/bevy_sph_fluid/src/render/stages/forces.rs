@@ -1,33 +1,50 @@
 //! Forces pass with the integrator's closing phase (`forces.wgsl`; CPU twins
 //! `sph_core::forces` and `sph_core::integrate::{kick, leapfrog_kick}`).
 
-use super::{encode_pass, workgroups};
-use crate::render::SphRun;
+use crate::render::buffers::Buf;
+use crate::render::plan::{EvaluationPlan, ForcesRole};
+use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
-use bevy::prelude::*;
-use bevy::render::render_resource::PipelineCache;
-use bevy::render::renderer::RenderContext;
+use sph_core::gpu_layout::WORKGROUP_SIZE;
+use sph_core::CpuStage;
 
-pub(crate) fn embed(app: &mut App) {
-    embedded_asset!(app, "forces.wgsl");
-}
-
-pub(crate) fn load(asset_server: &AssetServer) -> Handle<Shader> {
-    load_embedded_asset!(asset_server, "forces.wgsl")
-}
-
-/// Pressure, viscosity, surface tension and gravity for every particle, in the evaluation's role.
-pub fn sph_forces(mut ctx: RenderContext, mut run: ResMut<SphRun>, cache: Res<PipelineCache>) {
-    let pipeline = run.pipelines.forces_for(run.plan.forces);
-    encode_pass(
-        &mut ctx,
-        &mut run,
-        &cache,
-        "sph_forces",
-        pipeline,
-        |pass, run| {
-            pass.dispatch_workgroups(workgroups(run.particle_count), 1, 1);
-            1
-        },
-    );
-}
+/// Pressure, viscosity, surface tension and gravity for every particle. Roles: plain,
+/// kick-drift-kick closing kick, leapfrog first evaluation (keep a0), leapfrog second (kick).
+pub const STAGE: GpuStage = GpuStage {
+    name: "sph_forces",
+    cpu_twin: CpuStage::Forces,
+    embed: |app| embedded_asset!(app, "forces.wgsl"),
+    shader: |server| load_embedded_asset!(server, "forces.wgsl"),
+    bindings: &[
+        Buf::Position,
+        Buf::Velocity,
+        Buf::VelocityPredicted,
+        Buf::Acceleration,
+        Buf::AccelerationStart,
+        Buf::Density,
+        Buf::Pressure,
+        Buf::Normal,
+        Buf::CellStart,
+        Buf::BucketStart,
+        Buf::BucketEnd,
+        Buf::Clock,
+    ],
+    workgroup_size: WORKGROUP_SIZE,
+    roles: &[
+        &[],
+        &["USE_PREDICTED_VELOCITY", "POST_KDK"],
+        &["POST_LEAPFROG_SAVE"],
+        &["USE_PREDICTED_VELOCITY", "POST_LEAPFROG_KICK"],
+    ],
+    role: |plan: &EvaluationPlan| {
+        Some(match plan.forces {
+            ForcesRole::Plain => 0,
+            ForcesRole::KickClose => 1,
+            ForcesRole::LeapfrogFirst => 2,
+            ForcesRole::LeapfrogSecond => 3,
+        })
+    },
+    dispatch: Dispatch::Threads(GpuStage::per_particle),
+    before: None,
+    after: None,
+};

@@ -24,7 +24,7 @@ fn viscosity_velocity(j: u32) -> vec3<f32> {
 #endif
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.particle_count {

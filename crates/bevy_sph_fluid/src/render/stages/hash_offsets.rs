@@ -1,42 +1,28 @@
 //! The design's cell offsets: where each hash bucket starts and ends in the sorted keys
 //! (`hash_offsets.wgsl`; CPU twin: the offset loop of `sph_core::neighbor::hash::SpatialHash::sort`).
 
-use super::{encode_pass, workgroups};
-use crate::render::buffers::slot;
-use crate::render::SphRun;
+use crate::render::buffers::Buf;
+use crate::render::stage::{Dispatch, GpuStage, StageRun};
 use bevy::asset::{embedded_asset, load_embedded_asset};
-use bevy::prelude::*;
-use bevy::render::render_resource::PipelineCache;
-use bevy::render::renderer::RenderContext;
-
-pub(crate) fn embed(app: &mut App) {
-    embedded_asset!(app, "hash_offsets.wgsl");
-}
-
-pub(crate) fn load(asset_server: &AssetServer) -> Handle<Shader> {
-    load_embedded_asset!(asset_server, "hash_offsets.wgsl")
-}
+use bevy::render::render_resource::CommandEncoder;
+use sph_core::gpu_layout::WORKGROUP_SIZE;
+use sph_core::CpuStage;
 
 /// Clears the bucket starts and records each bucket's range (hash mode only).
-pub fn sph_hash_offsets(
-    mut ctx: RenderContext,
-    mut run: ResMut<SphRun>,
-    cache: Res<PipelineCache>,
-) {
-    let Some(pipeline) = run.pipelines.hash_offsets else {
-        return;
-    };
-    ctx.command_encoder()
-        .clear_buffer(run.buffers.at(slot::BUCKET_START), 0, None);
-    encode_pass(
-        &mut ctx,
-        &mut run,
-        &cache,
-        "sph_hash_offsets",
-        pipeline,
-        |pass, run| {
-            pass.dispatch_workgroups(workgroups(run.particle_count), 1, 1);
-            1
-        },
-    );
+pub const STAGE: GpuStage = GpuStage {
+    name: "sph_hash_offsets",
+    cpu_twin: CpuStage::Sort,
+    embed: |app| embedded_asset!(app, "hash_offsets.wgsl"),
+    shader: |server| load_embedded_asset!(server, "hash_offsets.wgsl"),
+    bindings: &[Buf::SortKeys, Buf::BucketStart, Buf::BucketEnd],
+    workgroup_size: WORKGROUP_SIZE,
+    roles: &[&[]],
+    role: GpuStage::always,
+    dispatch: Dispatch::Threads(GpuStage::per_particle),
+    before: Some(clear_bucket_starts),
+    after: None,
+};
+
+fn clear_bucket_starts(encoder: &mut CommandEncoder, run: &StageRun) {
+    encoder.clear_buffer(run.buffers.at(Buf::BucketStart), 0, None);
 }

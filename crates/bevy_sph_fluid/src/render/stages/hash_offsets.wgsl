@@ -2,7 +2,7 @@
 // sorted key array.
 #import sph::bindings::{params, sort_keys, bucket_start, bucket_end}
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let k = id.x;
     let n = params.particle_count;

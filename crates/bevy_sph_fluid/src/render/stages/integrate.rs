@@ -1,36 +1,32 @@
-//! Symplectic-Euler integration pass (`integrate.wgsl`; CPU twin `sph_core::integrate::euler`).
-//! The leapfrogs fuse their phases into the count and forces passes instead.
+//! Symplectic-Euler integration pass (`integrate.wgsl`; CPU twin `sph_core::integrate::euler`),
+//! which also applies the rollback checkpoint. The leapfrogs fuse their phases into the count
+//! and forces passes instead.
 
-use super::{encode_pass, workgroups};
-use crate::render::SphRun;
+use crate::render::buffers::Buf;
+use crate::render::plan::EvaluationPlan;
+use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
-use bevy::prelude::*;
-use bevy::render::render_resource::PipelineCache;
-use bevy::render::renderer::RenderContext;
-
-pub(crate) fn embed(app: &mut App) {
-    embedded_asset!(app, "integrate.wgsl");
-}
-
-pub(crate) fn load(asset_server: &AssetServer) -> Handle<Shader> {
-    load_embedded_asset!(asset_server, "integrate.wgsl")
-}
+use sph_core::gpu_layout::WORKGROUP_SIZE;
+use sph_core::CpuStage;
 
 /// v += a dt; x += v dt; collide — only in a symplectic-Euler evaluation.
-pub fn sph_integrate(mut ctx: RenderContext, mut run: ResMut<SphRun>, cache: Res<PipelineCache>) {
-    if !run.plan.euler {
-        return;
-    }
-    let pipeline = run.pipelines.integrate;
-    encode_pass(
-        &mut ctx,
-        &mut run,
-        &cache,
-        "sph_integrate",
-        pipeline,
-        |pass, run| {
-            pass.dispatch_workgroups(workgroups(run.particle_count), 1, 1);
-            1
-        },
-    );
-}
+pub const STAGE: GpuStage = GpuStage {
+    name: "sph_integrate",
+    cpu_twin: CpuStage::Integrate,
+    embed: |app| embedded_asset!(app, "integrate.wgsl"),
+    shader: |server| load_embedded_asset!(server, "integrate.wgsl"),
+    bindings: &[
+        Buf::Position,
+        Buf::Velocity,
+        Buf::Acceleration,
+        Buf::AccelerationStart,
+        Buf::Clock,
+        Buf::Checkpoint,
+    ],
+    workgroup_size: WORKGROUP_SIZE,
+    roles: &[&[]],
+    role: |plan: &EvaluationPlan| plan.euler.then_some(0),
+    dispatch: Dispatch::Threads(GpuStage::per_particle),
+    before: None,
+    after: None,
+};

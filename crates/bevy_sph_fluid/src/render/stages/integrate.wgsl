@@ -1,13 +1,20 @@
 // Symplectic Euler: v += a dt; x += v dt; collide (sph_core::integrate::euler). The leapfrogs'
-// phases are fused into count_cells (before) and forces (after).
+// phases are fused into count_cells (before) and forces (after). It runs right after the
+// time-step pass, so it saves or restores the rollback checkpoint first, and does not integrate
+// a state being restored.
 #import sph::bindings::{params, position, velocity, acceleration}
 #import sph::kernels::collide
 #import sph::clock::{step_dt, frozen, record_speed}
+#import sph::checkpoint::{apply_checkpoint, restoring}
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
-    if i >= params.particle_count || frozen() {
+    if i >= params.particle_count {
+        return;
+    }
+    apply_checkpoint(i);
+    if frozen() || restoring() {
         return;
     }
     let dt = step_dt();

@@ -1,5 +1,7 @@
-//! One file per stage: each owns its WGSL entry point (same name, `.wgsl`), queues its pipeline
-//! variants, and has the system that encodes its dispatch.
+//! The stage registry: one `name.rs` + `name.wgsl` pair per GPU stage, each declaring a
+//! [`GpuStage`] `const`, and [`stage_list`], the ordered list of stages a scene runs, chosen from
+//! its settings. Adding a stage is adding its pair and one line in [`stage_list`] (and in
+//! [`ALL`], which embeds the shaders).
 
 pub mod bitonic_sort;
 pub mod count_cells;
@@ -12,156 +14,78 @@ pub mod prefix_sum;
 pub mod scatter;
 pub mod time_step;
 
-use super::pipelines::{SphPipelines, StagePipelines, VariantKey};
-use super::SphRun;
-use bevy::ecs::schedule::ScheduleConfigs;
-use bevy::ecs::system::ScheduleSystem;
-use bevy::prelude::*;
-use bevy::render::diagnostic::RecordDiagnostics;
-use bevy::render::render_resource::{
-    CachedComputePipelineId, ComputePass, ComputePassDescriptor, PipelineCache,
-};
-use bevy::render::renderer::RenderContext;
-use sph_core::gpu_layout::WORKGROUP_SIZE;
+use super::plan::VariantKey;
+use super::stage::GpuStage;
 use sph_core::NeighborSearch;
 
-/// The shader of every stage.
-#[derive(Clone, Debug)]
-pub struct StageShaders {
-    count_cells: Handle<Shader>,
-    prefix_sum: Handle<Shader>,
-    bitonic_sort: Handle<Shader>,
-    hash_offsets: Handle<Shader>,
-    scatter: Handle<Shader>,
-    density: Handle<Shader>,
-    normals: Handle<Shader>,
-    forces: Handle<Shader>,
-    integrate: Handle<Shader>,
-    time_step: Handle<Shader>,
+/// Every stage the plugin has (each shader is embedded once, at plugin build).
+pub const ALL: [&GpuStage; 11] = [
+    &time_step::AT_START,
+    &time_step::BEFORE_INTEGRATE,
+    &count_cells::STAGE,
+    &prefix_sum::STAGE,
+    &bitonic_sort::STAGE,
+    &hash_offsets::STAGE,
+    &scatter::STAGE,
+    &density::STAGE,
+    &normals::STAGE,
+    &forces::STAGE,
+    &integrate::STAGE,
+];
+
+/// The stages of one force evaluation of a scene of `key`, in order. Each stage's `role` then
+/// picks its pipeline for the evaluation's integrator phase, or skips it (the time step runs in
+/// one of its two places, integrate only for symplectic Euler).
+pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
+    let mut list = vec![&time_step::AT_START, &count_cells::STAGE];
+    match key.search {
+        NeighborSearch::Grid => list.push(&prefix_sum::STAGE),
+        NeighborSearch::Hash => list.extend([&bitonic_sort::STAGE, &hash_offsets::STAGE]),
+    }
+    list.extend([&scatter::STAGE, &density::STAGE]);
+    if key.surface_tension {
+        list.push(&normals::STAGE);
+    }
+    list.extend([
+        &forces::STAGE,
+        &time_step::BEFORE_INTEGRATE,
+        &integrate::STAGE,
+    ]);
+    list
 }
 
-impl StageShaders {
-    pub(crate) fn load(asset_server: &AssetServer) -> Self {
-        Self {
-            count_cells: count_cells::load(asset_server),
-            prefix_sum: prefix_sum::load(asset_server),
-            bitonic_sort: bitonic_sort::load(asset_server),
-            hash_offsets: hash_offsets::load(asset_server),
-            scatter: scatter::load(asset_server),
-            density: density::load(asset_server),
-            normals: normals::load(asset_server),
-            forces: forces::load(asset_server),
-            integrate: integrate::load(asset_server),
-            time_step: time_step::load(asset_server),
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sph_core::stage::evaluation_stages;
+    use sph_core::{CpuStage, SphParams};
+
+    /// The CPU solver's evaluation mirrors the GPU list: mapping each GPU stage to its CPU twin
+    /// (the integrator's time step and phases aside) gives the CPU stages in the same order.
+    #[test]
+    fn every_stage_list_mirrors_the_cpu_solver() {
+        for search in [NeighborSearch::Grid, NeighborSearch::Hash] {
+            for surface_tension in [0.0, 0.5] {
+                let mut params = SphParams::water();
+                params.neighbor_search = search;
+                params.surface_tension = surface_tension;
+                let key = VariantKey::of(&params, false);
+                let mut twins: Vec<CpuStage> = stage_list(&key)
+                    .iter()
+                    .map(|stage| stage.cpu_twin)
+                    .filter(|twin| !matches!(twin, CpuStage::TimeStep | CpuStage::Integrate))
+                    .collect();
+                twins.dedup();
+                assert_eq!(twins, evaluation_stages(&params), "{key:?}");
+            }
         }
     }
-}
 
-pub(crate) fn embed_shaders(app: &mut App) {
-    count_cells::embed(app);
-    prefix_sum::embed(app);
-    bitonic_sort::embed(app);
-    hash_offsets::embed(app);
-    scatter::embed(app);
-    density::embed(app);
-    normals::embed(app);
-    forces::embed(app);
-    integrate::embed(app);
-    time_step::embed(app);
-}
-
-/// Queues every pipeline the variant needs, and nothing it does not.
-pub(crate) fn queue_variant(
-    pipelines: &SphPipelines,
-    cache: &PipelineCache,
-    key: &VariantKey,
-) -> StagePipelines {
-    let s = &pipelines.shaders;
-    let q = |label, shader: &Handle<Shader>, extra: &[&'static str]| {
-        pipelines.queue(cache, label, shader, key, extra)
-    };
-    let grid = key.search == NeighborSearch::Grid;
-    StagePipelines {
-        count_cells: [
-            q("sph_count_cells", &s.count_cells, &[]),
-            q("sph_count_cells", &s.count_cells, &["PRE_KDK"]),
-            q("sph_count_cells", &s.count_cells, &["PRE_LEAPFROG"]),
-        ],
-        prefix_sum: grid.then(|| q("sph_prefix_sum", &s.prefix_sum, &[])),
-        bitonic_sort: (!grid).then(|| q("sph_bitonic_sort", &s.bitonic_sort, &[])),
-        hash_offsets: (!grid).then(|| q("sph_hash_offsets", &s.hash_offsets, &[])),
-        scatter: q("sph_scatter", &s.scatter, &[]),
-        density: q("sph_density", &s.density, &[]),
-        normals: key
-            .surface_tension
-            .then(|| q("sph_normals", &s.normals, &[])),
-        forces: [
-            q("sph_forces", &s.forces, &[]),
-            q(
-                "sph_forces",
-                &s.forces,
-                &["USE_PREDICTED_VELOCITY", "POST_KDK"],
-            ),
-            q("sph_forces", &s.forces, &["POST_LEAPFROG_SAVE"]),
-            q(
-                "sph_forces",
-                &s.forces,
-                &["USE_PREDICTED_VELOCITY", "POST_LEAPFROG_KICK"],
-            ),
-        ],
-        integrate: q("sph_integrate", &s.integrate, &[]),
-        time_step: q("sph_time_step", &s.time_step, &[]),
+    #[test]
+    fn names_are_unique_except_the_two_places_of_the_time_step() {
+        let mut names: Vec<&str> = ALL.iter().map(|s| s.name).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), ALL.len() - 1);
     }
-}
-
-/// The stage systems, chained in pipeline order.
-pub(crate) fn stage_systems() -> ScheduleConfigs<ScheduleSystem> {
-    (
-        time_step::sph_time_step,
-        count_cells::sph_count_cells,
-        prefix_sum::sph_prefix_sum,
-        bitonic_sort::sph_bitonic_sort,
-        hash_offsets::sph_hash_offsets,
-        scatter::sph_scatter,
-        density::sph_density,
-        normals::sph_normals,
-        forces::sph_forces,
-        time_step::sph_time_step_before_integrate,
-        integrate::sph_integrate,
-    )
-        .chain()
-}
-
-/// Workgroups covering `threads` invocations.
-pub fn workgroups(threads: u32) -> u32 {
-    threads.div_ceil(WORKGROUP_SIZE)
-}
-
-/// Encodes one compute pass named `name` that binds group 0, sets `pipeline` and lets `record`
-/// issue its dispatches (returning how many); GPU-timed when the run asks for it.
-pub(crate) fn encode_pass(
-    ctx: &mut RenderContext,
-    run: &mut SphRun,
-    cache: &PipelineCache,
-    name: &'static str,
-    pipeline: CachedComputePipelineId,
-    record: impl FnOnce(&mut ComputePass, &SphRun) -> u32,
-) {
-    let Some(pipeline) = cache.get_compute_pipeline(pipeline) else {
-        return;
-    };
-    let diagnostics = ctx.diagnostic_recorder();
-    let diagnostics = diagnostics.as_deref().filter(|_| run.timed);
-    let mut pass = ctx
-        .command_encoder()
-        .begin_compute_pass(&ComputePassDescriptor {
-            label: Some(name),
-            timestamp_writes: None,
-        });
-    let span = diagnostics.pass_span(&mut pass, name);
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, &run.bind_group, &[]);
-    let dispatches = record(&mut pass, run);
-    span.end(&mut pass);
-    run.dispatches += dispatches;
 }

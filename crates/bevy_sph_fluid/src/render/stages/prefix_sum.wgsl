@@ -3,11 +3,11 @@
 // 256 chunk sums in workgroup memory, then each chunk writes its offsets.
 #import sph::bindings::{params, cell_counts, cell_start}
 
-const THREADS: u32 = 256u;
+const THREADS: u32 = #{WORKGROUP_SIZE}u;
 
-var<workgroup> partial: array<u32, 256>;
+var<workgroup> partial: array<u32, #{WORKGROUP_SIZE}>;
 
-@compute @workgroup_size(256)
+@compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
     let t = lid.x;
     let n = params.cell_count;

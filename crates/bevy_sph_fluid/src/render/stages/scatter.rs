@@ -2,47 +2,63 @@
 //! become the state (`scatter.wgsl`; CPU twin `sph_core::neighbor::grid::DenseGrid::scatter` and
 //! the reorder in `sph_core::solver`).
 
-use super::{encode_pass, workgroups};
-use crate::render::buffers::slot;
-use crate::render::SphRun;
+use crate::render::buffers::Buf;
+use crate::render::stage::{Dispatch, GpuStage, StageRun};
 use bevy::asset::{embedded_asset, load_embedded_asset};
-use bevy::prelude::*;
-use bevy::render::render_resource::PipelineCache;
-use bevy::render::renderer::RenderContext;
-
-pub(crate) fn embed(app: &mut App) {
-    embedded_asset!(app, "scatter.wgsl");
-}
-
-pub(crate) fn load(asset_server: &AssetServer) -> Handle<Shader> {
-    load_embedded_asset!(asset_server, "scatter.wgsl")
-}
+use bevy::render::render_resource::CommandEncoder;
+use sph_core::gpu_layout::WORKGROUP_SIZE;
+use sph_core::CpuStage;
 
 /// Scatters the five state arrays into sorted order and copies them back (copies are not
 /// dispatches).
-pub fn sph_scatter(mut ctx: RenderContext, mut run: ResMut<SphRun>, cache: Res<PipelineCache>) {
-    let pipeline = run.pipelines.scatter;
-    encode_pass(
-        &mut ctx,
-        &mut run,
-        &cache,
-        "sph_scatter",
-        pipeline,
-        |pass, run| {
-            pass.dispatch_workgroups(workgroups(run.particle_count), 1, 1);
-            1
-        },
-    );
+pub const STAGE: GpuStage = GpuStage {
+    name: "sph_scatter",
+    cpu_twin: CpuStage::Sort,
+    embed: |app| embedded_asset!(app, "scatter.wgsl"),
+    shader: |server| load_embedded_asset!(server, "scatter.wgsl"),
+    bindings: &[
+        Buf::Position,
+        Buf::Velocity,
+        Buf::VelocityPredicted,
+        Buf::Acceleration,
+        Buf::AccelerationStart,
+        Buf::SortedPosition,
+        Buf::SortedVelocity,
+        Buf::SortedVelocityPredicted,
+        Buf::SortedAcceleration,
+        Buf::SortedAccelerationStart,
+        Buf::CellOf,
+        Buf::RankInCell,
+        Buf::CellStart,
+        Buf::SortValues,
+    ],
+    workgroup_size: WORKGROUP_SIZE,
+    roles: &[&[]],
+    role: GpuStage::always,
+    dispatch: Dispatch::Threads(GpuStage::per_particle),
+    before: None,
+    after: Some(copy_back),
+};
+
+/// The five sorted arrays, in state order, and where each is copied back.
+const COPIES: [(Buf, Buf); 5] = [
+    (Buf::SortedPosition, Buf::Position),
+    (Buf::SortedVelocity, Buf::Velocity),
+    (Buf::SortedVelocityPredicted, Buf::VelocityPredicted),
+    (Buf::SortedAcceleration, Buf::Acceleration),
+    (Buf::SortedAccelerationStart, Buf::AccelerationStart),
+];
+
+fn copy_back(encoder: &mut CommandEncoder, run: &StageRun) {
     let bytes = 16 * run.particle_count as u64;
     if bytes == 0 {
         return;
     }
-    let encoder = ctx.command_encoder();
-    for k in 0..5 {
+    for (sorted, state) in COPIES {
         encoder.copy_buffer_to_buffer(
-            run.buffers.at(slot::SORTED_POSITION + k),
+            run.buffers.at(sorted),
             0,
-            run.buffers.at(slot::POSITION + k),
+            run.buffers.at(state),
             0,
             Some(bytes),
         );

@@ -2,7 +2,7 @@
 // (grid: cell_start[cell] + rank; hash: slot k gathers particle sort_values[k]).
 #import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, sorted_position, sorted_velocity, sorted_velocity_predicted, sorted_acceleration, sorted_acceleration_start, cell_of, rank_in_cell, cell_start, sort_values}
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.particle_count {

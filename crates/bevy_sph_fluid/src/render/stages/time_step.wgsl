@@ -1,42 +1,114 @@
-// Right before each step's first integration phase, one thread (CPU twin: sph_core::stability
-// and CpuSolver::step); the extremes are the last step's final |v| and the |a| about to be used:
-// 1. the previous step is unstable when a recorded |v| or |a| is not finite or v_max dt > h:
-//    then the clock freezes integration until reset;
-// 2. dt = time_step, or with the adaptive rule
-//    min(time_step, λ h / (c0 + v_max), 0.125 h² ρ0/μ, 0.25 sqrt(h / a_max));
-// 3. step += 1, time += dt (in whole nanoseconds, exact), the extremes are cleared.
+// Right before each step's first integration phase, one thread (CPU twin: sph_core::stability,
+// sph_core::rollback and CpuSolver::step); the extremes are the last step's final |v| and the
+// |a| about to be used:
+// 1. the previous step is unstable when a recorded |v| or |a| is not finite or v_max dt > h;
+// 2. an unstable step is rolled back: the next pass restores the checkpoint, step and time go
+//    back to it, and dt is halved (TIME_STEP_BEFORE_INTEGRATE, symplectic Euler: this step's
+//    integrate pass restores instead of integrating and the next step retries); without
+//    rollback, without a checkpoint or out of retries, the clock freezes integration until reset
+//    (after restoring the last good state when rollback is on);
+// 3. a stable step counts towards recovering a halved dt, and the next pass saves a checkpoint
+//    when one is due (none yet, particles were added, or `interval` steps since the last);
+// 4. dt = time_step, or with the adaptive rule
+//    min(time_step, λ h / (c0 + v_max), 0.125 h² ρ0/μ, 0.25 sqrt(h / a_max)), times 2^-halvings;
+// 5. step += 1, time += dt (in whole nanoseconds, exact), the extremes are cleared.
 #import sph::bindings::{params, clock}
 
 const NON_FINITE: u32 = 0x7f800000u;
+const SAVE: u32 = 1u;
+const RESTORE: u32 = 2u;
+const MAX_HALVINGS: u32 = 16u;
 
-@compute @workgroup_size(1)
+fn add_ns(lo: u32, hi: u32, dt: f32) -> vec2<u32> {
+    let ticks = u32(round(dt * 1.0e9));
+    let low = lo + ticks;
+    return vec2<u32>(low, hi + select(0u, 1u, low < ticks));
+}
+
+// Step and time go back to the checkpoint; the next pass restores its particles.
+fn restore() {
+    clock.checkpoint_action = RESTORE;
+    clock.restore_count = clock.checkpoint_count;
+    clock.checkpoint_count = params.particle_count;
+    clock.step = clock.checkpoint_step;
+    clock.time_ns_lo = clock.checkpoint_time_lo;
+    clock.time_ns_hi = clock.checkpoint_time_hi;
+}
+
+fn scale() -> f32 {
+    return exp2(-f32(clock.halvings));
+}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main() {
+    clock.checkpoint_action = 0u;
     if clock.unstable_step != 0u {
         return;
     }
     let speed_bits = atomicLoad(&clock.max_speed_bits);
     let acceleration_bits = atomicLoad(&clock.max_acceleration_bits);
+    atomicStore(&clock.max_speed_bits, 0u);
+    atomicStore(&clock.max_acceleration_bits, 0u);
     let v_max = bitcast<f32>(speed_bits);
     let a_max = bitcast<f32>(acceleration_bits);
     let h = params.grid_origin.w;
-    if clock.step > 0u && (speed_bits >= NON_FINITE || acceleration_bits >= NON_FINITE || v_max * clock.dt > h) {
-        clock.unstable_step = clock.step;
+    let rollback = params.rollback;
+    let checked = clock.step > 0u;
+    let unstable = checked && (speed_bits >= NON_FINITE || acceleration_bits >= NON_FINITE || v_max * clock.dt > h);
+    var rule_dt: f32;
+    if unstable {
+        let can_retry = rollback.x != 0u && clock.has_checkpoint != 0u;
+        if !can_retry || clock.retries >= rollback.z {
+            clock.unstable_step = clock.step;
+            if can_retry {
+                restore();
+            }
+            return;
+        }
+        clock.rollbacks += 1u;
+        clock.retries += 1u;
+        clock.halvings = min(clock.halvings + 1u, MAX_HALVINGS);
+        clock.stable_steps = 0u;
+        restore();
+#ifdef TIME_STEP_BEFORE_INTEGRATE
         return;
-    }
-    var dt = params.time_step.x;
-    if params.flags.z != 0u {
-        dt = min(dt, params.time_step.y * h / (params.time_step.w + v_max));
-        dt = min(dt, params.time_step.z);
-        if a_max > 0.0 {
-            dt = min(dt, 0.25 * sqrt(h / a_max));
+#else
+        rule_dt = clock.checkpoint_rule_dt;
+#endif
+    } else {
+        if checked {
+            clock.stable_steps += 1u;
+            if clock.halvings > 0u && clock.stable_steps >= rollback.w {
+                clock.halvings -= 1u;
+                clock.stable_steps = 0u;
+            }
+        }
+        rule_dt = params.time_step.x;
+        if params.flags.z != 0u {
+            rule_dt = min(rule_dt, params.time_step.y * h / (params.time_step.w + v_max));
+            rule_dt = min(rule_dt, params.time_step.z);
+            if a_max > 0.0 {
+                rule_dt = min(rule_dt, 0.25 * sqrt(h / a_max));
+            }
+        }
+        let due = clock.has_checkpoint == 0u || clock.save_requested != 0u || clock.step >= clock.checkpoint_step + rollback.y;
+        if rollback.x != 0u && due {
+            clock.checkpoint_action = SAVE;
+            clock.has_checkpoint = 1u;
+            clock.checkpoint_step = clock.step;
+            clock.checkpoint_time_lo = clock.time_ns_lo;
+            clock.checkpoint_time_hi = clock.time_ns_hi;
+            clock.checkpoint_count = params.particle_count;
+            clock.checkpoint_rule_dt = rule_dt;
+            clock.save_requested = 0u;
+            clock.retries = 0u;
         }
     }
+    clock.rule_dt = rule_dt;
+    let dt = rule_dt * scale();
     clock.dt = dt;
     clock.step += 1u;
-    let ticks = u32(round(dt * 1.0e9));
-    let low = clock.time_ns_lo + ticks;
-    clock.time_ns_hi += select(0u, 1u, low < ticks);
-    clock.time_ns_lo = low;
-    atomicStore(&clock.max_speed_bits, 0u);
-    atomicStore(&clock.max_acceleration_bits, 0u);
+    let time = add_ns(clock.time_ns_lo, clock.time_ns_hi, dt);
+    clock.time_ns_lo = time.x;
+    clock.time_ns_hi = time.y;
 }

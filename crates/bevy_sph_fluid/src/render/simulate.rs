@@ -1,0 +1,101 @@
+//! The frame's steps: `sph_simulate` (Bevy's `RenderGraph` schedule, before the camera driver)
+//! runs the [`SphStep`] schedule once per force evaluation of every step, and
+//! `sph_encode_stages`, the one system of that schedule, encodes the scene's stage list.
+
+use super::buffers::SphGpuState;
+use super::extract::ExtractedSphFrame;
+use super::pipelines::{pipelines_not_ready, SphPipelines};
+use super::plan::{evaluation_plans, EvaluationPlan, VariantKey};
+use super::stage::{encode_stage, StageRun};
+use crate::sets::SphStep;
+use crate::shared::SphRenderFeedback;
+use bevy::prelude::*;
+use bevy::render::render_resource::PipelineCache;
+use bevy::render::renderer::RenderContext;
+
+/// Encodes every stage of the list, in order, for the evaluation in [`StageRun::plan`].
+pub fn sph_encode_stages(
+    mut ctx: RenderContext,
+    mut run: ResMut<StageRun>,
+    cache: Res<PipelineCache>,
+) {
+    let stages = std::mem::take(&mut run.stages);
+    for queued in &stages {
+        encode_stage(&mut ctx, &mut run, &cache, queued);
+    }
+    run.stages = stages;
+}
+
+/// Runs this frame's steps: for every step, the [`SphStep`] schedule once per force evaluation.
+pub fn sph_simulate(world: &mut World) {
+    let frame = world.resource::<ExtractedSphFrame>();
+    if !frame.active || frame.steps == 0 {
+        return;
+    }
+    let (steps, params) = (frame.steps, frame.params);
+    let key = VariantKey::of(&params, frame.neighbor_counts);
+    let feedback = world.resource::<SphRenderFeedback>().clone();
+    let state = world.resource::<SphGpuState>();
+    let Some(gpu_buffers) = state
+        .buffers
+        .clone()
+        .filter(|_| !state.bind_groups.is_empty())
+    else {
+        feedback.update(|f| {
+            f.status = state
+                .status
+                .clone()
+                .or(Some("gpu: preparing buffers".into()))
+        });
+        return;
+    };
+    let particle_count = state.particle_count;
+    let mut forces_stale = state.forces_stale;
+    let bitonic = state.bitonic_bind_group.clone();
+    let bind_groups = state.bind_groups.clone();
+    let Some(list) = world.resource::<SphPipelines>().variants.get(&key).cloned() else {
+        feedback.update(|f| f.status = Some("gpu: compiling shaders".into()));
+        return;
+    };
+    if let Some(why) = pipelines_not_ready(world.resource::<PipelineCache>(), &list) {
+        feedback.update(|f| f.status = Some(why));
+        return;
+    }
+    let stage_names = list.iter().map(|q| q.stage.name).collect::<Vec<_>>();
+    world.insert_resource(StageRun {
+        stages: list,
+        bind_groups,
+        bitonic,
+        buffers: gpu_buffers,
+        particle_count,
+        plan: EvaluationPlan::default(),
+        timed: false,
+        dispatches: 0,
+    });
+    let mut last_step_dispatches = 0;
+    for step in 0..steps {
+        let before = world.resource::<StageRun>().dispatches;
+        for (k, plan) in evaluation_plans(params.integrator, forces_stale)
+            .into_iter()
+            .enumerate()
+        {
+            {
+                let mut run = world.resource_mut::<StageRun>();
+                run.plan = plan;
+                run.timed = step == 0 && k == 0;
+            }
+            world.run_schedule(SphStep);
+        }
+        forces_stale = false;
+        last_step_dispatches = world.resource::<StageRun>().dispatches - before;
+    }
+    world.resource_mut::<SphGpuState>().forces_stale = false;
+    feedback.update(|f| {
+        f.step_count += steps as u64;
+        f.dispatches_per_step = last_step_dispatches;
+        f.status = None;
+        let mut names = stage_names;
+        names.dedup();
+        f.stage_names = names;
+    });
+}

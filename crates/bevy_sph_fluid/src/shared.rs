@@ -1,0 +1,158 @@
+//! Types shared by the main-world systems, the render world and the readback, in the one
+//! direction data flows: [`SphSimulation`] and its frame plan [`SphFrame`] (main world ->
+//! extracted), [`SphRenderFeedback`] (render world -> main world), [`ClockReadback`] (the GPU
+//! clock as read back). This module imports none of the modules that use it.
+
+use crate::api::*;
+use bevy::prelude::*;
+use sph_core::gpu_layout::{id_to_w, GpuClock};
+use sph_core::{BoxContainer, CpuSolver};
+use std::sync::{Arc, Mutex};
+
+/// Most substeps per frame.
+pub const MAX_SUBSTEPS: u32 = 64;
+
+/// What the render world does this frame; extracted every frame.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct SphFrame {
+    /// Whether the GPU backend runs.
+    pub active: bool,
+    /// Parameters (validated).
+    pub params: sph_core::SphParams,
+    /// Container.
+    pub container: BoxContainer,
+    /// Particle slots.
+    pub capacity: u32,
+    /// Drop every particle before spawning.
+    pub reset: bool,
+    /// Live particles before this frame's spawns.
+    pub spawn_offset: u32,
+    /// New particles: xyz position, w = id.
+    pub spawn_positions: Vec<[f32; 4]>,
+    /// New particles' velocities.
+    pub spawn_velocities: Vec<[f32; 4]>,
+    /// Steps to take this frame.
+    pub steps: u32,
+    /// The density pass records neighbour counts.
+    pub neighbor_counts: bool,
+    /// How unstable steps are handled.
+    pub rollback: sph_core::Rollback,
+    /// The state buffers.
+    pub buffers: Option<SphGpuBuffers>,
+}
+
+impl SphFrame {
+    /// Live particles after this frame's spawns.
+    pub fn particle_count(&self) -> u32 {
+        self.spawn_offset + self.spawn_positions.len() as u32
+    }
+}
+
+/// Main-world bookkeeping shared by both backends.
+#[derive(Resource)]
+pub struct SphSimulation {
+    /// Particle slots.
+    pub capacity: u32,
+    /// The requested backend.
+    pub requested: SphBackend,
+    /// The backend in use (resolved in `finish`).
+    pub backend: SphBackend,
+    /// Adapter name.
+    pub adapter: String,
+    /// Live particles (the main world is the authority: there are no sinks).
+    pub particle_count: u32,
+    /// Next particle id.
+    pub next_id: u32,
+    /// Refused particles since the last reset.
+    pub refused: u64,
+    /// The CPU solver (CPU backend).
+    pub cpu: Option<CpuSolver>,
+    /// This frame's plan for the render world.
+    pub frame: SphFrame,
+    /// Container the solver was built for.
+    pub container: Option<BoxContainer>,
+}
+
+impl SphSimulation {
+    pub(crate) fn new(capacity: u32, requested: SphBackend) -> Self {
+        Self {
+            capacity,
+            requested,
+            backend: requested,
+            adapter: String::new(),
+            particle_count: 0,
+            next_id: 0,
+            refused: 0,
+            cpu: None,
+            frame: SphFrame::default(),
+            container: None,
+        }
+    }
+
+    /// Queues particles for spawning; refuses (and counts) what exceeds the capacity.
+    pub(crate) fn spawn(&mut self, positions: &[Vec3], velocity: Vec3) {
+        let free = (self.capacity - self.particle_count) as usize;
+        let take = positions.len().min(free);
+        self.refused += (positions.len() - take) as u64;
+        match (&mut self.cpu, self.backend) {
+            (Some(solver), SphBackend::Cpu) => {
+                solver.spawn(&positions[..take], velocity);
+            }
+            _ => {
+                for &p in &positions[..take] {
+                    self.frame
+                        .spawn_positions
+                        .push([p.x, p.y, p.z, id_to_w(self.next_id)]);
+                    self.frame
+                        .spawn_velocities
+                        .push([velocity.x, velocity.y, velocity.z, 0.0]);
+                    self.next_id += 1;
+                }
+            }
+        }
+        self.particle_count += take as u32;
+    }
+}
+
+/// What the render world reports back to the main world.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RenderFeedback {
+    /// Steps taken since the last reset.
+    pub step_count: u64,
+    /// Dispatches of the last step.
+    pub dispatches_per_step: u32,
+    /// GPU bytes allocated per particle slot (all buffers / capacity).
+    pub gpu_bytes_per_particle: u32,
+    /// Why the GPU is not stepping, prefixed `gpu:`.
+    pub status: Option<String>,
+    /// The passes of the scene's stage list, as named in GPU timings
+    /// (`render/<name>/elapsed_gpu`).
+    pub stage_names: Vec<&'static str>,
+}
+
+/// Shared between the worlds (render writes, main reads).
+#[derive(Resource, Clone, Default)]
+pub struct SphRenderFeedback(Arc<Mutex<RenderFeedback>>);
+
+impl SphRenderFeedback {
+    /// A copy of the current feedback.
+    pub fn get(&self) -> RenderFeedback {
+        self.0.lock().map(|f| f.clone()).unwrap_or_default()
+    }
+
+    /// Applies `f` to the feedback.
+    pub fn update(&self, f: impl FnOnce(&mut RenderFeedback)) {
+        if let Ok(mut guard) = self.0.lock() {
+            f(&mut guard);
+        }
+    }
+}
+
+/// The GPU clock as last read back (every frame, asynchronously, 32 bytes).
+#[derive(Resource, Default)]
+pub struct ClockReadback {
+    /// The clock buffer being read and the entity reading it.
+    pub(crate) source: Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>,
+    /// The latest clock that arrived.
+    pub latest: Option<GpuClock>,
+}
