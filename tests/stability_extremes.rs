@@ -100,7 +100,9 @@ type Setter = fn(&mut sph_core::SphParams, f32);
 /// Every runtime slider of the sandbox and its range.
 fn sandbox_sliders() -> [(&'static str, std::ops::RangeInclusive<f32>, Setter); 8] {
     [
-        ("viscosity", ranges::VISCOSITY, |p, v| p.viscosity = v),
+        ("viscosity α", ranges::VISCOSITY_ALPHA, |p, v| {
+            p.set_artificial_viscosity_alpha(v)
+        }),
         ("stiffness", ranges::STIFFNESS, |p, v| p.stiffness = v),
         ("rest_density", ranges::REST_DENSITY, |p, v| {
             ranges::set_rest_density(p, v)

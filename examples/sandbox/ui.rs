@@ -53,6 +53,29 @@ fn integrator_combo(ui: &mut egui::Ui, id: &str, integrator: &mut Integrator) {
         });
 }
 
+/// The viscosity as the artificial viscosity α of ν = α h c0 / 10 (what the presets derive it
+/// from), with ν and μ = ρ0 ν in the tooltip. μ is written only when the slider is moved, so an α
+/// outside the range (after a stiffness or rest density change) is shown clamped but kept.
+fn viscosity_alpha_slider(ui: &mut egui::Ui, p: &mut sph_core::SphParams) {
+    let mut alpha = p.artificial_viscosity_alpha();
+    let tooltip = format!(
+        "Artificial viscosity α (dimensionless, now {alpha:.3}): the kinematic viscosity is \
+         ν = α h c0 / 10 = {:.3e} m²/s (h = {:.3} m, speed of sound c0 = {:.1} m/s), \
+         applied as the dynamic viscosity μ = ρ0 ν = {:.3e} Pa s. Water's own ν is 1e-6 m²/s; \
+         this is numerical damping.",
+        p.kinematic_viscosity(),
+        p.smoothing_radius,
+        p.speed_of_sound(),
+        p.viscosity,
+    );
+    let response = ui
+        .add(slider(&mut alpha, ranges::VISCOSITY_ALPHA, "viscosity α").logarithmic(true))
+        .on_hover_text(tooltip);
+    if response.changed() {
+        p.set_artificial_viscosity_alpha(alpha);
+    }
+}
+
 /// The start screen.
 pub fn setup_panel(
     mut contexts: EguiContexts,
@@ -192,9 +215,7 @@ pub fn runtime_panel(
         .default_width(300.0)
         .show(contexts.ctx_mut()?, |ui| {
             let mut p = params.0;
-            ui.add(
-                slider(&mut p.viscosity, ranges::VISCOSITY, "viscosity μ [Pa s]").logarithmic(true),
-            );
+            viscosity_alpha_slider(ui, &mut p);
             ui.add(slider(&mut p.stiffness, ranges::STIFFNESS, "stiffness k").logarithmic(true));
             let mut rest_density = p.rest_density;
             ui.add(

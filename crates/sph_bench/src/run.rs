@@ -27,7 +27,7 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
     }
     if let Some(alpha) = args.viscosity_alpha {
         // ν = α h c0 / 10, as in the derivation.
-        p.viscosity = p.rest_density * alpha * p.smoothing_radius * p.speed_of_sound() / 10.0;
+        p.set_artificial_viscosity_alpha(alpha);
     }
     if let Some(dt) = args.dt {
         p.time_step = dt;

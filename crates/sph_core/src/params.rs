@@ -57,7 +57,8 @@ pub struct SphParams {
     pub equation_of_state: EquationOfState,
     /// Clamp negative pressures to zero (avoids tensile clumping at free surfaces).
     pub clamp_negative_pressure: bool,
-    /// Dynamic viscosity μ [Pa·s] of Müller 2003 eq. 14; 0 switches the term off.
+    /// Dynamic viscosity μ [Pa·s] of Müller 2003 eq. 14; 0 switches the term off. The presets use
+    /// it as an artificial viscosity: see [`Self::artificial_viscosity_alpha`].
     pub viscosity: f32,
     /// Akinci 2013 surface tension coefficient γ [N·m³/kg², acceleration per unit γ is
     /// m_j C(r) + Δn]; 0 switches surface tension (and the normals pass) off.
@@ -201,7 +202,6 @@ impl SphParams {
     pub fn from_spacing(d: SpacingDerivation) -> Self {
         let h = SMOOTHING_RATIO * d.spacing;
         let c0 = 10.0 * d.expected_peak_speed;
-        let kinematic_viscosity = d.viscosity_alpha * h * c0 / 10.0;
         Self {
             rest_density: d.rest_density,
             particle_mass: d.rest_density * d.spacing.powi(3),
@@ -209,7 +209,7 @@ impl SphParams {
             stiffness: d.rest_density * c0 * c0 / 7.0,
             equation_of_state: EquationOfState::Tait,
             clamp_negative_pressure: true,
-            viscosity: d.rest_density * kinematic_viscosity,
+            viscosity: viscosity_from_alpha(d.viscosity_alpha, d.rest_density, h, c0),
             surface_tension: 0.0,
             gravity: Vec3::new(0.0, -9.81, 0.0),
             wall_damping: 0.5,
@@ -232,6 +232,31 @@ impl SphParams {
             EquationOfState::Tait => (7.0 * self.stiffness / self.rest_density).sqrt(),
             EquationOfState::Linear => self.stiffness.sqrt(),
         }
+    }
+
+    /// Kinematic viscosity ν = μ / ρ0 [m²/s].
+    pub fn kinematic_viscosity(&self) -> f32 {
+        self.viscosity / self.rest_density
+    }
+
+    /// The artificial-viscosity strength α (dimensionless) that the dynamic viscosity μ stands for:
+    /// α = 10 ν / (h c0) with ν = μ / ρ0 and c0 = [`Self::speed_of_sound`], the inverse of
+    /// ν = α h c0 / 10 of [`Self::from_spacing`] (the 3-D equivalent of Monaghan's α). Not finite
+    /// when ρ0, h or c0 is zero (values that [`Self::validate`] refuses).
+    pub fn artificial_viscosity_alpha(&self) -> f32 {
+        10.0 * self.kinematic_viscosity() / (self.smoothing_radius * self.speed_of_sound())
+    }
+
+    /// Sets the dynamic viscosity from an artificial-viscosity strength α: μ = ρ0 ν with
+    /// ν = α h c0 / 10 (see [`Self::artificial_viscosity_alpha`]). It reads the current ρ0, h and
+    /// stiffness (through c0), so set those first.
+    pub fn set_artificial_viscosity_alpha(&mut self, alpha: f32) {
+        self.viscosity = viscosity_from_alpha(
+            alpha,
+            self.rest_density,
+            self.smoothing_radius,
+            self.speed_of_sound(),
+        );
     }
 
     /// CFL number dt (c0 + v_max) / h for a given peak speed.
@@ -312,6 +337,11 @@ impl SphParams {
     pub fn has_viscosity(&self) -> bool {
         self.viscosity > 0.0
     }
+}
+
+/// Dynamic viscosity μ = ρ0 ν [Pa·s] of an artificial viscosity α, ν = α h c0 / 10 [m²/s].
+fn viscosity_from_alpha(alpha: f32, rest_density: f32, h: f32, c0: f32) -> f32 {
+    rest_density * (alpha * h * c0 / 10.0)
 }
 
 impl Default for SphParams {

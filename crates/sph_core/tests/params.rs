@@ -44,6 +44,34 @@ fn derivation_from_spacing() {
 }
 
 #[test]
+fn artificial_viscosity_alpha_round_trips_through_the_dynamic_viscosity() {
+    // The water preset is derived with α = 0.05: h = 0.04 m, c0 = 30 m/s, ν = α h c0 / 10.
+    let water = SphParams::water();
+    let alpha = SpacingDerivation::default().viscosity_alpha;
+    assert!((water.artificial_viscosity_alpha() - alpha).abs() < 1e-6);
+    assert!((water.kinematic_viscosity() - alpha * 0.04 * 30.0 / 10.0).abs() < 1e-7);
+    assert!((water.viscosity - 1000.0 * water.kinematic_viscosity()).abs() < 1e-4);
+    // The design's μ = 0.02 Pa s at ρ0 = 1, h = 0.1 m, c0 = √7 m/s.
+    let seed = SphParams::seed();
+    let seed_alpha = 10.0 * 0.02 / (0.1 * 7f32.sqrt());
+    assert!((seed.artificial_viscosity_alpha() - seed_alpha).abs() < 1e-5);
+    for base in [water, seed] {
+        for alpha in [0.0, 1e-3, 0.05, 0.5, 4.0] {
+            let mut p = base;
+            p.set_artificial_viscosity_alpha(alpha);
+            let nu = alpha * p.smoothing_radius * p.speed_of_sound() / 10.0;
+            assert!(
+                (p.kinematic_viscosity() - nu).abs() <= 1e-6 * nu,
+                "α {alpha}"
+            );
+            let back = p.artificial_viscosity_alpha();
+            assert!((back - alpha).abs() <= 1e-6 * alpha, "α {alpha} -> {back}");
+            assert_eq!(p.has_viscosity(), alpha > 0.0);
+        }
+    }
+}
+
+#[test]
 fn equations_of_state() {
     let tait = Eos {
         law: EquationOfState::Tait,
