@@ -2,7 +2,6 @@
 //! allowed.
 
 use crate::scenarios::Scenario;
-use crate::validate::ValidateArgs;
 use sph_core::{Integrator, NeighborSearch};
 
 /// Which solver runs the scenario.
@@ -75,6 +74,15 @@ impl Default for RunArgs {
             substeps: 10,
         }
     }
+}
+
+/// Options of `sph-bench validate`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidateArgs {
+    /// Backend, the dam break's particles and a, viscosity α, substeps and the JSON path.
+    pub base: RunArgs,
+    /// Particles in the hydrostatic tank (about).
+    pub hydrostatic_particles: usize,
 }
 
 /// Options of `sph-bench trade`.

@@ -4,6 +4,7 @@
 
 mod args;
 mod hydrostatic;
+mod martin_moyce;
 mod plot;
 mod report;
 mod run;
@@ -139,5 +140,108 @@ fn main() {
     if let Err(e) = result {
         eprintln!("sph-bench: error: {e}");
         std::process::exit(2);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every module's source, by name (the `mod` declarations above).
+    const MODULES: [(&str, &str); 11] = [
+        ("args", include_str!("args.rs")),
+        ("hydrostatic", include_str!("hydrostatic.rs")),
+        ("martin_moyce", include_str!("martin_moyce.rs")),
+        ("plot", include_str!("plot.rs")),
+        ("report", include_str!("report.rs")),
+        ("run", include_str!("run.rs")),
+        ("scenarios", include_str!("scenarios.rs")),
+        ("sim", include_str!("sim.rs")),
+        ("soak", include_str!("soak.rs")),
+        ("trade", include_str!("trade.rs")),
+        ("validate", include_str!("validate.rs")),
+    ];
+
+    fn ident(s: &str) -> &str {
+        let end = s
+            .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+            .unwrap_or(s.len());
+        &s[..end]
+    }
+
+    /// The first segment of every `crate::` path in `source` (`crate::{a::X, b}` names a and b).
+    fn crate_paths(source: &str) -> Vec<&str> {
+        let mut named = Vec::new();
+        for (at, _) in source.match_indices("crate::") {
+            let rest = &source[at + "crate::".len()..];
+            match rest.strip_prefix('{') {
+                Some(group) => {
+                    let mut depth = 0;
+                    let mut item_start = 0;
+                    for (k, c) in group.char_indices() {
+                        match c {
+                            '{' => depth += 1,
+                            '}' if depth == 0 => {
+                                named.push(ident(group[item_start..].trim_start()));
+                                break;
+                            }
+                            '}' => depth -= 1,
+                            ',' if depth == 0 => {
+                                named.push(ident(group[item_start..].trim_start()));
+                                item_start = k + 1;
+                            }
+                            _ => {}
+                        }
+                    }
+                }
+                None => named.push(ident(rest)),
+            }
+        }
+        named.retain(|n| !n.is_empty());
+        named
+    }
+
+    #[test]
+    fn the_module_list_matches_the_declarations() {
+        let declared: Vec<&str> = include_str!("main.rs")
+            .lines()
+            .filter_map(|l| l.strip_prefix("mod ")?.strip_suffix(';'))
+            .collect();
+        let listed: Vec<&str> = MODULES.iter().map(|m| m.0).collect();
+        assert_eq!(declared, listed);
+    }
+
+    #[test]
+    fn modules_import_only_modules_below_them() {
+        let names: Vec<&str> = MODULES.iter().map(|m| m.0).collect();
+        let mut edges = Vec::new();
+        for (name, source) in MODULES {
+            // `super::` names main.rs, except in a module's own `mod tests` (its parent).
+            let outside_tests = source.split("#[cfg(test)]").next().unwrap_or(source);
+            assert!(!outside_tests.contains("super::"), "{name} names main.rs");
+            for target in crate_paths(source) {
+                assert!(names.contains(&target), "{name} names crate::{target}");
+                if target != name {
+                    edges.push((name, target));
+                }
+            }
+        }
+        // Remove modules that import nothing left, bottom up; whatever remains is a cycle.
+        let mut left = names.clone();
+        while let Some(k) = left
+            .iter()
+            .position(|m| !edges.iter().any(|(a, b)| a == m && left.contains(b)))
+        {
+            left.remove(k);
+        }
+        let cycle: Vec<_> = edges
+            .iter()
+            .filter(|(a, b)| left.contains(a) && left.contains(b))
+            .collect();
+        assert!(left.is_empty(), "import cycle among {left:?}: {cycle:?}");
+    }
+
+    #[test]
+    fn crate_paths_are_found_in_every_form() {
+        let source = "use crate::a::X;\nuse crate::{b::{Y, Z}, c};\nlet v = crate::d::f();";
+        assert_eq!(crate_paths(source), ["a", "b", "c", "d"]);
     }
 }

@@ -6,7 +6,7 @@ use crate::hydrostatic::HydrostaticSampler;
 use crate::report::{DamBreakFigures, Report};
 use crate::scenarios::{setup, Setup, G};
 use crate::sim::{CpuSimulation, GpuSimulation, Simulation, State};
-use crate::validate::{experiment, rms_error_and_best_shift};
+use crate::martin_moyce::{experiment, rms_error_and_best_shift};
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
 use sph_core::{Diagnostics, Integrator, NeighborSearch};
