@@ -1,12 +1,12 @@
 //! Runs one scenario on either backend: steps in chunks, samples the state every 0.01 s where the
 //! scenario measures something over time, shows a progress bar, and fills the report.
 
-use crate::args::{Backend, Duration, RunArgs};
+use crate::args::{integrator_name, search_name, Backend, Duration, RunArgs};
 use crate::hydrostatic::HydrostaticSampler;
+use crate::martin_moyce::{experiment, rms_error_and_best_shift};
 use crate::report::{DamBreakFigures, Report};
 use crate::scenarios::{setup, Setup, G};
 use crate::sim::{CpuSimulation, GpuSimulation, Simulation, State};
-use crate::martin_moyce::{experiment, rms_error_and_best_shift};
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
 use sph_core::{Diagnostics, Integrator, NeighborSearch};
@@ -45,16 +45,7 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
 
 /// Names of the integrator and search, as on the command line.
 pub fn names(integrator: Integrator, search: NeighborSearch) -> (&'static str, &'static str) {
-    let integrator = match integrator {
-        Integrator::SymplecticEuler => "euler",
-        Integrator::Leapfrog => "leapfrog",
-        Integrator::KickDriftKick => "kdk",
-    };
-    let search = match search {
-        NeighborSearch::Grid => "grid",
-        NeighborSearch::Hash => "hash",
-    };
-    (integrator, search)
+    (integrator_name(integrator), search_name(search))
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -244,12 +235,7 @@ pub fn run_setup(
     let unstable_step = sim.unstable_step();
     let mut report = Report {
         scenario: setup.scenario.name().into(),
-        backend: if backend == Backend::Gpu {
-            "gpu"
-        } else {
-            "cpu"
-        }
-        .into(),
+        backend: backend.name().into(),
         adapter: sim.adapter(),
         particles,
         integrator: integrator.into(),
@@ -303,6 +289,6 @@ pub fn run_setup(
 /// `sph-bench run`.
 pub fn run(args: &RunArgs) -> Result<Report, String> {
     let setup = configured_setup(args);
-    let duration = args.duration.unwrap_or(Duration::Time(setup.duration));
+    let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
     run_setup(&setup, args.backend, args.substeps, duration)
 }

@@ -52,7 +52,7 @@ pub fn run(args: &SoakArgs) -> Result<SoakReport, String> {
     let chunk = (args.steps / 100).max(1);
     let mut progress = Progress::new("soak");
     let mut report = SoakReport {
-        backend: format!("{:?}", args.backend).to_lowercase(),
+        backend: args.backend.name().into(),
         integrator: names(
             setup.scene.params.integrator,
             setup.scene.params.neighbor_search,

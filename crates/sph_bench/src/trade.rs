@@ -23,7 +23,7 @@ const INTEGRATORS: [Integrator; 3] = [
 const SWEEP_PARTICLES: usize = 2_000;
 
 /// Simulated time of a stability probe [s].
-const STABILITY_TIME: f64 = 2.0;
+const STABILITY_TIME: f32 = 2.0;
 
 /// Largest mean compression error a stable run may reach [%].
 const STABLE_DENSITY_ERROR_PCT: f32 = 10.0;
@@ -35,17 +35,10 @@ struct Row {
     report: Report,
 }
 
-fn backend_name(b: Backend) -> &'static str {
-    match b {
-        Backend::Cpu => "cpu",
-        Backend::Gpu => "gpu",
-    }
-}
-
 fn run_row(group: &'static str, label: String, args: &RunArgs) -> Result<Row, String> {
     eprintln!("sph-bench trade: {group}: {label}");
     let setup = configured_setup(args);
-    let duration = args.duration.unwrap_or(Duration::Time(setup.duration));
+    let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
     let report = run_setup(&setup, args.backend, args.substeps, duration)?;
     Ok(Row {
         group,
@@ -66,7 +59,7 @@ fn largest_stable_dt(integrator: Integrator) -> Result<(f32, f32, u32), String> 
     let base = RunArgs {
         particles: SWEEP_PARTICLES,
         integrator,
-        duration: Some(Duration::Time(STABILITY_TIME)),
+        time: Some(STABILITY_TIME),
         ..Default::default()
     };
     let derived = configured_setup(&base).scene.params.time_step;
@@ -75,7 +68,12 @@ fn largest_stable_dt(integrator: Integrator) -> Result<(f32, f32, u32), String> 
             dt: Some(dt),
             ..base.clone()
         });
-        let r = run_setup(&setup, Backend::Cpu, 1, Duration::Time(STABILITY_TIME))?;
+        let r = run_setup(
+            &setup,
+            Backend::Cpu,
+            1,
+            Duration::Time(STABILITY_TIME.into()),
+        )?;
         let ok = stable(&r);
         eprintln!(
             "  {integrator:?} dt {dt:.3e}: {} (mean density error peak {:.2} %)",
@@ -212,7 +210,7 @@ fn stage_cost_table(rows: &[Row], backends: &[Backend], particles: usize) -> Str
         "| backend | baseline (viscosity on, surface tension off) ms/step | surface tension on | viscosity off |\n|---|---|---|---|\n",
     );
     for &b in backends {
-        let name = backend_name(b);
+        let name = b.name();
         let at = |group: &str| {
             ms_of(rows, |r| {
                 r.group == group && r.report.backend == name && r.report.particles >= particles / 2

@@ -20,12 +20,12 @@ pub struct ValidateReport {
 pub fn run(args: &ValidateArgs) -> Result<ValidateReport, String> {
     let dam_break = crate::run::run(&RunArgs {
         scenario: Scenario::DamBreak,
-        ..args.base.clone()
+        ..args.base()
     })?;
     let hydrostatic = crate::run::run(&RunArgs {
         scenario: Scenario::Hydrostatic,
         particles: args.hydrostatic_particles,
-        ..args.base.clone()
+        ..args.base()
     })?;
     Ok(ValidateReport {
         dam_break,
