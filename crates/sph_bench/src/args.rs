@@ -15,6 +15,9 @@ use std::str::FromStr;
 #[derive(Clone, Debug, Parser)]
 #[command(name = "sph-bench", version, arg_required_else_help = true)]
 pub struct Cli {
+    /// No progress bars (they are also hidden when stderr is not a terminal).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
     /// What to do.
     #[command(subcommand)]
     pub command: Command,

@@ -6,6 +6,7 @@ mod args;
 mod hydrostatic;
 mod martin_moyce;
 mod plot;
+mod progress;
 mod report;
 mod run;
 mod scenarios;
@@ -16,6 +17,7 @@ mod validate;
 
 use args::{Cli, Command, RunArgs, SoakArgs, TradeArgs, ValidateArgs};
 use clap::Parser;
+use progress::Bars;
 use std::path::Path;
 
 /// Writes a report as pretty JSON to `path`, or to stdout without one.
@@ -39,14 +41,14 @@ fn health_text(r: &report::Report) -> String {
 }
 
 /// `sph-bench run`.
-fn run_command(args: &RunArgs) -> Result<(), String> {
+fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
     eprintln!(
         "sph-bench: {} on {:?}, about {} particles",
         args.scenario.name(),
         args.backend,
         args.particles
     );
-    let report = run::run(args)?;
+    let report = run::run(args, bars)?;
     write_json(&report, args.json.as_deref())?;
     eprintln!(
         "sph-bench: {} particles, {} steps, {:.3} ms/step median, {:.1} s per simulated s, \
@@ -80,13 +82,13 @@ fn run_command(args: &RunArgs) -> Result<(), String> {
 }
 
 /// `sph-bench validate`.
-fn validate_command(args: &ValidateArgs) -> Result<(), String> {
+fn validate_command(args: &ValidateArgs, bars: &Bars) -> Result<(), String> {
     eprintln!(
         "sph-bench: validation on {:?}: Martin & Moyce dam break (a = {} m, about {} \
          particles), hydrostatic tank (about {} particles)",
         args.backend, args.a, args.particles, args.hydrostatic_particles
     );
-    let report = validate::run(args)?;
+    let report = validate::run(args, bars)?;
     write_json(&report, args.json.as_deref())?;
     if let Some(d) = &report.dam_break.dam_break {
         eprintln!(
@@ -112,19 +114,19 @@ fn validate_command(args: &ValidateArgs) -> Result<(), String> {
 }
 
 /// `sph-bench trade`.
-fn trade_command(args: &TradeArgs) -> Result<(), String> {
-    let done = trade::run(args)?;
+fn trade_command(args: &TradeArgs, bars: &Bars) -> Result<(), String> {
+    let done = trade::run(args, bars)?;
     eprintln!("sph-bench: {done}");
     Ok(())
 }
 
 /// `sph-bench soak`.
-fn soak_command(args: &SoakArgs) -> Result<(), String> {
+fn soak_command(args: &SoakArgs, bars: &Bars) -> Result<(), String> {
     eprintln!(
         "sph-bench: soak on {:?}: {} steps of a {}-particle dam break",
         args.backend, args.steps, args.particles
     );
-    let report = soak::run(args)?;
+    let report = soak::run(args, bars)?;
     write_json(&report, args.json.as_deref())?;
     eprintln!(
         "sph-bench: soak: {} steps, {:.2} s simulated in {:.0} s; {}; particles lost {}; \
@@ -147,11 +149,12 @@ fn soak_command(args: &SoakArgs) -> Result<(), String> {
 fn main() {
     // Wrong arguments: clap prints the error (option, value, what is allowed) and exits with 2.
     let cli = Cli::parse();
+    let bars = Bars::new(cli.quiet);
     let result = match &cli.command {
-        Command::Run(args) => run_command(args),
-        Command::Validate(args) => validate_command(args),
-        Command::Trade(args) => trade_command(args),
-        Command::Soak(args) => soak_command(args),
+        Command::Run(args) => run_command(args, &bars),
+        Command::Validate(args) => validate_command(args, &bars),
+        Command::Trade(args) => trade_command(args, &bars),
+        Command::Soak(args) => soak_command(args, &bars),
     };
     if let Err(e) = result {
         eprintln!("sph-bench: error: {e}");
@@ -162,11 +165,12 @@ fn main() {
 #[cfg(test)]
 mod tests {
     /// Every module's source, by name (the `mod` declarations above).
-    const MODULES: [(&str, &str); 11] = [
+    const MODULES: [(&str, &str); 12] = [
         ("args", include_str!("args.rs")),
         ("hydrostatic", include_str!("hydrostatic.rs")),
         ("martin_moyce", include_str!("martin_moyce.rs")),
         ("plot", include_str!("plot.rs")),
+        ("progress", include_str!("progress.rs")),
         ("report", include_str!("report.rs")),
         ("run", include_str!("run.rs")),
         ("scenarios", include_str!("scenarios.rs")),

@@ -4,13 +4,13 @@
 use crate::args::{integrator_name, search_name, Backend, Duration, RunArgs};
 use crate::hydrostatic::HydrostaticSampler;
 use crate::martin_moyce::{experiment, rms_error_and_best_shift};
+use crate::progress::Bars;
 use crate::report::{DamBreakFigures, Report};
 use crate::scenarios::{setup, Setup, G};
 use crate::sim::{CpuSimulation, GpuSimulation, Simulation, State};
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
 use sph_core::{Diagnostics, Integrator, NeighborSearch};
-use std::io::Write;
 
 /// Interval between samples of the state [s].
 pub const SAMPLE_INTERVAL: f64 = 0.01;
@@ -54,46 +54,6 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
-}
-
-/// A one-line progress bar on stderr, redrawn when the percentage changes.
-pub struct Progress {
-    label: String,
-    shown: Option<u32>,
-}
-
-impl Progress {
-    /// A bar labelled `label`.
-    pub fn new(label: impl Into<String>) -> Self {
-        Self {
-            label: label.into(),
-            shown: None,
-        }
-    }
-
-    /// Shows `fraction` done, with `detail`.
-    pub fn show(&mut self, fraction: f64, detail: &str) {
-        let percent = (fraction.clamp(0.0, 1.0) * 100.0) as u32;
-        if self.shown == Some(percent) {
-            return;
-        }
-        self.shown = Some(percent);
-        let filled = (percent / 5) as usize;
-        eprint!(
-            "\r  {} [{}{}] {percent:3}% {detail}   ",
-            self.label,
-            "#".repeat(filled),
-            ".".repeat(20 - filled)
-        );
-        let _ = std::io::stderr().flush();
-    }
-
-    /// Ends the line.
-    pub fn finish(&mut self) {
-        if self.shown.is_some() {
-            eprintln!();
-        }
-    }
 }
 
 /// What a scenario records while it runs.
@@ -155,31 +115,44 @@ pub fn simulation(
     setup: &Setup,
     backend: Backend,
     substeps: u32,
+    bars: &Bars,
 ) -> Result<Box<dyn Simulation>, String> {
     Ok(match backend {
         Backend::Cpu => Box::new(CpuSimulation::new(setup)?),
         Backend::Gpu => {
             let mut gpu = GpuSimulation::new(setup, substeps)?;
-            eprintln!("  compiling shaders and taking the first step");
+            bars.note("  compiling shaders and taking the first step");
             gpu.advance(1)?;
             Box::new(gpu)
         }
     })
 }
 
-/// Runs `setup` on `backend` for `duration` and reports.
+/// Progress in the bar's units: steps, or simulated milliseconds.
+fn progress_units(duration: Duration, steps: u64, time: f64) -> (u64, u64) {
+    match duration {
+        Duration::Steps(n) => (steps.min(n), n),
+        Duration::Time(t) => {
+            let len = (t * 1e3).ceil() as u64;
+            (((time * 1e3).round() as u64).min(len), len)
+        }
+    }
+}
+
+/// Runs `setup` on `backend` for `duration` and reports; a progress bar in `bars` shows how far.
 pub fn run_setup(
     setup: &Setup,
     backend: Backend,
     substeps: u32,
     duration: Duration,
+    bars: &Bars,
 ) -> Result<Report, String> {
-    let mut sim = simulation(setup, backend, substeps)?;
+    let mut sim = simulation(setup, backend, substeps, bars)?;
     let params = setup.scene.params;
     let mut samples = Samples::for_setup(setup);
     let mut times = Vec::new();
     let mut next_sample = 0.0;
-    let mut progress = Progress::new(setup.scenario.name());
+    let mut progress = bars.run(setup.scenario.name(), progress_units(duration, 0, 0.0).1);
     let finished = |sim: &dyn Simulation| match duration {
         Duration::Steps(n) => sim.steps() >= n,
         Duration::Time(t) => sim.time() >= t - 1e-9,
@@ -210,13 +183,10 @@ pub fn run_setup(
         if taken > 0 {
             times.push(ms / taken as f64);
         }
-        let fraction = match duration {
-            Duration::Steps(n) => sim.steps() as f64 / n.max(1) as f64,
-            Duration::Time(t) => sim.time() / t,
-        };
-        progress.show(
-            fraction,
-            &format!("t = {:.3} s, step {}", sim.time(), sim.steps()),
+        let (done, _) = progress_units(duration, sim.steps(), sim.time());
+        progress.set(
+            done,
+            format!("t = {:.3} s, step {}", sim.time(), sim.steps()),
         );
     }
     progress.finish();
@@ -287,8 +257,8 @@ pub fn run_setup(
 }
 
 /// `sph-bench run`.
-pub fn run(args: &RunArgs) -> Result<Report, String> {
+pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
     let setup = configured_setup(args);
     let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
-    run_setup(&setup, args.backend, args.substeps, duration)
+    run_setup(&setup, args.backend, args.substeps, duration, bars)
 }

@@ -3,7 +3,8 @@
 //! loss, sampled a hundred times along the way. Not part of the test suite.
 
 use crate::args::SoakArgs;
-use crate::run::{diagnostics, names, simulation, Progress};
+use crate::progress::Bars;
+use crate::run::{diagnostics, names, simulation};
 use crate::scenarios::{setup, Scenario};
 use serde::Serialize;
 
@@ -45,12 +46,12 @@ pub struct SoakReport {
 }
 
 /// Runs the soak.
-pub fn run(args: &SoakArgs) -> Result<SoakReport, String> {
+pub fn run(args: &SoakArgs, bars: &Bars) -> Result<SoakReport, String> {
     let setup = setup(Scenario::DamBreak, args.particles, 0.146);
-    let mut sim = simulation(&setup, args.backend, args.substeps)?;
+    let mut sim = simulation(&setup, args.backend, args.substeps, bars)?;
     let started = std::time::Instant::now();
     let chunk = (args.steps / 100).max(1);
-    let mut progress = Progress::new("soak");
+    let mut progress = bars.run("soak", args.steps);
     let mut report = SoakReport {
         backend: args.backend.name().into(),
         integrator: names(
@@ -76,9 +77,9 @@ pub fn run(args: &SoakArgs) -> Result<SoakReport, String> {
             d.particle_count as f64,
         ]);
         report.density_error_peak_pct = report.density_error_peak_pct.max(d.density_error_mean_pct);
-        progress.show(
-            sim.steps() as f64 / args.steps as f64,
-            &format!(
+        progress.set(
+            sim.steps(),
+            format!(
                 "step {}, t = {:.2} s, density error {:.3} %",
                 sim.steps(),
                 sim.time(),

@@ -6,6 +6,7 @@
 
 use crate::args::{Backend, Duration, RunArgs, TradeArgs};
 use crate::plot::{write_stacked_png, ScatterPlot, Series, PALETTE};
+use crate::progress::Bars;
 use crate::report::Report;
 use crate::run::{configured_setup, names, run_setup};
 use crate::scenarios::Scenario;
@@ -35,11 +36,24 @@ struct Row {
     report: Report,
 }
 
-fn run_row(group: &'static str, label: String, args: &RunArgs) -> Result<Row, String> {
-    eprintln!("sph-bench trade: {group}: {label}");
-    let setup = configured_setup(args);
+/// One run of the study, before it runs.
+struct Planned {
+    group: &'static str,
+    label: String,
+    args: RunArgs,
+}
+
+impl Planned {
+    fn new(group: &'static str, label: String, args: RunArgs) -> Self {
+        Self { group, label, args }
+    }
+}
+
+fn run_row(planned: Planned, bars: &Bars) -> Result<Row, String> {
+    let Planned { group, label, args } = planned;
+    let setup = configured_setup(&args);
     let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
-    let report = run_setup(&setup, args.backend, args.substeps, duration)?;
+    let report = run_setup(&setup, args.backend, args.substeps, duration, bars)?;
     Ok(Row {
         group,
         label,
@@ -54,8 +68,8 @@ fn stable(r: &Report) -> bool {
 }
 
 /// The largest stable dt of `integrator` on the dam break, by bisection in log(dt) between the
-/// derived step (stable) and 0.01 s; returns (dt, probes).
-fn largest_stable_dt(integrator: Integrator) -> Result<(f32, f32, u32), String> {
+/// derived step (stable) and 0.01 s; returns (that dt, the derived dt, probes).
+fn largest_stable_dt(integrator: Integrator, bars: &Bars) -> Result<(f32, f32, u32), String> {
     let base = RunArgs {
         particles: SWEEP_PARTICLES,
         integrator,
@@ -68,18 +82,14 @@ fn largest_stable_dt(integrator: Integrator) -> Result<(f32, f32, u32), String> 
             dt: Some(dt),
             ..base.clone()
         });
-        let r = run_setup(
-            &setup,
-            Backend::Cpu,
-            1,
-            Duration::Time(STABILITY_TIME.into()),
-        )?;
+        let duration = Duration::Time(STABILITY_TIME.into());
+        let r = run_setup(&setup, Backend::Cpu, 1, duration, bars)?;
         let ok = stable(&r);
-        eprintln!(
+        bars.note(format_args!(
             "  {integrator:?} dt {dt:.3e}: {} (mean density error peak {:.2} %)",
             if ok { "stable" } else { "unstable" },
             r.density_error_mean_max_pct
-        );
+        ));
         Ok(ok)
     };
     let (mut lo, mut hi) = (derived, 0.01f32);
@@ -236,9 +246,9 @@ fn stage_cost_table(rows: &[Row], backends: &[Backend], particles: usize) -> Str
     s
 }
 
-/// Runs the study and writes `trade.md` and `trade.png` into `args.out_dir`.
-pub fn run(args: &TradeArgs) -> Result<String, String> {
-    let mut rows = Vec::new();
+/// The runs of the study's table, in order.
+fn plan(args: &TradeArgs) -> Vec<Planned> {
+    let mut plan = Vec::new();
     let cpu = RunArgs {
         particles: SWEEP_PARTICLES,
         substeps: args.substeps,
@@ -253,118 +263,141 @@ pub fn run(args: &TradeArgs) -> Result<String, String> {
         };
         let derived = configured_setup(&base).scene.params.time_step;
         for factor in [1.0f32, 2.0, 4.0] {
-            rows.push(run_row(
+            plan.push(Planned::new(
                 "integrator × dt",
                 format!("{name}, {factor} × derived dt"),
-                &RunArgs {
+                RunArgs {
                     dt: Some(derived * factor),
                     ..base.clone()
                 },
-            )?);
+            ));
         }
-        rows.push(run_row(
+        plan.push(Planned::new(
             "integrator × dt",
             format!("{name}, adaptive λ 0.4"),
-            &RunArgs {
+            RunArgs {
                 adaptive: true,
                 dt: Some(0.01),
                 ..base.clone()
             },
-        )?);
+        ));
     }
     // Particle count × backend; search, surface tension and viscosity at the largest count.
-    let largest = args
-        .particles
-        .iter()
-        .copied()
-        .max()
-        .unwrap_or(SWEEP_PARTICLES);
+    let largest = largest_count(args);
     for &backend in &args.backends {
         let b = RunArgs {
             backend,
             ..cpu.clone()
         };
         for &n in &args.particles {
-            rows.push(run_row(
+            plan.push(Planned::new(
                 "particles",
                 format!("about {n} particles"),
-                &RunArgs {
+                RunArgs {
                     particles: n,
                     ..b.clone()
                 },
-            )?);
+            ));
         }
         let at_largest = RunArgs {
             particles: largest,
             ..b.clone()
         };
-        rows.push(run_row(
+        plan.push(Planned::new(
             "search",
             "spatial hash".into(),
-            &RunArgs {
+            RunArgs {
                 search: NeighborSearch::Hash,
                 ..at_largest.clone()
             },
-        )?);
-        rows.push(run_row(
+        ));
+        plan.push(Planned::new(
             "surface tension",
             "surface tension on".into(),
-            &RunArgs {
+            RunArgs {
                 surface_tension: true,
                 ..at_largest.clone()
             },
-        )?);
-        rows.push(run_row(
+        ));
+        plan.push(Planned::new(
             "viscosity",
             "viscosity off".into(),
-            &RunArgs {
+            RunArgs {
                 viscosity_alpha: Some(0.0),
                 ..at_largest.clone()
             },
-        )?);
-        rows.push(run_row(
+        ));
+        plan.push(Planned::new(
             "hydrostatic",
             "tank at rest, 1 s".into(),
-            &RunArgs {
+            RunArgs {
                 scenario: Scenario::Hydrostatic,
                 ..at_largest.clone()
             },
-        )?);
+        ));
         if backend == Backend::Cpu {
             // Less artificial viscosity matches the front better, but a tank at rest no
             // longer calms down (see the README's physics notes).
             for alpha in [0.02f32, 0.03] {
-                rows.push(run_row(
+                plan.push(Planned::new(
                     "viscosity α",
                     format!("α = {alpha} (default 0.05)"),
-                    &RunArgs {
+                    RunArgs {
                         viscosity_alpha: Some(alpha),
                         ..at_largest.clone()
                     },
-                )?);
+                ));
             }
         }
         if args.dambreak32k {
             for (label, adaptive) in [("dt 1e-3 as specified", false), ("adaptive λ 0.4", true)] {
-                rows.push(run_row(
+                plan.push(Planned::new(
                     "dambreak32k",
                     label.into(),
-                    &RunArgs {
+                    RunArgs {
                         scenario: Scenario::DamBreak32k,
                         adaptive,
                         ..b.clone()
                     },
-                )?);
+                ));
             }
         }
+    }
+    plan
+}
+
+/// The largest particle count of the sweep (where search and the optional stages are compared).
+fn largest_count(args: &TradeArgs) -> usize {
+    args.particles
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(SWEEP_PARTICLES)
+}
+
+/// Runs the study and writes `trade.md` and `trade.png` into `args.out_dir`.
+pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
+    let plan = plan(args);
+    let largest = largest_count(args);
+    let bars = bars.clearing_finished_runs();
+    let runs = plan.len() + INTEGRATORS.len();
+    let mut study = bars.study("trade", runs as u64);
+    let mut rows = Vec::with_capacity(plan.len());
+    for (k, planned) in plan.into_iter().enumerate() {
+        let what = format!("{}: {}", planned.group, planned.label);
+        study.set(k as u64, what.clone());
+        bars.note(format_args!("sph-bench trade: {what}"));
+        rows.push(run_row(planned, &bars)?);
     }
     // Largest stable dt per integrator (CPU, bisection).
     let mut limits = String::from(
         "| integrator | largest stable dt [s] | derived dt [s] | ratio | CFL number at c0 |\n|---|---|---|---|---|\n",
     );
-    for integrator in INTEGRATORS {
-        eprintln!("sph-bench trade: largest stable dt of {integrator:?}");
-        let (dt, derived, probes) = largest_stable_dt(integrator)?;
+    for (k, integrator) in INTEGRATORS.into_iter().enumerate() {
+        let what = format!("largest stable dt of {integrator:?}");
+        study.set((rows.len() + k) as u64, what.clone());
+        bars.note(format_args!("sph-bench trade: {what}"));
+        let (dt, derived, probes) = largest_stable_dt(integrator, &bars)?;
         let params = configured_setup(&RunArgs {
             particles: SWEEP_PARTICLES,
             ..Default::default()
@@ -411,6 +444,8 @@ pub fn run(args: &TradeArgs) -> Result<String, String> {
     );
     let md = dir.join("trade.md");
     std::fs::write(&md, &markdown).map_err(|e| format!("cannot write {}: {e}", md.display()))?;
+    study.set(runs as u64, "done");
+    study.finish();
     Ok(format!(
         "wrote {} and {}",
         md.display(),

@@ -3,6 +3,7 @@
 //! and the hydrostatic tank against ρ0 g depth.
 
 use crate::args::{RunArgs, ValidateArgs};
+use crate::progress::Bars;
 use crate::report::Report;
 use crate::scenarios::Scenario;
 use serde::Serialize;
@@ -17,16 +18,22 @@ pub struct ValidateReport {
 }
 
 /// Runs the dam break and the hydrostatic tank.
-pub fn run(args: &ValidateArgs) -> Result<ValidateReport, String> {
-    let dam_break = crate::run::run(&RunArgs {
-        scenario: Scenario::DamBreak,
-        ..args.base()
-    })?;
-    let hydrostatic = crate::run::run(&RunArgs {
-        scenario: Scenario::Hydrostatic,
-        particles: args.hydrostatic_particles,
-        ..args.base()
-    })?;
+pub fn run(args: &ValidateArgs, bars: &Bars) -> Result<ValidateReport, String> {
+    let dam_break = crate::run::run(
+        &RunArgs {
+            scenario: Scenario::DamBreak,
+            ..args.base()
+        },
+        bars,
+    )?;
+    let hydrostatic = crate::run::run(
+        &RunArgs {
+            scenario: Scenario::Hydrostatic,
+            particles: args.hydrostatic_particles,
+            ..args.base()
+        },
+        bars,
+    )?;
     Ok(ValidateReport {
         dam_break,
         hydrostatic,
