@@ -46,6 +46,10 @@ pub struct SphControl {
     pub substeps: u32,
     /// The density pass also records each particle's neighbour count (debug views; GPU only).
     pub record_neighbor_counts: bool,
+    /// How unstable steps are handled: rolled back to the last checkpoint and retried at half
+    /// the dt (the default), or frozen at once ([`sph_core::Rollback::off`]). Invalid settings are
+    /// refused and named in [`SphStats::error`].
+    pub rollback: sph_core::Rollback,
 }
 
 impl Default for SphControl {
@@ -56,6 +60,7 @@ impl Default for SphControl {
             reset: false,
             substeps: 1,
             record_neighbor_counts: false,
+            rollback: sph_core::Rollback::default(),
         }
     }
 }
@@ -69,8 +74,9 @@ pub enum SphHealth {
     /// No NaN, nothing outside the container.
     Ok,
     /// A step went unstable (see `sph_core::stability`: a non-finite speed or acceleration, a
-    /// particle crossing more than h in one step), or NaN or escaped particles were seen. The
-    /// simulation is frozen (GPU) or rolled back to the step before and frozen (CPU) until reset.
+    /// particle crossing more than h in one step) and could not be rolled back (rollback off, or
+    /// out of retries), or NaN or escaped particles were seen. The simulation is frozen until
+    /// reset.
     Unstable {
         /// The step (1-based, since the last reset) at which the instability was detected.
         step: u64,
@@ -116,6 +122,8 @@ pub struct SphStats {
     pub capacity: u32,
     /// Particles refused because the capacity was full, since the last reset.
     pub refused_spawns: u64,
+    /// Unstable steps rolled back since the last reset (see [`SphControl::rollback`]).
+    pub rollbacks: u64,
     /// Compute dispatches in the last step (GPU backend).
     pub dispatches_per_step: u32,
     /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports

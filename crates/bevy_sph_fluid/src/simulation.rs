@@ -360,7 +360,7 @@ fn sph_plan_step(
         sim.frame.active = false;
         return;
     };
-    if let Err(e) = params.validate() {
+    if let Err(e) = params.validate().and(control.rollback.validate()) {
         stats.error = Some(e.to_string());
         sim.frame.steps = 0;
         return;
@@ -372,6 +372,12 @@ fn sph_plan_step(
             };
             if *solver.params() != params.0 {
                 if let Err(e) = solver.set_params(params.0) {
+                    stats.error = Some(e.to_string());
+                    return;
+                }
+            }
+            if solver.rollback() != control.rollback {
+                if let Err(e) = solver.set_rollback(control.rollback) {
                     stats.error = Some(e.to_string());
                     return;
                 }
@@ -413,6 +419,7 @@ fn sph_update_stats(
             stats.sim_time = solver.time();
             stats.time_step = solver.last_time_step();
             stats.clock_steps = solver.step_count();
+            stats.rollbacks = solver.rollbacks();
             stats.dispatches_per_step = 0;
             let d = solver.diagnostics();
             stats.health = match solver.unstable_step() {

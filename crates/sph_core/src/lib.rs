@@ -30,6 +30,7 @@ pub mod integrate;
 pub mod kernel;
 pub mod neighbor;
 pub mod params;
+pub mod rollback;
 pub mod rng;
 pub mod scenario;
 pub mod solver;
@@ -43,6 +44,7 @@ pub use diagnostics::Diagnostics;
 pub use eos::Eos;
 pub use kernel::Kernels;
 pub use neighbor::Neighbors;
+pub use rollback::Rollback;
 pub use params::{
     EquationOfState, Integrator, NeighborSearch, ParamError, SpacingDerivation, SphParams,
 };

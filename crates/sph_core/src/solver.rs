@@ -8,6 +8,7 @@ use crate::forces::{compute_accelerations, ForceInputs};
 use crate::integrate;
 use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
+use crate::rollback::{Rollback, RollbackState, Verdict};
 use crate::stability::{adaptive_time_step, StepExtremes};
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::compute_normals;
@@ -145,8 +146,14 @@ pub struct CpuSolver {
     forces_stale: bool,
     /// The time step of the last step [s].
     last_dt: f32,
-    /// The state before the last step, restored when that step went unstable.
+    /// The last good state (see [`crate::rollback`]), restored when a step goes unstable.
     checkpoint: ParticleData,
+    /// Simulated time at the checkpoint [s].
+    checkpoint_time: f64,
+    /// How unstable steps are handled.
+    rollback: Rollback,
+    /// Checkpoints, retries and the dt scale.
+    rollback_state: RollbackState,
     /// The step (1-based) that went unstable; the solver is frozen until [`CpuSolver::clear`].
     unstable_step: Option<u64>,
 }
@@ -194,6 +201,9 @@ impl CpuSolver {
             forces_stale: true,
             last_dt: params.time_step,
             checkpoint: ParticleData::default(),
+            checkpoint_time: 0.0,
+            rollback: Rollback::default(),
+            rollback_state: RollbackState::default(),
             unstable_step: None,
         })
     }
@@ -297,19 +307,46 @@ impl CpuSolver {
             self.next_id += 1;
         }
         self.forces_stale |= take > 0;
+        self.rollback_state.save_requested |= take > 0;
         SpawnReport {
             spawned: take,
             refused: positions.len() - take,
         }
     }
 
-    /// Removes every particle, resets time and clears an instability freeze.
+    /// Removes every particle, resets time and clears an instability freeze, the checkpoint and
+    /// the rollback counters.
     pub fn clear(&mut self) {
         self.particles = ParticleData::default();
+        self.checkpoint = ParticleData::default();
+        self.rollback_state = RollbackState::default();
         self.next_id = 0;
         self.step_count = 0;
         self.time = 0.0;
         self.unstable_step = None;
+    }
+
+    /// How unstable steps are handled (rollback on by default).
+    pub fn rollback(&self) -> Rollback {
+        self.rollback
+    }
+
+    /// Sets how unstable steps are handled (validated; the previous settings stay on error).
+    pub fn set_rollback(&mut self, rollback: Rollback) -> Result<(), ParamError> {
+        rollback.validate()?;
+        self.rollback = rollback;
+        Ok(())
+    }
+
+    /// Rollbacks since the last reset.
+    pub fn rollbacks(&self) -> u64 {
+        self.rollback_state.rollbacks
+    }
+
+    /// The factor applied to the time-step rule's dt: 1, or 2^-k after k rollbacks not yet
+    /// recovered from.
+    pub fn time_step_scale(&self) -> f32 {
+        self.rollback_state.dt_scale()
     }
 
     /// The step (1-based) detected as unstable, if any (see [`crate::stability`]). That step was
@@ -381,36 +418,56 @@ impl CpuSolver {
     }
 
     /// Advances the simulation by one time step with the selected integrator and time-step rule.
-    /// A step that goes unstable is rolled back and freezes the solver (see
-    /// [`Self::unstable_step`]).
+    /// A step that goes unstable is rolled back to the last checkpoint and the next step retries
+    /// at half the dt (see [`crate::rollback`]); with rollback off, or out of retries, the state
+    /// goes back to the last good one and the solver freezes (see [`Self::unstable_step`]).
     pub fn step(&mut self) {
         if self.unstable_step.is_some() {
             return;
         }
-        self.checkpoint.copy_from(&self.particles);
-        let dt = self.advance();
+        let state = &mut self.rollback_state;
+        if !self.rollback.enabled || state.checkpoint_due(&self.rollback, self.step_count) {
+            self.checkpoint.copy_from(&self.particles);
+            self.checkpoint_time = self.time;
+            state.saved(self.step_count);
+        }
+        let scale = state.dt_scale();
+        let dt = self.advance(scale);
         let p = &self.particles;
         let after = StepExtremes::measure(&p.velocity, &p.acceleration);
-        if after.is_unstable(dt, self.params.smoothing_radius) {
-            std::mem::swap(&mut self.particles, &mut self.checkpoint);
-            self.unstable_step = Some(self.step_count + 1);
-            self.forces_stale = true;
-            return;
+        let unstable = after.is_unstable(dt, self.params.smoothing_radius);
+        match self.rollback_state.after_check(&self.rollback, unstable) {
+            Verdict::Stable => {
+                self.last_dt = dt;
+                self.step_count += 1;
+                self.time += dt as f64;
+            }
+            Verdict::Retry => self.restore_checkpoint(),
+            Verdict::Freeze => {
+                let failed = self.step_count + 1;
+                self.restore_checkpoint();
+                self.unstable_step = Some(failed);
+            }
         }
-        self.last_dt = dt;
-        self.step_count += 1;
-        self.time += dt as f64;
     }
 
-    /// One step with the selected integrator; returns its dt.
-    fn advance(&mut self) -> f32 {
+    /// The state, step count and time of the checkpoint become current again.
+    fn restore_checkpoint(&mut self) {
+        self.particles.copy_from(&self.checkpoint);
+        self.step_count = self.rollback_state.checkpoint_step;
+        self.time = self.checkpoint_time;
+        self.forces_stale = true;
+    }
+
+    /// One step with the selected integrator at `dt_scale` times the rule's dt; returns its dt.
+    fn advance(&mut self, dt_scale: f32) -> f32 {
         let ctx = StageContext::new(&self.params);
         let dt;
         let walls = self.container.walls(self.params.wall_damping);
         match self.params.integrator {
             Integrator::SymplecticEuler => {
                 self.evaluate(&ctx, true);
-                dt = self.next_time_step();
+                dt = self.next_time_step() * dt_scale;
                 let p = &mut self.particles;
                 timed(&mut self.timings.integrate, || {
                     integrate::euler(
@@ -427,7 +484,7 @@ impl CpuSolver {
                     // The closing kick of the previous step left no valid acceleration.
                     self.evaluate(&ctx, true);
                 }
-                dt = self.next_time_step();
+                dt = self.next_time_step() * dt_scale;
                 let p = &mut self.particles;
                 timed(&mut self.timings.integrate, || {
                     integrate::kick_drift(
@@ -453,7 +510,7 @@ impl CpuSolver {
             }
             Integrator::Leapfrog => {
                 self.evaluate(&ctx, true);
-                dt = self.next_time_step();
+                dt = self.next_time_step() * dt_scale;
                 let p = &mut self.particles;
                 timed(&mut self.timings.integrate, || {
                     p.acceleration_start.copy_from_slice(&p.acceleration);
