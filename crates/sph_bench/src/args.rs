@@ -221,6 +221,10 @@ pub struct RunArgs {
     /// The adaptive time step (CFL, viscous and force limits).
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "off")]
     pub adaptive: bool,
+    /// Roll unstable steps back to the last checkpoint and retry at half the dt (off: the
+    /// first unstable step ends the run).
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
+    pub rollback: bool,
     /// Artificial viscosity α of ν = α h c0 / 10 [default: the scenario's, 0.05].
     #[arg(long, value_name = "ALPHA", value_parser = viscosity_alpha)]
     pub viscosity_alpha: Option<f32>,
@@ -252,6 +256,7 @@ impl Default for RunArgs {
             dt: None,
             cfl: None,
             adaptive: false,
+            rollback: true,
             viscosity_alpha: None,
             steps: None,
             time: None,
@@ -290,6 +295,10 @@ pub struct ValidateArgs {
     /// Artificial viscosity α of ν = α h c0 / 10 [default: the scenarios', 0.05].
     #[arg(long, value_name = "ALPHA", value_parser = viscosity_alpha)]
     pub viscosity_alpha: Option<f32>,
+    /// Roll unstable steps back to the last checkpoint and retry at half the dt (off: the
+    /// first unstable step ends the run).
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
+    pub rollback: bool,
     /// Steps per frame on the GPU backend [steps].
     #[arg(long, value_name = "K", value_parser = substeps, default_value = "10")]
     pub substeps: u32,
@@ -306,6 +315,7 @@ impl ValidateArgs {
             particles: self.particles,
             a: self.a,
             viscosity_alpha: self.viscosity_alpha,
+            rollback: self.rollback,
             substeps: self.substeps,
             json: self.json.clone(),
             ..Default::default()
@@ -351,6 +361,10 @@ pub struct SoakArgs {
     /// About how many particles in the dam break [particles].
     #[arg(long, value_name = "N", value_parser = particles, default_value = "4096")]
     pub particles: usize,
+    /// Roll unstable steps back to the last checkpoint and retry at half the dt (off: the
+    /// first unstable step ends the run).
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
+    pub rollback: bool,
     /// Steps per frame on the GPU backend [steps].
     #[arg(long, value_name = "K", value_parser = substeps, default_value = "20")]
     pub substeps: u32,
@@ -404,6 +418,11 @@ mod tests {
         assert_eq!(a.search, NeighborSearch::Hash);
         assert_eq!(a.cfl, Some(0.3));
         assert_eq!(a.duration(), Some(Duration::Time(0.5)));
+        assert!(a.rollback, "rollback is on by default");
+        let Ok(Command::Soak(s)) = parse(&["soak", "--rollback", "off"]) else {
+            panic!("not a soak");
+        };
+        assert!(!s.rollback);
     }
 
     #[test]
@@ -435,7 +454,7 @@ mod tests {
             (s.backend, s.steps, s.particles),
             (Backend::Cpu, 100_000, 4_096)
         );
-        assert_eq!((s.substeps, s.json), (20, None));
+        assert_eq!((s.substeps, s.json, s.rollback), (20, None, true));
     }
 
     #[test]

@@ -34,10 +34,17 @@ fn write_json(report: &impl serde::Serialize, path: Option<&Path>) -> Result<(),
 }
 
 fn health_text(r: &report::Report) -> String {
-    match r.unstable_step {
+    let health = match r.unstable_step {
         Some(step) => format!("unstable at step {step}"),
         None => r.health.clone(),
+    };
+    if r.rollbacks == 0 {
+        return health;
     }
+    format!(
+        "{health}; rollbacks {}, dt at the end {:.2e} s",
+        r.rollbacks, r.dt_last
+    )
 }
 
 /// `sph-bench run`.
@@ -129,8 +136,8 @@ fn soak_command(args: &SoakArgs, bars: &Bars) -> Result<(), String> {
     let report = soak::run(args, bars)?;
     write_json(&report, args.json.as_deref())?;
     eprintln!(
-        "sph-bench: soak: {} steps, {:.2} s simulated in {:.0} s; {}; particles lost {}; \
-         density error {:.3} % early, {:.3} % late, peak {:.3} %",
+        "sph-bench: soak: {} steps, {:.2} s simulated in {:.0} s; {}; rollbacks {}; \
+         particles lost {}; density error {:.3} % early, {:.3} % late, peak {:.3} %",
         report.steps,
         report.sim_time,
         report.wall_seconds,
@@ -138,6 +145,7 @@ fn soak_command(args: &SoakArgs, bars: &Bars) -> Result<(), String> {
             Some(s) => format!("unstable at step {s}"),
             None => report.health.clone(),
         },
+        report.rollbacks,
         report.particles_lost,
         report.density_error_early_pct,
         report.density_error_late_pct,

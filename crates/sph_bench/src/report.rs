@@ -80,7 +80,15 @@ pub struct Report {
     pub gpu_bytes_per_particle: u32,
     /// GPU memory of one million particles at that rate [MiB].
     pub gpu_mib_per_million: f64,
-    /// "ok", or "unstable" (a step went unstable, or NaN or escaped particles at the end).
+    /// Unstable steps were rolled back and retried at half the dt (`--rollback on`).
+    pub rollback: bool,
+    /// Unstable steps rolled back (0 with rollback off).
+    pub rollbacks: u64,
+    /// The time step in use at the end [s] (after any halving by rollbacks; the adaptive rule's
+    /// last dt).
+    pub dt_last: f32,
+    /// "ok", or "unstable" (a step went unstable and could not be rolled back, or NaN or escaped
+    /// particles at the end).
     pub health: String,
     /// The step at which the instability was detected (the run stops there).
     pub unstable_step: Option<u64>,

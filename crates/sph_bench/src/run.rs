@@ -10,13 +10,13 @@ use crate::scenarios::{setup, Setup, G};
 use crate::sim::{CpuSimulation, GpuSimulation, Simulation, State};
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
-use sph_core::{Diagnostics, Integrator, NeighborSearch};
+use sph_core::{Diagnostics, Integrator, NeighborSearch, Rollback};
 
 /// Interval between samples of the state [s].
 pub const SAMPLE_INTERVAL: f64 = 0.01;
 
-/// The setup of the arguments: the scenario with the integrator, search, surface tension and
-/// time-step overrides applied.
+/// The setup of the arguments: the scenario with the integrator, search, surface tension,
+/// time-step and rollback overrides applied.
 pub fn configured_setup(args: &RunArgs) -> Setup {
     let mut s = setup(args.scenario, args.particles, args.a);
     let p = &mut s.scene.params;
@@ -40,7 +40,17 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
             p.time_step = lambda * p.smoothing_radius / (1.1 * p.speed_of_sound());
         }
     }
+    s.rollback = rollback(args.rollback);
     s
+}
+
+/// The rollback settings of `--rollback on|off`.
+pub fn rollback(on: bool) -> Rollback {
+    if on {
+        Rollback::default()
+    } else {
+        Rollback::off()
+    }
 }
 
 /// Names of the integrator and search, as on the command line.
@@ -230,6 +240,9 @@ pub fn run_setup(
         particles_final: d.particle_count,
         gpu_bytes_per_particle: sim.gpu_bytes_per_particle(),
         gpu_mib_per_million: sim.gpu_bytes_per_particle() as f64 * 1e6 / (1024.0 * 1024.0),
+        rollback: setup.rollback.enabled,
+        rollbacks: sim.rollbacks(),
+        dt_last: sim.last_dt(),
         health: if unstable_step.is_some() || d.non_finite_count > 0 || d.outside_count > 0 {
             "unstable"
         } else {
@@ -261,4 +274,59 @@ pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
     let setup = configured_setup(args);
     let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
     run_setup(&setup, args.backend, args.substeps, duration, bars)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small dam break at several times its derived dt (0.003 s), for 0.2 s.
+    fn too_large_a_step(rollback: bool) -> Report {
+        let args = RunArgs {
+            particles: 500,
+            dt: Some(0.003),
+            rollback,
+            ..Default::default()
+        };
+        let derived = configured_setup(&RunArgs {
+            dt: None,
+            ..args.clone()
+        })
+        .scene
+        .params
+        .time_step;
+        assert!(0.003 > 4.0 * derived, "derived dt {derived}");
+        let setup = configured_setup(&args);
+        run_setup(
+            &setup,
+            Backend::Cpu,
+            1,
+            Duration::Time(0.2),
+            &Bars::new(true),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn rollback_reaches_the_solver_and_the_report() {
+        let on = too_large_a_step(true);
+        assert!(
+            on.rollback && on.rollbacks > 0,
+            "{} rollbacks",
+            on.rollbacks
+        );
+        assert_eq!((on.health.as_str(), on.unstable_step), ("ok", None));
+        assert!(
+            on.dt_last < 0.003 && on.dt_last > 0.0,
+            "dt_last {}",
+            on.dt_last
+        );
+        assert!(on.sim_time >= 0.2 - 1e-6);
+        let off = too_large_a_step(false);
+        assert!(!off.rollback);
+        assert_eq!(off.rollbacks, 0);
+        assert_eq!(off.health, "unstable");
+        assert!(off.unstable_step.is_some());
+        assert_eq!(off.dt_last, 0.003);
+    }
 }

@@ -2,7 +2,7 @@
 
 use sph_core::glam::Vec3;
 use sph_core::scenario::{dam_break, hydrostatic, Scene};
-use sph_core::{BoxContainer, PipeEmitter, SpacingDerivation, SphParams};
+use sph_core::{BoxContainer, PipeEmitter, Rollback, SpacingDerivation, SphParams};
 
 /// Gravity [m/s²] of every scenario (T = t sqrt(2g/a)).
 pub const G: f64 = 9.81;
@@ -67,6 +67,8 @@ pub struct Setup {
     pub column_width_a: Option<f32>,
     /// The water height of the hydrostatic tank [m].
     pub water_depth: Option<f32>,
+    /// How unstable steps are handled (rollback on unless the command turns it off).
+    pub rollback: Rollback,
 }
 
 /// Rounds `length` to whole lattice cells of `spacing`.
@@ -91,6 +93,7 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 duration: 2.8 / (2.0 * G / a as f64).sqrt(),
                 column_width_a: Some(a),
                 water_depth: None,
+                rollback: Rollback::default(),
                 emitter: None,
                 scene,
             }
@@ -107,6 +110,7 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 duration: 1.0,
                 column_width_a: None,
                 water_depth: Some(depth),
+                rollback: Rollback::default(),
                 emitter: None,
                 scene,
             }
@@ -144,6 +148,7 @@ fn pipe_fill(particles: usize) -> Setup {
         duration: fill_time + 0.5,
         column_width_a: None,
         water_depth: None,
+        rollback: Rollback::default(),
     }
 }
 
@@ -170,6 +175,7 @@ fn dam_break_32k() -> Setup {
         duration: 0.5,
         column_width_a: None,
         water_depth: None,
+        rollback: Rollback::default(),
         emitter: None,
         scene,
     }
