@@ -1,17 +1,181 @@
-//! Command-line arguments of `sph-bench`: every error names the option, the value and what is
-//! allowed.
+//! Command-line arguments of `sph-bench` (clap): `--help` gives every option's unit and default,
+//! and every error names the option, the value and what is allowed, e.g.
+//! `invalid value '2' for '--dt <SECONDS>': 2 is not in (0, 1] s`.
 
 use crate::scenarios::Scenario;
-use crate::validate::ValidateArgs;
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{ArgAction, Args, Parser, Subcommand, ValueEnum};
 use sph_core::{Integrator, NeighborSearch};
+use std::fmt::Display;
+use std::path::PathBuf;
+use std::str::FromStr;
+
+/// Runs SPH scenarios on the CPU solver or the GPU plugin and reports speed, accuracy and
+/// stability as JSON.
+#[derive(Clone, Debug, Parser)]
+#[command(name = "sph-bench", version, arg_required_else_help = true)]
+pub struct Cli {
+    /// No progress bars (they are also hidden when stderr is not a terminal).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The commands.
+#[derive(Clone, Debug, PartialEq, Subcommand)]
+pub enum Command {
+    /// Runs one scenario and writes its report as JSON.
+    Run(RunArgs),
+    /// The Martin & Moyce dam break and the hydrostatic tank against their targets.
+    Validate(ValidateArgs),
+    /// The speed-against-accuracy study: writes trade.md, trade.png and trade.svg.
+    Trade(TradeArgs),
+    /// A long dam-break run: health, drift of the density error, particle loss.
+    Soak(SoakArgs),
+}
 
 /// Which solver runs the scenario.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Backend {
-    /// `sph_core::CpuSolver`.
+    /// The CPU reference solver (sph_core::CpuSolver).
     Cpu,
-    /// `SphFluidPlugin` compute passes.
+    /// The plugin's compute passes (SphFluidPlugin) on a Vulkan adapter; lavapipe works.
     Gpu,
+}
+
+impl Backend {
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Cpu => "cpu",
+            Backend::Gpu => "gpu",
+        }
+    }
+}
+
+impl ValueEnum for Scenario {
+    fn value_variants<'a>() -> &'a [Self] {
+        &Scenario::ALL
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(self.description()))
+    }
+}
+
+/// The integrators by command-line name, with their help.
+pub const INTEGRATORS: [(&str, &str, Integrator); 3] = [
+    ("euler", "symplectic Euler", Integrator::SymplecticEuler),
+    ("leapfrog", "leapfrog (the design's)", Integrator::Leapfrog),
+    (
+        "kdk",
+        "kick-drift-kick (one force evaluation per step)",
+        Integrator::KickDriftKick,
+    ),
+];
+
+/// The neighbour searches by command-line name, with their help.
+pub const SEARCHES: [(&str, &str, NeighborSearch); 2] = [
+    ("grid", "dense grid", NeighborSearch::Grid),
+    ("hash", "spatial hash (the design's)", NeighborSearch::Hash),
+];
+
+/// The command-line name of `value` in `table`.
+fn name_in<T: PartialEq>(table: &[(&'static str, &str, T)], value: T) -> &'static str {
+    table.iter().find(|e| e.2 == value).map_or("?", |e| e.0)
+}
+
+/// The command-line name of an integrator.
+pub fn integrator_name(integrator: Integrator) -> &'static str {
+    name_in(&INTEGRATORS, integrator)
+}
+
+/// The command-line name of a neighbour search.
+pub fn search_name(search: NeighborSearch) -> &'static str {
+    name_in(&SEARCHES, search)
+}
+
+/// A parser of the names in `table` (clap lists them in the help and in errors).
+fn named<T: Copy + Send + Sync + 'static>(
+    table: &'static [(&'static str, &'static str, T)],
+) -> impl TypedValueParser<Value = T> {
+    let values = table.iter().map(|e| PossibleValue::new(e.0).help(e.1));
+    PossibleValuesParser::new(values).try_map(move |name| {
+        table
+            .iter()
+            .find(|e| e.0 == name)
+            .map(|e| e.2)
+            .ok_or_else(|| format!("{name} is not one of the listed values"))
+    })
+}
+
+fn integrator() -> impl TypedValueParser<Value = Integrator> {
+    named(&INTEGRATORS)
+}
+
+fn search() -> impl TypedValueParser<Value = NeighborSearch> {
+    named(&SEARCHES)
+}
+
+/// `on` or `off`.
+fn on_off() -> impl TypedValueParser<Value = bool> {
+    PossibleValuesParser::new(["on", "off"]).map(|v| v == "on")
+}
+
+/// Parses a number and checks it with `ok`; the error names the value and `allowed` (the range
+/// with its unit).
+fn number<T: FromStr + Display + Copy>(
+    text: &str,
+    ok: impl Fn(T) -> bool,
+    allowed: &str,
+) -> Result<T, String> {
+    match text.trim().parse::<T>() {
+        Ok(v) if ok(v) => Ok(v),
+        Ok(v) => Err(format!("{v} is not in {allowed}")),
+        Err(_) => Err(format!("not a number: allowed {allowed}")),
+    }
+}
+
+fn dt(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| v > 0.0 && v <= 1.0, "(0, 1] s")
+}
+
+fn cfl(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| v > 0.0 && v <= 1.0, "(0, 1]")
+}
+
+fn column_width(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| v > 0.0 && v <= 10.0, "(0, 10] m")
+}
+
+fn viscosity_alpha(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| (0.0..=10.0).contains(&v), "[0, 10]")
+}
+
+fn sim_time(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| v > 0.0 && v <= 1e6, "(0, 1e6] s")
+}
+
+fn steps(text: &str) -> Result<u64, String> {
+    number(text, |v: u64| v >= 1, "1.. steps")
+}
+
+fn particles(text: &str) -> Result<usize, String> {
+    number(
+        text,
+        |v: usize| (1..=4_194_304).contains(&v),
+        "1..=4194304 particles",
+    )
+}
+
+fn substeps(text: &str) -> Result<u32, String> {
+    number(
+        text,
+        |v: u32| (1..=64).contains(&v),
+        "1..=64 steps per frame",
+    )
 }
 
 /// How long to run.
@@ -24,39 +188,62 @@ pub enum Duration {
 }
 
 /// Options of `sph-bench run`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Args)]
 pub struct RunArgs {
-    /// Scenario.
+    /// The scene.
+    #[arg(long, value_enum, value_name = "NAME", default_value = "dam-break")]
     pub scenario: Scenario,
-    /// Backend.
+    /// Which solver runs the scenario.
+    #[arg(long, value_enum, default_value = "cpu")]
     pub backend: Backend,
-    /// Requested particle count (about; `dambreak32k` has its own).
+    /// About how many particles (dambreak32k has its own 31,250) [particles].
+    #[arg(long, value_name = "N", value_parser = particles, default_value = "8192")]
     pub particles: usize,
     /// The dam break's column width a [m].
+    #[arg(long = "a", value_name = "METRES", value_parser = column_width, default_value = "0.146")]
     pub a: f32,
-    /// Integrator.
+    /// Time integrator.
+    #[arg(long, value_name = "NAME", value_parser = integrator(), default_value = "kdk")]
     pub integrator: Integrator,
     /// Neighbour search.
+    #[arg(long, value_name = "NAME", value_parser = search(), default_value = "grid")]
     pub search: NeighborSearch,
-    /// Surface tension on.
+    /// Akinci (2013) surface tension of water.
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "off")]
     pub surface_tension: bool,
-    /// A fixed dt [s] (the largest dt with `adaptive`).
+    /// A fixed time step [s]: the largest one with --adaptive on [default: derived from the
+    /// particle spacing].
+    #[arg(long, value_name = "SECONDS", value_parser = dt)]
     pub dt: Option<f32>,
-    /// The CFL factor λ: of the adaptive rule, or of a fixed dt = λ h / (1.1 c0).
+    /// The CFL factor λ: of the adaptive rule, or of a fixed dt = λ h / (1.1 c0) [default: 0.4].
+    #[arg(long, value_name = "LAMBDA", value_parser = cfl)]
     pub cfl: Option<f32>,
-    /// The adaptive CFL time step.
+    /// The adaptive time step (CFL, viscous and force limits).
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "off")]
     pub adaptive: bool,
-    /// Artificial viscosity α (ν = α h c0 / 10) instead of the scenario's.
+    /// Roll unstable steps back to the last checkpoint and retry at half the dt (off: the
+    /// first unstable step ends the run).
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
+    pub rollback: bool,
+    /// Artificial viscosity α of ν = α h c0 / 10 [default: the scenario's, 0.05].
+    #[arg(long, value_name = "ALPHA", value_parser = viscosity_alpha)]
     pub viscosity_alpha: Option<f32>,
-    /// Duration (the scenario's own when `None`).
-    pub duration: Option<Duration>,
-    /// Where the JSON goes (stdout when `None`).
-    pub json: Option<String>,
-    /// Steps per frame on the GPU backend.
+    /// Run this many steps [steps] [default: the scenario's own simulated time].
+    #[arg(long, value_name = "N", value_parser = steps, conflicts_with = "time")]
+    pub steps: Option<u64>,
+    /// Run this much simulated time [s] [default: the scenario's own].
+    #[arg(long, value_name = "SECONDS", value_parser = sim_time)]
+    pub time: Option<f32>,
+    /// Steps per frame on the GPU backend [steps].
+    #[arg(long, value_name = "K", value_parser = substeps, default_value = "10")]
     pub substeps: u32,
+    /// Write the JSON report here [default: stdout].
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
 }
 
 impl Default for RunArgs {
+    /// The defaults of `sph-bench run` (a unit test checks they agree with the parser's).
     fn default() -> Self {
         Self {
             scenario: Scenario::DamBreak,
@@ -69,310 +256,272 @@ impl Default for RunArgs {
             dt: None,
             cfl: None,
             adaptive: false,
+            rollback: true,
             viscosity_alpha: None,
-            duration: None,
-            json: None,
+            steps: None,
+            time: None,
             substeps: 10,
+            json: None,
+        }
+    }
+}
+
+impl RunArgs {
+    /// How long to run (the scenario's own simulated time when `None`).
+    pub fn duration(&self) -> Option<Duration> {
+        match (self.steps, self.time) {
+            (Some(n), _) => Some(Duration::Steps(n)),
+            (None, Some(t)) => Some(Duration::Time(f64::from(t))),
+            (None, None) => None,
+        }
+    }
+}
+
+/// Options of `sph-bench validate`.
+#[derive(Clone, Debug, PartialEq, Args)]
+pub struct ValidateArgs {
+    /// Which solver runs the scenario.
+    #[arg(long, value_enum, default_value = "cpu")]
+    pub backend: Backend,
+    /// About how many particles in the dam break [particles].
+    #[arg(long, value_name = "N", value_parser = particles, default_value = "8000")]
+    pub particles: usize,
+    /// About how many particles in the hydrostatic tank [particles].
+    #[arg(long, value_name = "N", value_parser = particles, default_value = "8000")]
+    pub hydrostatic_particles: usize,
+    /// The dam break's column width a [m].
+    #[arg(long = "a", value_name = "METRES", value_parser = column_width, default_value = "0.146")]
+    pub a: f32,
+    /// Artificial viscosity α of ν = α h c0 / 10 [default: the scenarios', 0.05].
+    #[arg(long, value_name = "ALPHA", value_parser = viscosity_alpha)]
+    pub viscosity_alpha: Option<f32>,
+    /// Roll unstable steps back to the last checkpoint and retry at half the dt (off: the
+    /// first unstable step ends the run).
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
+    pub rollback: bool,
+    /// Steps per frame on the GPU backend [steps].
+    #[arg(long, value_name = "K", value_parser = substeps, default_value = "10")]
+    pub substeps: u32,
+    /// Write the JSON report here [default: stdout].
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+impl ValidateArgs {
+    /// The options of the dam-break run (the tank's differ in scenario and particles).
+    pub fn base(&self) -> RunArgs {
+        RunArgs {
+            backend: self.backend,
+            particles: self.particles,
+            a: self.a,
+            viscosity_alpha: self.viscosity_alpha,
+            rollback: self.rollback,
+            substeps: self.substeps,
+            json: self.json.clone(),
+            ..Default::default()
         }
     }
 }
 
 /// Options of `sph-bench trade`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Args)]
 pub struct TradeArgs {
-    /// Backends to sweep.
+    /// Backends to sweep, comma-separated.
+    #[arg(
+        long,
+        value_enum,
+        value_name = "LIST",
+        value_delimiter = ',',
+        default_value = "cpu,gpu"
+    )]
     pub backends: Vec<Backend>,
-    /// Particle counts of the dam break sweep.
+    /// Particle counts of the dam-break sweep, comma-separated [particles].
+    #[arg(long, value_name = "N,N,...", value_parser = particles, value_delimiter = ',', default_value = "2000,8000")]
     pub particles: Vec<usize>,
-    /// Where the table and the plot go.
-    pub out_dir: String,
+    /// Directory of trade.md, trade.png and trade.svg.
+    #[arg(long = "out", value_name = "DIR", default_value = "docs")]
+    pub out_dir: PathBuf,
     /// Include the 31,250-particle peer scene.
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub dambreak32k: bool,
-    /// Steps per frame on the GPU.
+    /// Steps per frame on the GPU backend [steps].
+    #[arg(long, value_name = "K", value_parser = substeps, default_value = "10")]
     pub substeps: u32,
 }
 
 /// Options of `sph-bench soak`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Args)]
 pub struct SoakArgs {
-    /// Backend.
+    /// Which solver runs the scenario.
+    #[arg(long, value_enum, default_value = "cpu")]
     pub backend: Backend,
-    /// Steps.
+    /// Steps to run [steps].
+    #[arg(long, value_name = "N", value_parser = steps, default_value = "100000")]
     pub steps: u64,
-    /// Particles.
+    /// About how many particles in the dam break [particles].
+    #[arg(long, value_name = "N", value_parser = particles, default_value = "4096")]
     pub particles: usize,
-    /// Steps per frame on the GPU.
+    /// Roll unstable steps back to the last checkpoint and retry at half the dt (off: the
+    /// first unstable step ends the run).
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
+    pub rollback: bool,
+    /// Steps per frame on the GPU backend [steps].
+    #[arg(long, value_name = "K", value_parser = substeps, default_value = "20")]
     pub substeps: u32,
-    /// Where the JSON goes.
-    pub json: Option<String>,
-}
-
-/// The usage text.
-pub const USAGE: &str = "usage:
-  sph-bench run [--scenario dam-break|hydrostatic|pipe-fill|dambreak32k] [--backend cpu|gpu]
-       [--particles N] [--a A] [--integrator euler|leapfrog|kdk] [--search grid|hash]
-       [--surface-tension on|off] [--dt X] [--cfl X] [--adaptive on|off] [--viscosity-alpha X]
-       [--steps N | --time T] [--substeps K] [--json FILE]
-  sph-bench validate [--backend cpu|gpu] [--particles N] [--hydrostatic-particles N] [--a A]
-       [--viscosity-alpha X] [--substeps K] [--json FILE]
-  sph-bench trade [--backends cpu,gpu] [--particles N,N,...] [--out DIR] [--dambreak32k on|off]
-       [--substeps K]
-  sph-bench soak [--backend cpu|gpu] [--steps N] [--particles N] [--substeps K] [--json FILE]";
-
-/// Walks `--flag value` pairs.
-struct Flags<'a> {
-    args: &'a [String],
-    k: usize,
-}
-
-impl<'a> Flags<'a> {
-    fn new(args: &'a [String]) -> Self {
-        Self { args, k: 0 }
-    }
-
-    /// The next (flag, value) pair.
-    fn next_pair(&mut self) -> Option<Result<(&'a str, &'a str), String>> {
-        let flag = self.args.get(self.k)?.as_str();
-        self.k += 2;
-        Some(
-            self.args
-                .get(self.k - 1)
-                .map(|v| (flag, v.as_str()))
-                .ok_or_else(|| format!("{flag} needs a value\n{USAGE}")),
-        )
-    }
-}
-
-fn number<T: std::str::FromStr + PartialOrd + std::fmt::Display>(
-    text: &str,
-    flag: &str,
-    min: T,
-    max: T,
-    allowed: &str,
-) -> Result<T, String> {
-    match text.parse::<T>() {
-        Ok(v) if v >= min && v <= max => Ok(v),
-        Ok(v) => Err(format!("{flag} = {v}: allowed {allowed}")),
-        Err(_) => Err(format!(
-            "{flag} = {text:?} is not a number: allowed {allowed}"
-        )),
-    }
-}
-
-fn positive(text: &str, flag: &str, max: f32, allowed: &str) -> Result<f32, String> {
-    let v: f32 = number(text, flag, f32::MIN_POSITIVE, max, allowed)?;
-    Ok(v)
-}
-
-fn on_off(text: &str, flag: &str) -> Result<bool, String> {
-    match text {
-        "on" => Ok(true),
-        "off" => Ok(false),
-        other => Err(format!("{flag} = {other:?}: allowed on, off")),
-    }
-}
-
-fn backend(text: &str, flag: &str) -> Result<Backend, String> {
-    match text {
-        "cpu" => Ok(Backend::Cpu),
-        "gpu" => Ok(Backend::Gpu),
-        other => Err(format!("{flag} = {other:?}: allowed cpu, gpu")),
-    }
-}
-
-const PARTICLES: &str = "1 ..= 4194304";
-
-fn particles(text: &str, flag: &str) -> Result<usize, String> {
-    number(text, flag, 1, 4_194_304, PARTICLES)
-}
-
-fn substeps(text: &str, flag: &str) -> Result<u32, String> {
-    number(text, flag, 1, 64, "1 ..= 64")
-}
-
-fn unknown(flag: &str) -> String {
-    format!("unknown option {flag:?}\n{USAGE}")
-}
-
-/// Applies one option of `run` (also the ones `validate` shares) to `out`.
-fn apply_run_flag(out: &mut RunArgs, flag: &str, v: &str) -> Result<(), String> {
-    match flag {
-        "--scenario" => out.scenario = Scenario::parse(v)?,
-        "--backend" => out.backend = backend(v, flag)?,
-        "--particles" => out.particles = particles(v, flag)?,
-        "--a" => out.a = positive(v, flag, 10.0, "(0, 10] m")?,
-        "--integrator" => {
-            out.integrator = match v {
-                "euler" => Integrator::SymplecticEuler,
-                "leapfrog" => Integrator::Leapfrog,
-                "kdk" => Integrator::KickDriftKick,
-                other => {
-                    return Err(format!(
-                        "--integrator = {other:?}: allowed euler, leapfrog, kdk"
-                    ))
-                }
-            }
-        }
-        "--search" => {
-            out.search = match v {
-                "grid" => NeighborSearch::Grid,
-                "hash" => NeighborSearch::Hash,
-                other => return Err(format!("--search = {other:?}: allowed grid, hash")),
-            }
-        }
-        "--surface-tension" => out.surface_tension = on_off(v, flag)?,
-        "--dt" => out.dt = Some(positive(v, flag, 1.0, "(0, 1] s")?),
-        "--cfl" => out.cfl = Some(positive(v, flag, 1.0, "(0, 1]")?),
-        "--adaptive" => out.adaptive = on_off(v, flag)?,
-        "--viscosity-alpha" => out.viscosity_alpha = Some(number(v, flag, 0.0, 10.0, "[0, 10]")?),
-        "--steps" => out.duration = Some(Duration::Steps(number(v, flag, 1, u64::MAX, "1 ..")?)),
-        "--time" => {
-            out.duration = Some(Duration::Time(positive(v, flag, 1e6, "(0, 1e6] s")? as f64))
-        }
-        "--substeps" => out.substeps = substeps(v, flag)?,
-        "--json" => out.json = Some(v.to_string()),
-        other => return Err(unknown(other)),
-    }
-    Ok(())
-}
-
-/// Parses the options after `run`.
-pub fn parse_run(args: &[String]) -> Result<RunArgs, String> {
-    let mut out = RunArgs::default();
-    let mut flags = Flags::new(args);
-    while let Some(pair) = flags.next_pair() {
-        let (flag, v) = pair?;
-        apply_run_flag(&mut out, flag, v)?;
-    }
-    Ok(out)
-}
-
-/// Parses the options after `validate`: the shared ones of `run`, and the tank's particles.
-pub fn parse_validate(args: &[String]) -> Result<ValidateArgs, String> {
-    let mut out = ValidateArgs {
-        base: RunArgs {
-            particles: 8_000,
-            ..Default::default()
-        },
-        hydrostatic_particles: 8_000,
-    };
-    let mut flags = Flags::new(args);
-    while let Some(pair) = flags.next_pair() {
-        let (flag, v) = pair?;
-        match flag {
-            "--hydrostatic-particles" => out.hydrostatic_particles = particles(v, flag)?,
-            "--backend" | "--particles" | "--a" | "--viscosity-alpha" | "--substeps" | "--json" => {
-                apply_run_flag(&mut out.base, flag, v)?
-            }
-            other => return Err(unknown(other)),
-        }
-    }
-    Ok(out)
-}
-
-/// Parses the options after `trade`.
-pub fn parse_trade(args: &[String]) -> Result<TradeArgs, String> {
-    let mut out = TradeArgs {
-        backends: vec![Backend::Cpu, Backend::Gpu],
-        particles: vec![2_000, 8_000],
-        out_dir: "docs".into(),
-        dambreak32k: true,
-        substeps: 10,
-    };
-    let mut flags = Flags::new(args);
-    while let Some(pair) = flags.next_pair() {
-        let (flag, v) = pair?;
-        match flag {
-            "--backends" => {
-                out.backends = v
-                    .split(',')
-                    .map(|b| backend(b, flag))
-                    .collect::<Result<_, _>>()?
-            }
-            "--particles" => {
-                out.particles = v
-                    .split(',')
-                    .map(|n| particles(n, flag))
-                    .collect::<Result<_, _>>()?
-            }
-            "--out" => out.out_dir = v.to_string(),
-            "--dambreak32k" => out.dambreak32k = on_off(v, flag)?,
-            "--substeps" => out.substeps = substeps(v, flag)?,
-            other => return Err(unknown(other)),
-        }
-    }
-    if out.backends.is_empty() || out.particles.is_empty() {
-        return Err("--backends and --particles need at least one value".into());
-    }
-    Ok(out)
-}
-
-/// Parses the options after `soak`.
-pub fn parse_soak(args: &[String]) -> Result<SoakArgs, String> {
-    let mut out = SoakArgs {
-        backend: Backend::Cpu,
-        steps: 100_000,
-        particles: 4_096,
-        substeps: 20,
-        json: None,
-    };
-    let mut flags = Flags::new(args);
-    while let Some(pair) = flags.next_pair() {
-        let (flag, v) = pair?;
-        match flag {
-            "--backend" => out.backend = backend(v, flag)?,
-            "--steps" => out.steps = number(v, flag, 1, u64::MAX, "1 ..")?,
-            "--particles" => out.particles = particles(v, flag)?,
-            "--substeps" => out.substeps = substeps(v, flag)?,
-            "--json" => out.json = Some(v.to_string()),
-            other => return Err(unknown(other)),
-        }
-    }
-    Ok(out)
+    /// Write the JSON report here [default: stdout].
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use clap::CommandFactory;
 
-    fn strings(args: &[&str]) -> Vec<String> {
-        args.iter().map(|s| s.to_string()).collect()
+    fn parse(args: &[&str]) -> Result<Command, String> {
+        let argv = std::iter::once("sph-bench").chain(args.iter().copied());
+        Cli::try_parse_from(argv)
+            .map(|cli| cli.command)
+            .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn the_command_line_is_consistent() {
+        Cli::command().debug_assert();
     }
 
     #[test]
     fn run_options_are_parsed() {
-        let a = parse_run(&strings(&[
+        let Ok(Command::Run(a)) = parse(&[
+            "run",
             "--scenario",
             "hydrostatic",
             "--backend",
             "gpu",
             "--adaptive",
             "on",
+            "--integrator",
+            "leapfrog",
+            "--search",
+            "hash",
             "--cfl",
             "0.3",
             "--time",
             "0.5",
-        ]))
-        .unwrap();
+        ]) else {
+            panic!("not a run");
+        };
         assert_eq!(a.scenario, Scenario::Hydrostatic);
         assert_eq!(a.backend, Backend::Gpu);
         assert!(a.adaptive);
+        assert_eq!(a.integrator, Integrator::Leapfrog);
+        assert_eq!(a.search, NeighborSearch::Hash);
         assert_eq!(a.cfl, Some(0.3));
-        assert_eq!(a.duration, Some(Duration::Time(0.5)));
+        assert_eq!(a.duration(), Some(Duration::Time(0.5)));
+        assert!(a.rollback, "rollback is on by default");
+        let Ok(Command::Soak(s)) = parse(&["soak", "--rollback", "off"]) else {
+            panic!("not a soak");
+        };
+        assert!(!s.rollback);
+    }
+
+    #[test]
+    fn defaults_are_the_documented_ones() {
+        assert_eq!(parse(&["run"]).ok(), Some(Command::Run(RunArgs::default())));
+        let Ok(Command::Validate(v)) = parse(&["validate"]) else {
+            panic!("not a validation");
+        };
+        assert_eq!((v.particles, v.hydrostatic_particles), (8_000, 8_000));
+        assert_eq!(
+            v.base(),
+            RunArgs {
+                particles: 8_000,
+                ..Default::default()
+            }
+        );
+        let Ok(Command::Trade(t)) = parse(&["trade"]) else {
+            panic!("not a trade study");
+        };
+        assert_eq!(t.backends, [Backend::Cpu, Backend::Gpu]);
+        assert_eq!(t.particles, [2_000, 8_000]);
+        assert_eq!(t.out_dir, PathBuf::from("docs"));
+        assert!(t.dambreak32k);
+        assert_eq!(t.substeps, 10);
+        let Ok(Command::Soak(s)) = parse(&["soak"]) else {
+            panic!("not a soak");
+        };
+        assert_eq!(
+            (s.backend, s.steps, s.particles),
+            (Backend::Cpu, 100_000, 4_096)
+        );
+        assert_eq!((s.substeps, s.json, s.rollback), (20, None, true));
     }
 
     #[test]
     fn errors_name_the_option_the_value_and_the_range() {
-        let e = parse_run(&strings(&["--dt", "2"])).unwrap_err();
-        assert!(
-            e.contains("--dt") && e.contains('2') && e.contains("(0, 1] s"),
-            "{e}"
-        );
-        let e = parse_run(&strings(&["--scenario", "flood"])).unwrap_err();
-        assert!(e.contains("flood") && e.contains("pipe-fill"), "{e}");
-        let e = parse_trade(&strings(&["--particles", "100,x"])).unwrap_err();
-        assert!(e.contains("--particles") && e.contains("\"x\""), "{e}");
-        let e = parse_soak(&strings(&["--steps"])).unwrap_err();
-        assert!(e.contains("needs a value"), "{e}");
+        let cases: [(&[&str], &[&str]); 9] = [
+            (
+                &["run", "--dt", "2"],
+                &["--dt", "'2'", "2 is not in (0, 1] s"],
+            ),
+            (&["run", "--dt", "fast"], &["--dt", "'fast'", "(0, 1] s"]),
+            (&["run", "--a", "0"], &["--a", "'0'", "(0, 10] m"]),
+            (
+                &["run", "--scenario", "flood"],
+                &["--scenario", "'flood'", "pipe-fill", "dambreak32k"],
+            ),
+            (
+                &["run", "--surface-tension", "yes"],
+                &["--surface-tension", "'yes'", "on", "off"],
+            ),
+            (
+                &["run", "--integrator", "rk4"],
+                &["--integrator", "'rk4'", "euler", "leapfrog", "kdk"],
+            ),
+            (
+                &["trade", "--particles", "100,x"],
+                &["--particles", "'x'", "1..=4194304 particles"],
+            ),
+            (
+                &["validate", "--substeps", "65"],
+                &["--substeps", "'65'", "1..=64 steps per frame"],
+            ),
+            (&["soak", "--steps"], &["--steps", "a value is required"]),
+        ];
+        for (args, wanted) in cases {
+            let e = parse(args).expect_err("an error");
+            for w in wanted {
+                assert!(e.contains(w), "{args:?}: {w:?} not in {e}");
+            }
+        }
+    }
+
+    #[test]
+    fn steps_and_time_exclude_each_other() {
+        let e = parse(&["run", "--steps", "5", "--time", "1"]).unwrap_err();
+        assert!(e.contains("--steps") && e.contains("--time"), "{e}");
+    }
+
+    #[test]
+    fn help_gives_every_option_a_unit_or_a_value_list() {
+        let mut cli = Cli::command();
+        for sub in ["run", "validate", "trade", "soak"] {
+            let help = cli
+                .find_subcommand_mut(sub)
+                .expect("subcommand")
+                .render_long_help()
+                .to_string();
+            for unit in ["[particles]", "[steps]"] {
+                assert!(help.contains(unit), "{sub}: no {unit} in\n{help}");
+            }
+        }
+        let run = cli
+            .find_subcommand_mut("run")
+            .expect("run")
+            .render_long_help()
+            .to_string();
+        for text in ["[s]", "[m]", "dam-break", "kick-drift-kick", "on|off"] {
+            assert!(run.contains(text), "no {text} in\n{run}");
+        }
     }
 }

@@ -4,36 +4,10 @@
 //! water's initial surface (weak compressibility changes the height by the density error, well
 //! under 1 %), so a splashing particle cannot move the reference.
 
+use crate::report::{HydrostaticFigures, Layer};
 use crate::scenarios::Setup;
 use crate::sim::State;
-use serde::Serialize;
 use sph_core::{Eos, SphParams};
-
-/// One lattice layer's pressure.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct Layer {
-    /// Mean depth below the free surface [m].
-    pub depth: f64,
-    /// Mean SPH pressure [Pa].
-    pub pressure: f64,
-    /// ρ0 g depth [Pa].
-    pub expected: f64,
-    /// (pressure - expected) / expected [%].
-    pub error_pct: f64,
-}
-
-/// The hydrostatic figures.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct HydrostaticFigures {
-    /// Layers from the top (layer 0 is the top particle layer).
-    pub layers: Vec<Layer>,
-    /// Largest |error| of the layers below the top one [%] (target <= 5).
-    pub max_error_below_top_pct: f64,
-    /// Mean |error| of the layers below the top one [%].
-    pub mean_error_below_top_pct: f64,
-    /// Mean compression error over the averaging window [%] (target <= 1).
-    pub density_error_mean_pct: f64,
-}
 
 /// Accumulates layer pressures over the averaging window.
 pub struct HydrostaticSampler {

@@ -1,10 +1,12 @@
 //! `sph-bench`: runs SPH scenarios on the CPU solver or the GPU plugin and writes the figures
 //! (speed, accuracy, stability) as JSON; validates against experiments; sweeps the speed-against-
-//! accuracy trade into a table and a plot; soaks. See the README for the options.
+//! accuracy trade into a table and a plot; soaks. See the README, or `sph-bench --help`.
 
 mod args;
 mod hydrostatic;
+mod martin_moyce;
 mod plot;
+mod progress;
 mod report;
 mod run;
 mod scenarios;
@@ -13,15 +15,17 @@ mod soak;
 mod trade;
 mod validate;
 
-use args::USAGE;
+use args::{Cli, Command, RunArgs, SoakArgs, TradeArgs, ValidateArgs};
+use clap::Parser;
+use progress::Bars;
+use std::path::Path;
 
 /// Writes a report as pretty JSON to `path`, or to stdout without one.
-fn write_json(report: &impl serde::Serialize, path: &Option<String>) -> Result<(), String> {
+fn write_json(report: &impl serde::Serialize, path: Option<&Path>) -> Result<(), String> {
     let json = serde_json::to_string_pretty(report).map_err(|e| e.to_string())?;
     match path {
-        Some(path) => {
-            std::fs::write(path, json + "\n").map_err(|e| format!("cannot write {path}: {e}"))
-        }
+        Some(path) => std::fs::write(path, json + "\n")
+            .map_err(|e| format!("cannot write {}: {e}", path.display())),
         None => {
             println!("{json}");
             Ok(())
@@ -30,114 +34,234 @@ fn write_json(report: &impl serde::Serialize, path: &Option<String>) -> Result<(
 }
 
 fn health_text(r: &report::Report) -> String {
-    match r.unstable_step {
+    let health = match r.unstable_step {
         Some(step) => format!("unstable at step {step}"),
         None => r.health.clone(),
+    };
+    if r.rollbacks == 0 {
+        return health;
     }
+    format!(
+        "{health}; rollbacks {}, dt at the end {:.2e} s",
+        r.rollbacks, r.dt_last
+    )
+}
+
+/// `sph-bench run`.
+fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
+    eprintln!(
+        "sph-bench: {} on {:?}, about {} particles",
+        args.scenario.name(),
+        args.backend,
+        args.particles
+    );
+    let report = run::run(args, bars)?;
+    write_json(&report, args.json.as_deref())?;
+    eprintln!(
+        "sph-bench: {} particles, {} steps, {:.3} ms/step median, {:.1} s per simulated s, \
+         {} dispatches/step, density error {:.3} % mean; {}",
+        report.particles,
+        report.steps,
+        report.ms_per_step_median,
+        report.cost_per_sim_second_s,
+        report.dispatches_per_step,
+        report.density_error_mean_pct,
+        health_text(&report)
+    );
+    if let Some(d) = report
+        .dam_break
+        .as_ref()
+        .filter(|d| d.rms_z_raw.is_finite())
+    {
+        eprintln!(
+            "sph-bench: RMS Z error (T <= 2.5) {:.3} raw, {:.3} with the best shift {:.2}",
+            d.rms_z_raw, d.rms_z_shifted, d.best_shift
+        );
+    }
+    if let Some(h) = &report.hydrostatic {
+        eprintln!(
+            "sph-bench: pressure vs rho g depth below the top layer: max {:.2} %, mean {:.2} %; \
+             density error {:.3} %",
+            h.max_error_below_top_pct, h.mean_error_below_top_pct, h.density_error_mean_pct
+        );
+    }
+    Ok(())
+}
+
+/// `sph-bench validate`.
+fn validate_command(args: &ValidateArgs, bars: &Bars) -> Result<(), String> {
+    eprintln!(
+        "sph-bench: validation on {:?}: Martin & Moyce dam break (a = {} m, about {} \
+         particles), hydrostatic tank (about {} particles)",
+        args.backend, args.a, args.particles, args.hydrostatic_particles
+    );
+    let report = validate::run(args, bars)?;
+    write_json(&report, args.json.as_deref())?;
+    if let Some(d) = &report.dam_break.dam_break {
+        eprintln!(
+            "sph-bench: dam break: RMS Z error (T <= 2.5) {:.3} raw, {:.3} with the best \
+             shift {:.2} (target <= 0.1); {}",
+            d.rms_z_raw,
+            d.rms_z_shifted,
+            d.best_shift,
+            health_text(&report.dam_break)
+        );
+    }
+    if let Some(h) = &report.hydrostatic.hydrostatic {
+        eprintln!(
+            "sph-bench: hydrostatic: pressure vs rho g depth below the top layer: max {:.2} %, \
+             mean {:.2} % (target <= 5); mean density error {:.3} % (target <= 1); {}",
+            h.max_error_below_top_pct,
+            h.mean_error_below_top_pct,
+            h.density_error_mean_pct,
+            health_text(&report.hydrostatic)
+        );
+    }
+    Ok(())
+}
+
+/// `sph-bench trade`.
+fn trade_command(args: &TradeArgs, bars: &Bars) -> Result<(), String> {
+    let done = trade::run(args, bars)?;
+    eprintln!("sph-bench: {done}");
+    Ok(())
+}
+
+/// `sph-bench soak`.
+fn soak_command(args: &SoakArgs, bars: &Bars) -> Result<(), String> {
+    eprintln!(
+        "sph-bench: soak on {:?}: {} steps of a {}-particle dam break",
+        args.backend, args.steps, args.particles
+    );
+    let report = soak::run(args, bars)?;
+    write_json(&report, args.json.as_deref())?;
+    eprintln!(
+        "sph-bench: soak: {} steps, {:.2} s simulated in {:.0} s; {}; rollbacks {}; \
+         particles lost {}; density error {:.3} % early, {:.3} % late, peak {:.3} %",
+        report.steps,
+        report.sim_time,
+        report.wall_seconds,
+        match report.unstable_step {
+            Some(s) => format!("unstable at step {s}"),
+            None => report.health.clone(),
+        },
+        report.rollbacks,
+        report.particles_lost,
+        report.density_error_early_pct,
+        report.density_error_late_pct,
+        report.density_error_peak_pct
+    );
+    Ok(())
 }
 
 fn main() {
-    let argv: Vec<String> = std::env::args().skip(1).collect();
-    let rest = argv.get(1..).unwrap_or_default();
-    let result = match argv.first().map(String::as_str) {
-        Some("run") => args::parse_run(rest).and_then(|args| {
-            eprintln!(
-                "sph-bench: {} on {:?}, about {} particles",
-                args.scenario.name(),
-                args.backend,
-                args.particles
-            );
-            let report = run::run(&args)?;
-            write_json(&report, &args.json)?;
-            eprintln!(
-                "sph-bench: {} particles, {} steps, {:.3} ms/step median, {:.1} s per simulated s, \
-                 {} dispatches/step, density error {:.3} % mean; {}",
-                report.particles,
-                report.steps,
-                report.ms_per_step_median,
-                report.cost_per_sim_second_s,
-                report.dispatches_per_step,
-                report.density_error_mean_pct,
-                health_text(&report)
-            );
-            if let Some(d) = report.dam_break.as_ref().filter(|d| d.rms_z_raw.is_finite()) {
-                eprintln!(
-                    "sph-bench: RMS Z error (T <= 2.5) {:.3} raw, {:.3} with the best shift {:.2}",
-                    d.rms_z_raw, d.rms_z_shifted, d.best_shift
-                );
-            }
-            if let Some(h) = &report.hydrostatic {
-                eprintln!(
-                    "sph-bench: pressure vs rho g depth below the top layer: max {:.2} %, mean {:.2} %; \
-                     density error {:.3} %",
-                    h.max_error_below_top_pct, h.mean_error_below_top_pct, h.density_error_mean_pct
-                );
-            }
-            Ok(())
-        }),
-        Some("validate") => args::parse_validate(rest).and_then(|args| {
-            eprintln!(
-                "sph-bench: validation on {:?}: Martin & Moyce dam break (a = {} m, about {} \
-                 particles), hydrostatic tank (about {} particles)",
-                args.base.backend, args.base.a, args.base.particles, args.hydrostatic_particles
-            );
-            let report = validate::run(&args)?;
-            write_json(&report, &args.base.json)?;
-            if let Some(d) = &report.dam_break.dam_break {
-                eprintln!(
-                    "sph-bench: dam break: RMS Z error (T <= 2.5) {:.3} raw, {:.3} with the best \
-                     shift {:.2} (target <= 0.1); {}",
-                    d.rms_z_raw,
-                    d.rms_z_shifted,
-                    d.best_shift,
-                    health_text(&report.dam_break)
-                );
-            }
-            if let Some(h) = &report.hydrostatic.hydrostatic {
-                eprintln!(
-                    "sph-bench: hydrostatic: pressure vs rho g depth below the top layer: max {:.2} %, \
-                     mean {:.2} % (target <= 5); mean density error {:.3} % (target <= 1); {}",
-                    h.max_error_below_top_pct,
-                    h.mean_error_below_top_pct,
-                    h.density_error_mean_pct,
-                    health_text(&report.hydrostatic)
-                );
-            }
-            Ok(())
-        }),
-        Some("trade") => args::parse_trade(rest).and_then(|args| {
-            let done = trade::run(&args)?;
-            eprintln!("sph-bench: {done}");
-            Ok(())
-        }),
-        Some("soak") => args::parse_soak(rest).and_then(|args| {
-            eprintln!(
-                "sph-bench: soak on {:?}: {} steps of a {}-particle dam break",
-                args.backend, args.steps, args.particles
-            );
-            let report = soak::run(&args)?;
-            write_json(&report, &args.json)?;
-            eprintln!(
-                "sph-bench: soak: {} steps, {:.2} s simulated in {:.0} s; {}; particles lost {}; \
-                 density error {:.3} % early, {:.3} % late, peak {:.3} %",
-                report.steps,
-                report.sim_time,
-                report.wall_seconds,
-                match report.unstable_step {
-                    Some(s) => format!("unstable at step {s}"),
-                    None => report.health.clone(),
-                },
-                report.particles_lost,
-                report.density_error_early_pct,
-                report.density_error_late_pct,
-                report.density_error_peak_pct
-            );
-            Ok(())
-        }),
-        _ => Err(USAGE.to_string()),
+    // Wrong arguments: clap prints the error (option, value, what is allowed) and exits with 2.
+    let cli = Cli::parse();
+    let bars = Bars::new(cli.quiet);
+    let result = match &cli.command {
+        Command::Run(args) => run_command(args, &bars),
+        Command::Validate(args) => validate_command(args, &bars),
+        Command::Trade(args) => trade_command(args, &bars),
+        Command::Soak(args) => soak_command(args, &bars),
     };
     if let Err(e) = result {
         eprintln!("sph-bench: error: {e}");
         std::process::exit(2);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every module's source, by name, top down: a module may import only those below it.
+    const MODULES: [(&str, &str); 12] = [
+        ("trade", include_str!("trade.rs")),
+        ("soak", include_str!("soak.rs")),
+        ("validate", include_str!("validate.rs")),
+        ("run", include_str!("run.rs")),
+        ("hydrostatic", include_str!("hydrostatic.rs")),
+        ("sim", include_str!("sim.rs")),
+        ("plot", include_str!("plot.rs")),
+        ("progress", include_str!("progress.rs")),
+        ("args", include_str!("args.rs")),
+        ("martin_moyce", include_str!("martin_moyce.rs")),
+        ("report", include_str!("report.rs")),
+        ("scenarios", include_str!("scenarios.rs")),
+    ];
+
+    fn ident(s: &str) -> &str {
+        let end = s
+            .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+            .unwrap_or(s.len());
+        &s[..end]
+    }
+
+    /// The first segment of every `crate::` path in `source` (`crate::{a::X, b}` names a and b).
+    fn crate_paths(source: &str) -> Vec<&str> {
+        let mut named = Vec::new();
+        for (at, _) in source.match_indices("crate::") {
+            let rest = &source[at + "crate::".len()..];
+            match rest.strip_prefix('{') {
+                Some(group) => {
+                    let mut depth = 0;
+                    let mut item_start = 0;
+                    for (k, c) in group.char_indices() {
+                        match c {
+                            '{' => depth += 1,
+                            '}' if depth == 0 => {
+                                named.push(ident(group[item_start..].trim_start()));
+                                break;
+                            }
+                            '}' => depth -= 1,
+                            ',' if depth == 0 => {
+                                named.push(ident(group[item_start..].trim_start()));
+                                item_start = k + 1;
+                            }
+                            _ => {}
+                        }
+                    }
+                }
+                None => named.push(ident(rest)),
+            }
+        }
+        named.retain(|n| !n.is_empty());
+        named
+    }
+
+    #[test]
+    fn the_module_list_matches_the_declarations() {
+        let declared: Vec<&str> = include_str!("main.rs")
+            .lines()
+            .filter_map(|l| l.strip_prefix("mod ")?.strip_suffix(';'))
+            .collect();
+        let mut listed: Vec<&str> = MODULES.iter().map(|m| m.0).collect();
+        listed.sort_unstable();
+        assert_eq!(declared, listed);
+    }
+
+    #[test]
+    fn modules_import_only_modules_below_them() {
+        let names: Vec<&str> = MODULES.iter().map(|m| m.0).collect();
+        for (level, (name, source)) in MODULES.iter().enumerate() {
+            // `super::` names main.rs, except in a module's own `mod tests` (its parent).
+            let outside_tests = source.split("#[cfg(test)]").next().unwrap_or(source);
+            assert!(!outside_tests.contains("super::"), "{name} names main.rs");
+            for target in crate_paths(source) {
+                let below = names.iter().position(|n| *n == target);
+                assert!(
+                    below.is_some(),
+                    "{name} names crate::{target}, not a module"
+                );
+                assert!(
+                    below > Some(level) || target == *name,
+                    "{name} imports {target}, which is not below it"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn crate_paths_are_found_in_every_form() {
+        let source = "use crate::a::X;\nuse crate::{b::{Y, Z}, c};\nlet v = crate::d::f();";
+        assert_eq!(crate_paths(source), ["a", "b", "c", "d"]);
     }
 }

@@ -1,10 +1,14 @@
-//! A small log-log scatter plot written to PNG, with an embedded 8x8 bitmap font
-//! (no system font or graphics libraries).
+//! Log-log scatter plots drawn with plotters, written as PNG and SVG. The text is set in Ubuntu
+//! Light from `epaint_default_fonts` (registered with plotters' `ab_glyph` renderer), so no system
+//! font or font library is needed.
 
-use font8x8::legacy::BASIC_LEGACY;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::register_font;
 use std::path::Path;
+use std::sync::OnceLock;
 
-/// A few distinct colours for series.
+/// A few distinct colours for series (matplotlib's "tab10").
 pub const PALETTE: [[u8; 3]; 8] = [
     [31, 119, 180],
     [255, 127, 14],
@@ -30,92 +34,38 @@ pub struct Series {
 pub struct ScatterPlot {
     /// Centred above the plot.
     pub title: String,
-    /// Centred under the x axis.
+    /// Under the x axis, with the unit.
     pub x_label: String,
-    /// Written above the y axis.
+    /// Beside the y axis, with the unit.
     pub y_label: String,
     /// Drawn in order; later series paint over earlier ones.
     pub series: Vec<Series>,
 }
 
-const GLYPH: i64 = 16; // 8x8 font at scale 2
-const BLACK: [u8; 3] = [0, 0, 0];
-const GRID: [u8; 3] = [220, 220, 220];
-const FRAME_GREY: [u8; 3] = [150, 150, 150];
-const RADIUS: i64 = 4;
+/// The family every text of the plots asks for.
+const FONT: &str = "sans-serif";
+const MARKER_RADIUS: i32 = 5;
+const GRID_GREY: RGBColor = RGBColor(225, 225, 225);
+const FRAME_GREY: RGBColor = RGBColor(150, 150, 150);
 
-/// An RGB pixel buffer that silently clips everything drawn outside it.
-struct Canvas {
-    w: i64,
-    h: i64,
-    px: Vec<u8>,
+/// Registers the font once (plotters keeps a process-wide table).
+fn register_fonts() -> Result<(), String> {
+    static REGISTERED: OnceLock<Result<(), String>> = OnceLock::new();
+    REGISTERED
+        .get_or_init(|| {
+            register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
+                .map_err(|_| "the plot font (Ubuntu Light) does not load".to_string())
+        })
+        .clone()
 }
 
-impl Canvas {
-    fn new(w: u32, h: u32) -> Self {
-        let px = vec![255; w as usize * h as usize * 3];
-        Canvas {
-            w: w.into(),
-            h: h.into(),
-            px,
-        }
-    }
-    fn set(&mut self, x: i64, y: i64, c: [u8; 3]) {
-        if (0..self.w).contains(&x) && (0..self.h).contains(&y) {
-            let i = ((y * self.w + x) * 3) as usize;
-            self.px[i..i + 3].copy_from_slice(&c);
-        }
-    }
-    /// Fills the half-open rectangle [x0, x1) x [y0, y1).
-    fn rect(&mut self, x0: i64, y0: i64, x1: i64, y1: i64, c: [u8; 3]) {
-        for y in y0.max(0)..y1.min(self.h) {
-            for x in x0.max(0)..x1.min(self.w) {
-                self.set(x, y, c);
-            }
-        }
-    }
-    /// One-pixel outline of the inclusive rectangle (x0, y0)-(x1, y1).
-    fn outline(&mut self, x0: i64, y0: i64, x1: i64, y1: i64, c: [u8; 3]) {
-        self.rect(x0, y0, x1 + 1, y0 + 1, c);
-        self.rect(x0, y1, x1 + 1, y1 + 1, c);
-        self.rect(x0, y0, x0 + 1, y1 + 1, c);
-        self.rect(x1, y0, x1 + 1, y1 + 1, c);
-    }
-    fn disc(&mut self, cx: i64, cy: i64, r: i64, c: [u8; 3]) {
-        for dy in -r..=r {
-            for dx in -r..=r {
-                if dx * dx + dy * dy <= r * r + r {
-                    self.set(cx + dx, cy + dy, c);
-                }
-            }
-        }
-    }
-    /// Draws `s` with its top-left corner at (x, y); non-ASCII shows as '?'.
-    fn text(&mut self, x: i64, y: i64, s: &str, c: [u8; 3]) {
-        let scale = GLYPH / 8;
-        for (i, ch) in s.chars().enumerate() {
-            let code = u8::try_from(ch).ok().filter(u8::is_ascii).unwrap_or(b'?');
-            let glyph = BASIC_LEGACY[usize::from(code)];
-            let gx = x + i as i64 * GLYPH;
-            for (row, bits) in (0i64..).zip(glyph) {
-                for col in 0..8i64 {
-                    if bits & (1 << col) != 0 {
-                        let (px, py) = (gx + col * scale, y + row * scale);
-                        self.rect(px, py, px + scale, py + scale, c);
-                    }
-                }
-            }
-        }
-    }
-}
-
-fn text_width(s: &str) -> i64 {
-    s.chars().count() as i64 * GLYPH
+fn usable(v: f64) -> bool {
+    v.is_finite() && v > 0.0
 }
 
 /// Axis range in log10 units: padded, snapped outwards to half decades, at least one decade.
 fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let logs = values.filter(|v| v.is_finite() && *v > 0.0).map(f64::log10);
+    let logs = values.filter(|v| usable(*v)).map(f64::log10);
     let (lo, hi) = logs.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), l| {
         (lo.min(l), hi.max(l))
     });
@@ -128,145 +78,139 @@ fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
         0.05 + 0.02 * (hi - lo)
     };
     let (lo, hi) = (lo - pad, hi + pad);
-    ((lo * 2.0).floor() / 2.0, (hi * 2.0).ceil() / 2.0)
+    // Beyond f64's range the decades would be infinite: clamp to what plotters can map.
+    let clamp = |v: f64| v.clamp(-300.0, 300.0);
+    (
+        clamp((lo * 2.0).floor() / 2.0),
+        clamp((hi * 2.0).ceil() / 2.0),
+    )
 }
 
-/// Integer decades inside [lo, hi], thinned to multiples of 1, 2, 5, 10, ... (at most ~10).
-fn decades(lo: f64, hi: f64) -> Vec<i32> {
-    let (first, last) = (lo.ceil() as i32, hi.floor() as i32);
-    let mut steps = [1, 2, 5, 10, 20, 50, 100, 200].into_iter();
-    let step = steps.find(|s| (last - first) / s < 10).unwrap_or(200);
-    (first..=last).filter(|e| e % step == 0).collect()
+/// Tick positions inside 10^lo ..= 10^hi: 1, 2 and 5 × 10^k over up to two decades; decades beyond
+/// (every second, fifth, ... decade so that about ten remain at most).
+fn ticks((lo, hi): (f64, f64)) -> Vec<f64> {
+    let (first, last) = (lo.floor() as i32, hi.ceil() as i32);
+    let mantissas: &[f64] = if hi - lo <= 2.0 {
+        &[1.0, 2.0, 5.0]
+    } else {
+        &[1.0]
+    };
+    let steps = [1, 2, 5, 10, 20, 50, 100];
+    let step = (steps.into_iter())
+        .find(|s| (last - first) / s < 10)
+        .unwrap_or(100);
+    let inside = |v: &f64| (lo - 1e-9..=hi + 1e-9).contains(&v.log10());
+    (first..=last)
+        .filter(|e| e.rem_euclid(step) == 0)
+        .flat_map(|e| mantissas.iter().map(move |m| m * 10f64.powi(e)))
+        .filter(inside)
+        .collect()
 }
 
-/// Positions of 2..9 times each decade strictly inside the range (none if it is very wide).
-fn minor_ticks((lo, hi): (f64, f64)) -> Vec<f64> {
-    let decade = (lo.floor() as i32..=hi.ceil() as i32).filter(|_| hi - lo <= 8.0);
-    let ticks = decade.flat_map(|e| (2..10).map(move |m| f64::from(e) + f64::from(m).log10()));
-    ticks.filter(|v| *v > lo && *v < hi).collect()
-}
-
-/// Compact label for 10^e: `0.01`, `0.1`, `1`, `10`, `100`, else `1e-3`, `1e3`.
-fn tick_label(e: i32) -> String {
-    match e {
-        -2 => "0.01".into(),
-        -1 => "0.1".into(),
-        0..=2 => 10i32.pow(e as u32).to_string(),
-        _ => format!("1e{e}"),
+/// A compact tick label: `0.02`, `0.5`, `3`, `200`, else `1e-5`, `2e6`.
+fn tick_label(v: f64) -> String {
+    if !usable(v) {
+        return String::new();
+    }
+    let exponent = v.log10().floor() as i32;
+    if (-3..4).contains(&exponent) {
+        let scale = 10f64.powi(2 - exponent);
+        format!("{}", (v * scale).round() / scale)
+    } else {
+        format!("{v:.0e}")
     }
 }
 
-/// Where the plot area sits in the image and how data maps onto it.
-struct Layout {
-    x0: i64,
-    y0: i64,
-    x1: i64,
-    y1: i64,
-    xr: (f64, f64),
-    yr: (f64, f64),
+/// The inside corner whose quarter of the plot holds the fewest points (in log coordinates).
+fn legend_corner(plot: &ScatterPlot, xr: (f64, f64), yr: (f64, f64)) -> SeriesLabelPosition {
+    let unit = |v: f64, (lo, hi): (f64, f64)| (v.log10() - lo) / (hi - lo);
+    let points: Vec<(f64, f64)> = (plot.series.iter())
+        .flat_map(|s| s.points.iter())
+        .filter(|p| usable(p.0) && usable(p.1))
+        .map(|p| (unit(p.0, xr), unit(p.1, yr)))
+        .collect();
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let near = |v: f64, high: bool| if high { v > 0.55 } else { v < 0.45 };
+    let hidden = |&(_, right, top): &(SeriesLabelPosition, bool, bool)| {
+        let inside = |p: &&(f64, f64)| near(p.0, right) && near(p.1, top);
+        points.iter().filter(inside).count()
+    };
+    let best = corners.iter().min_by_key(|c| hidden(c));
+    best.map_or(SeriesLabelPosition::UpperRight, |c| c.0.clone())
 }
 
-impl Layout {
-    fn new(plot: &ScatterPlot, w: u32, h: u32) -> Self {
-        let pts = || plot.series.iter().flat_map(|s| s.points.iter());
-        let xr = log_range(pts().map(|p| p.0));
-        let yr = log_range(pts().map(|p| p.1));
-        let ticks = decades(yr.0, yr.1)
-            .into_iter()
-            .map(|e| text_width(&tick_label(e)));
-        let x0 = ticks.max().unwrap_or(0) + 20;
-        let y0 = 2 * GLYPH + 40;
-        let x1 = (i64::from(w) - 30).max(x0 + 1);
-        let y1 = (i64::from(h) - 2 * GLYPH - 36).max(y0 + 1);
-        Layout {
-            x0,
-            y0,
-            x1,
-            y1,
-            xr,
-            yr,
-        }
-    }
-    fn map_x(&self, lx: f64) -> i64 {
-        let t = (lx - self.xr.0) / (self.xr.1 - self.xr.0);
-        (self.x0 as f64 + t * (self.x1 - self.x0) as f64).round() as i64
-    }
-    fn map_y(&self, ly: f64) -> i64 {
-        let t = (ly - self.yr.0) / (self.yr.1 - self.yr.0);
-        (self.y1 as f64 - t * (self.y1 - self.y0) as f64).round() as i64
-    }
-}
-
-impl ScatterPlot {
-    /// Renders to RGB pixels (width*height*3), white background.
-    pub fn render(&self, width: u32, height: u32) -> Vec<u8> {
-        let mut cv = Canvas::new(width, height);
-        let l = Layout::new(self, width, height);
-        let (x0, y0, x1, y1) = (l.x0, l.y0, l.x1, l.y1);
-        for v in minor_ticks(l.xr) {
-            cv.rect(l.map_x(v), y1 - 4, l.map_x(v) + 1, y1, FRAME_GREY);
-        }
-        for v in minor_ticks(l.yr) {
-            cv.rect(x0 + 1, l.map_y(v), x0 + 5, l.map_y(v) + 1, FRAME_GREY);
-        }
-        for e in decades(l.xr.0, l.xr.1) {
-            let (px, s) = (l.map_x(f64::from(e)), tick_label(e));
-            cv.rect(px, y0, px + 1, y1, GRID);
-            cv.text(px - text_width(&s) / 2, y1 + 8, &s, BLACK);
-        }
-        for e in decades(l.yr.0, l.yr.1) {
-            let (py, s) = (l.map_y(f64::from(e)), tick_label(e));
-            cv.rect(x0, py, x1, py + 1, GRID);
-            cv.text(x0 - 8 - text_width(&s), py - GLYPH / 2, &s, BLACK);
-        }
-        cv.outline(x0, y0, x1, y1, BLACK);
-        let title_x = (i64::from(width) - text_width(&self.title)) / 2;
-        cv.text(title_x.max(0), 10, &self.title, BLACK);
-        let xl_x = x0 + (x1 - x0 - text_width(&self.x_label)) / 2;
-        cv.text(xl_x.max(0), y1 + GLYPH + 20, &self.x_label, BLACK);
-        cv.text(10, y0 - GLYPH - 14, &self.y_label, BLACK);
-        let usable = |v: f64| v.is_finite() && v > 0.0;
-        let marks: Vec<(i64, i64, [u8; 3])> = (self.series.iter())
-            .flat_map(|s| s.points.iter().map(move |p| (p.0, p.1, s.color)))
+/// Draws one plot into `area`.
+fn draw_plot<DB: DrawingBackend>(
+    plot: &ScatterPlot,
+    area: &DrawingArea<DB, Shift>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let points = || plot.series.iter().flat_map(|s| s.points.iter());
+    let xr = log_range(points().map(|p| p.0));
+    let yr = log_range(points().map(|p| p.1));
+    let decades = |(lo, hi): (f64, f64)| 10f64.powf(lo)..10f64.powf(hi);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&plot.title, (FONT, 24))
+        .margin(16)
+        .x_label_area_size(56)
+        .y_label_area_size(72)
+        .build_cartesian_2d(
+            decades(xr).log_scale().with_key_points(ticks(xr)),
+            decades(yr).log_scale().with_key_points(ticks(yr)),
+        )?;
+    chart
+        .configure_mesh()
+        .x_desc(plot.x_label.as_str())
+        .y_desc(plot.y_label.as_str())
+        .x_label_formatter(&|v| tick_label(*v))
+        .y_label_formatter(&|v| tick_label(*v))
+        .label_style((FONT, 16))
+        .axis_desc_style((FONT, 18))
+        .bold_line_style(GRID_GREY)
+        .max_light_lines(0)
+        .axis_style(BLACK)
+        .draw()?;
+    for s in &plot.series {
+        let color = RGBColor(s.color[0], s.color[1], s.color[2]);
+        let marks = (s.points.iter().copied())
             .filter(|p| usable(p.0) && usable(p.1))
-            .map(|(x, y, c)| (l.map_x(x.log10()), l.map_y(y.log10()), c))
-            .collect();
-        for &(x, y, c) in &marks {
-            cv.disc(x, y, RADIUS, c);
-        }
-        if self.series.is_empty() {
-            return cv.px;
-        }
-        // Legend: top-right unless another inside corner hides fewer points.
-        let row = GLYPH + 8;
-        let lw = 44
-            + self
-                .series
-                .iter()
-                .map(|s| text_width(&s.label))
-                .max()
-                .unwrap_or(0);
-        let lh = row * self.series.len() as i64 + 8;
-        let (left, right, top, bottom) = (x0 + 10, x1 - 10 - lw, y0 + 10, y1 - 10 - lh);
-        let corners = [(right, top), (left, top), (right, bottom), (left, bottom)];
-        let hidden = |&(lx, ly): &(i64, i64)| {
-            let near = |v: i64, lo: i64, len: i64| (lo - RADIUS..=lo + len + RADIUS).contains(&v);
-            let inside = |m: &&(i64, i64, [u8; 3])| near(m.0, lx, lw) && near(m.1, ly, lh);
-            marks.iter().filter(inside).count()
-        };
-        let (lx, ly) = corners.into_iter().min_by_key(hidden).unwrap_or(corners[0]);
-        cv.rect(lx, ly, lx + lw, ly + lh, [255, 255, 255]);
-        cv.outline(lx, ly, lx + lw, ly + lh, FRAME_GREY);
-        for (i, s) in self.series.iter().enumerate() {
-            let ry = ly + 8 + row * i as i64;
-            cv.disc(lx + 18, ry + GLYPH / 2, RADIUS + 1, s.color);
-            cv.text(lx + 32, ry, &s.label, BLACK);
-        }
-        cv.px
+            .map(move |p| Circle::new(p, MARKER_RADIUS, color.filled()));
+        chart
+            .draw_series(marks)?
+            .label(s.label.as_str())
+            .legend(move |p| Circle::new(p, MARKER_RADIUS + 1, color.filled()));
     }
+    if !plot.series.is_empty() {
+        chart
+            .configure_series_labels()
+            .position(legend_corner(plot, xr, yr))
+            .label_font((FONT, 16))
+            .background_style(WHITE)
+            .border_style(FRAME_GREY)
+            .margin(12)
+            .draw()?;
+    }
+    Ok(())
 }
 
-/// Renders `plots` one under the other (each `width` × `height`) into one PNG.
+/// Fills `root` white and draws `plots` one under the other.
+fn draw_stacked<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    plots: &[ScatterPlot],
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(err)?;
+    for (plot, area) in plots.iter().zip(root.split_evenly((plots.len().max(1), 1))) {
+        draw_plot(plot, &area).map_err(err)?;
+    }
+    root.present().map_err(err)
+}
+
+/// Renders `plots` one under the other (each `width` × `height` pixels) into one PNG.
 pub fn write_stacked_png(
     plots: &[ScatterPlot],
     path: &Path,
@@ -274,62 +218,125 @@ pub fn write_stacked_png(
     height: u32,
 ) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| format!("writing plot {}: {e}", path.display());
-    let file = std::fs::File::create(path).map_err(|e| err(&e))?;
+    register_fonts().map_err(|e| err(&e))?;
     let total_height = height * plots.len().max(1) as u32;
+    let mut pixels = vec![255; width as usize * total_height as usize * 3];
+    let root = BitMapBackend::with_buffer(&mut pixels, (width, total_height)).into_drawing_area();
+    draw_stacked(root, plots).map_err(|e| err(&e))?;
+    let file = std::fs::File::create(path).map_err(|e| err(&e))?;
     let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, total_height);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
     let mut writer = enc.write_header().map_err(|e| err(&e))?;
-    let mut pixels: Vec<u8> = plots.iter().flat_map(|p| p.render(width, height)).collect();
-    pixels.resize((width * total_height * 3) as usize, 255);
     writer.write_image_data(&pixels).map_err(|e| err(&e))?;
     writer.finish().map_err(|e| err(&e))
+}
+
+/// Renders `plots` one under the other (each `width` × `height`) into one SVG.
+pub fn write_stacked_svg(
+    plots: &[ScatterPlot],
+    path: &Path,
+    width: u32,
+    height: u32,
+) -> Result<(), String> {
+    let err = |e: &dyn std::fmt::Display| format!("writing plot {}: {e}", path.display());
+    register_fonts().map_err(|e| err(&e))?;
+    let total_height = height * plots.len().max(1) as u32;
+    let mut svg = String::new();
+    let root = SVGBackend::with_string(&mut svg, (width, total_height)).into_drawing_area();
+    draw_stacked(root, plots).map_err(|e| err(&e))?;
+    std::fs::write(path, svg).map_err(|e| err(&e))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    const RED: [u8; 3] = [200, 10, 30];
+
     fn plot(series: Vec<Series>) -> ScatterPlot {
-        let s = |t: &str| t.to_string();
         ScatterPlot {
-            title: s("Title"),
-            x_label: s("x"),
-            y_label: s("y"),
+            title: "Cost against accuracy".into(),
+            x_label: "cost per simulated second [s/s]".into(),
+            y_label: "density error [%]".into(),
             series,
         }
     }
 
     fn one(points: Vec<(f64, f64)>) -> Vec<Series> {
         vec![Series {
-            label: "s".into(),
-            color: [200, 10, 30],
+            label: "cpu kdk".into(),
+            color: RED,
             points,
         }]
     }
 
-    #[test]
-    fn render_has_requested_size() {
-        assert_eq!(plot(vec![]).render(320, 240).len(), 320 * 240 * 3);
+    /// A directory of its own for the test `test` (tests run in parallel).
+    fn temp_dir(test: &str) -> std::path::PathBuf {
+        let name = format!("sph_bench_plot_{}_{test}", std::process::id());
+        let dir = std::env::temp_dir().join(name);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// Where a test's plots go: `SPH_BENCH_PLOT_DIR` to keep them and look at them, else a
+    /// temporary directory removed at the end.
+    fn plot_dir(test: &str) -> (std::path::PathBuf, bool) {
+        match std::env::var_os("SPH_BENCH_PLOT_DIR") {
+            Some(dir) => {
+                std::fs::create_dir_all(&dir).unwrap();
+                (dir.into(), true)
+            }
+            None => (temp_dir(test), false),
+        }
+    }
+
+    fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
+        let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+        let mut reader = png::Decoder::new(file).read_info().unwrap();
+        let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut pixels).unwrap();
+        assert_eq!(info.color_type, png::ColorType::Rgb);
+        (info.width, info.height, pixels)
     }
 
     #[test]
-    fn point_colour_appears_where_log_coordinates_map() {
-        let p = plot(one(vec![(1.0, 1.0), (100.0, 1000.0)]));
-        let l = Layout::new(&p, 400, 300);
-        assert_eq!((l.xr, l.yr), ((-0.5, 2.5), (-0.5, 3.5)));
-        let img = p.render(400, 300);
-        let pixel = |x: i64, y: i64| &img[((y * 400 + x) * 3) as usize..][..3];
-        // (1, 1) sits 1/6 of the way across and 1/8 up; (100, 1000) at 5/6 across, 7/8 up.
-        let at = |fx: f64, fy: f64| {
-            let x = l.x0 as f64 + fx * (l.x1 - l.x0) as f64;
-            let y = l.y1 as f64 - fy * (l.y1 - l.y0) as f64;
-            pixel(x.round() as i64, y.round() as i64)
-        };
-        assert_eq!(at(1.0 / 6.0, 1.0 / 8.0), [200, 10, 30]);
-        assert_eq!(at(5.0 / 6.0, 7.0 / 8.0), [200, 10, 30]);
-        // And not somewhere unrelated, e.g. the bottom-right of the plot area.
-        assert_ne!(pixel(l.x1 - 20, l.y1 - 20), [200, 10, 30]);
+    fn png_and_svg_are_written_with_axes_labels_and_points() {
+        let mut series = one(vec![(0.5, 2.0), (3.0, 0.04), (40.0, 0.3)]);
+        series.push(Series {
+            label: "gpu kdk".into(),
+            color: PALETTE[0],
+            points: vec![(8.0, 0.05), (20.0, 0.02), (150.0, 0.01)],
+        });
+        let plots = [plot(series), plot(vec![])];
+        let (dir, keep) = plot_dir("written");
+        let (png_path, svg_path) = (dir.join("trade.png"), dir.join("trade.svg"));
+        write_stacked_png(&plots, &png_path, 600, 400).unwrap();
+        write_stacked_svg(&plots, &svg_path, 600, 400).unwrap();
+        let (w, h, pixels) = decode(&png_path);
+        assert_eq!((w, h), (600, 800));
+        let count = |c: [u8; 3]| pixels.chunks(3).filter(|p| *p == c).count();
+        // Three markers and the legend's, 5 px in radius: well over 100 pixels of their colour.
+        assert!(count(RED) > 100, "{} marker pixels", count(RED));
+        // Text: dark pixels besides the frame (a frame alone is about 4 × 600 pixels).
+        assert!(
+            count([0, 0, 0]) > 2_000,
+            "{} black pixels",
+            count([0, 0, 0])
+        );
+        let svg = std::fs::read_to_string(&svg_path).unwrap();
+        for text in [
+            "Cost against accuracy",
+            "cost per simulated second [s/s]",
+            "density error [%]",
+            "cpu kdk",
+            "<circle",
+        ] {
+            assert!(svg.contains(text), "no {text:?} in the SVG");
+        }
+        if !keep {
+            std::fs::remove_dir_all(dir).unwrap();
+        }
     }
 
     #[test]
@@ -339,36 +346,47 @@ mod tests {
             (-1.0, 2.0),
             (0.0, 0.0),
             (f64::INFINITY, 3.0),
+            (f64::MIN_POSITIVE, f64::MAX),
         ];
+        let dir = temp_dir("degenerate");
+        let path = dir.join("plot.png");
         for series in [vec![], one(vec![]), one(vec![(5.0, 5.0)]), one(bad)] {
-            let p = plot(series);
-            for (w, h) in [(640, 480), (10, 10), (0, 0), (1, 300)] {
-                assert_eq!(p.render(w, h).len(), (w * h * 3) as usize);
-            }
+            write_stacked_png(&[plot(series)], &path, 640, 480).unwrap();
         }
+        std::fs::remove_dir_all(dir).unwrap();
         assert_eq!(log_range(std::iter::empty()), (0.0, 1.0));
         assert_eq!(log_range([5.0, 5.0].into_iter()), (0.0, 1.5));
-        let extreme = log_range([f64::MIN_POSITIVE, f64::MAX].into_iter());
-        assert!(decades(extreme.0, extreme.1).len() <= 12);
+        let bad = Path::new("/nonexistent-dir/plot.png");
+        let e = write_stacked_png(&[plot(vec![])], bad, 100, 100).unwrap_err();
+        assert!(e.contains("/nonexistent-dir/plot.png"), "{e}");
     }
 
     #[test]
     fn tick_labels_are_compact() {
-        let labels: Vec<String> = (-3..=3).map(tick_label).collect();
-        assert_eq!(labels, ["1e-3", "0.01", "0.1", "1", "10", "100", "1e3"]);
+        let labels: Vec<String> = [1e-5, 0.002, 0.05, 1.0, 20.0, 300.0, 2e6]
+            .into_iter()
+            .map(tick_label)
+            .collect();
+        assert_eq!(labels, ["1e-5", "0.002", "0.05", "1", "20", "300", "2e6"]);
     }
 
     #[test]
-    fn write_png_round_trips() {
-        let path = std::env::temp_dir().join(format!("plot_test_{}.png", std::process::id()));
-        let plots = [plot(one(vec![(0.5, 2.0)])), plot(vec![])];
-        write_stacked_png(&plots, &path, 300, 200).unwrap();
-        let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
-        let reader = png::Decoder::new(file).read_info().unwrap();
-        assert_eq!((reader.info().width, reader.info().height), (300, 400));
-        std::fs::remove_file(&path).unwrap();
-        let bad = Path::new("/nonexistent-dir/plot.png");
-        let e = write_stacked_png(&[plot(vec![])], bad, 10, 10).unwrap_err();
-        assert!(e.contains("/nonexistent-dir/plot.png"), "{e}");
+    fn ticks_step_by_1_2_5_or_by_decades() {
+        assert_eq!(ticks((-1.5, 0.0)), [0.05, 0.1, 0.2, 0.5, 1.0]);
+        assert_eq!(ticks((-0.5, 3.0)), [1.0, 10.0, 100.0, 1000.0]);
+        let wide = ticks((-300.0, 300.0));
+        assert!(wide.len() <= 13 && wide.contains(&1.0), "{wide:?}");
+        assert!(ticks((0.1, 0.2)).is_empty());
+    }
+
+    #[test]
+    fn the_legend_avoids_the_points() {
+        // Points in the upper right: the legend goes elsewhere.
+        let p = plot(one(vec![(50.0, 50.0), (60.0, 40.0), (1.0, 1.0)]));
+        let (xr, yr) = (
+            log_range([1.0, 60.0].into_iter()),
+            log_range([1.0, 50.0].into_iter()),
+        );
+        assert_ne!(legend_corner(&p, xr, yr), SeriesLabelPosition::UpperRight);
     }
 }

@@ -1,6 +1,5 @@
 //! The JSON report of one run.
 
-use crate::hydrostatic::HydrostaticFigures;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -22,6 +21,32 @@ pub struct DamBreakFigures {
     pub rms_z_shifted: f64,
     /// That lag in T.
     pub best_shift: f64,
+}
+
+/// One lattice layer's pressure.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Layer {
+    /// Mean depth below the free surface [m].
+    pub depth: f64,
+    /// Mean SPH pressure [Pa].
+    pub pressure: f64,
+    /// ρ0 g depth [Pa].
+    pub expected: f64,
+    /// (pressure - expected) / expected [%].
+    pub error_pct: f64,
+}
+
+/// The hydrostatic figures.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct HydrostaticFigures {
+    /// Layers from the top (layer 0 is the top particle layer).
+    pub layers: Vec<Layer>,
+    /// Largest |error| of the layers below the top one [%] (target <= 5).
+    pub max_error_below_top_pct: f64,
+    /// Mean |error| of the layers below the top one [%].
+    pub mean_error_below_top_pct: f64,
+    /// Mean compression error over the averaging window [%] (target <= 1).
+    pub density_error_mean_pct: f64,
 }
 
 /// One run's figures (the fields the issue asks for, plus context).
@@ -80,7 +105,15 @@ pub struct Report {
     pub gpu_bytes_per_particle: u32,
     /// GPU memory of one million particles at that rate [MiB].
     pub gpu_mib_per_million: f64,
-    /// "ok", or "unstable" (a step went unstable, or NaN or escaped particles at the end).
+    /// Unstable steps were rolled back and retried at half the dt (`--rollback on`).
+    pub rollback: bool,
+    /// Unstable steps rolled back (0 with rollback off).
+    pub rollbacks: u64,
+    /// The time step in use at the end [s] (after any halving by rollbacks; the adaptive rule's
+    /// last dt).
+    pub dt_last: f32,
+    /// "ok", or "unstable" (a step went unstable and could not be rolled back, or NaN or escaped
+    /// particles at the end).
     pub health: String,
     /// The step at which the instability was detected (the run stops there).
     pub unstable_step: Option<u64>,

@@ -1,22 +1,22 @@
 //! Runs one scenario on either backend: steps in chunks, samples the state every 0.01 s where the
 //! scenario measures something over time, shows a progress bar, and fills the report.
 
-use crate::args::{Backend, Duration, RunArgs};
+use crate::args::{integrator_name, search_name, Backend, Duration, RunArgs};
 use crate::hydrostatic::HydrostaticSampler;
+use crate::martin_moyce::{experiment, rms_error_and_best_shift};
+use crate::progress::Bars;
 use crate::report::{DamBreakFigures, Report};
 use crate::scenarios::{setup, Setup, G};
 use crate::sim::{CpuSimulation, GpuSimulation, Simulation, State};
-use crate::validate::{experiment, rms_error_and_best_shift};
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
-use sph_core::{Diagnostics, Integrator, NeighborSearch};
-use std::io::Write;
+use sph_core::{Diagnostics, Integrator, NeighborSearch, Rollback};
 
 /// Interval between samples of the state [s].
 pub const SAMPLE_INTERVAL: f64 = 0.01;
 
-/// The setup of the arguments: the scenario with the integrator, search, surface tension and
-/// time-step overrides applied.
+/// The setup of the arguments: the scenario with the integrator, search, surface tension,
+/// time-step and rollback overrides applied.
 pub fn configured_setup(args: &RunArgs) -> Setup {
     let mut s = setup(args.scenario, args.particles, args.a);
     let p = &mut s.scene.params;
@@ -40,21 +40,22 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
             p.time_step = lambda * p.smoothing_radius / (1.1 * p.speed_of_sound());
         }
     }
+    s.rollback = rollback(args.rollback);
     s
+}
+
+/// The rollback settings of `--rollback on|off`.
+pub fn rollback(on: bool) -> Rollback {
+    if on {
+        Rollback::default()
+    } else {
+        Rollback::off()
+    }
 }
 
 /// Names of the integrator and search, as on the command line.
 pub fn names(integrator: Integrator, search: NeighborSearch) -> (&'static str, &'static str) {
-    let integrator = match integrator {
-        Integrator::SymplecticEuler => "euler",
-        Integrator::Leapfrog => "leapfrog",
-        Integrator::KickDriftKick => "kdk",
-    };
-    let search = match search {
-        NeighborSearch::Grid => "grid",
-        NeighborSearch::Hash => "hash",
-    };
-    (integrator, search)
+    (integrator_name(integrator), search_name(search))
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -63,46 +64,6 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
-}
-
-/// A one-line progress bar on stderr, redrawn when the percentage changes.
-pub struct Progress {
-    label: String,
-    shown: Option<u32>,
-}
-
-impl Progress {
-    /// A bar labelled `label`.
-    pub fn new(label: impl Into<String>) -> Self {
-        Self {
-            label: label.into(),
-            shown: None,
-        }
-    }
-
-    /// Shows `fraction` done, with `detail`.
-    pub fn show(&mut self, fraction: f64, detail: &str) {
-        let percent = (fraction.clamp(0.0, 1.0) * 100.0) as u32;
-        if self.shown == Some(percent) {
-            return;
-        }
-        self.shown = Some(percent);
-        let filled = (percent / 5) as usize;
-        eprint!(
-            "\r  {} [{}{}] {percent:3}% {detail}   ",
-            self.label,
-            "#".repeat(filled),
-            ".".repeat(20 - filled)
-        );
-        let _ = std::io::stderr().flush();
-    }
-
-    /// Ends the line.
-    pub fn finish(&mut self) {
-        if self.shown.is_some() {
-            eprintln!();
-        }
-    }
 }
 
 /// What a scenario records while it runs.
@@ -164,31 +125,44 @@ pub fn simulation(
     setup: &Setup,
     backend: Backend,
     substeps: u32,
+    bars: &Bars,
 ) -> Result<Box<dyn Simulation>, String> {
     Ok(match backend {
         Backend::Cpu => Box::new(CpuSimulation::new(setup)?),
         Backend::Gpu => {
             let mut gpu = GpuSimulation::new(setup, substeps)?;
-            eprintln!("  compiling shaders and taking the first step");
+            bars.note("  compiling shaders and taking the first step");
             gpu.advance(1)?;
             Box::new(gpu)
         }
     })
 }
 
-/// Runs `setup` on `backend` for `duration` and reports.
+/// Progress in the bar's units: steps, or simulated milliseconds.
+fn progress_units(duration: Duration, steps: u64, time: f64) -> (u64, u64) {
+    match duration {
+        Duration::Steps(n) => (steps.min(n), n),
+        Duration::Time(t) => {
+            let len = (t * 1e3).ceil() as u64;
+            (((time * 1e3).round() as u64).min(len), len)
+        }
+    }
+}
+
+/// Runs `setup` on `backend` for `duration` and reports; a progress bar in `bars` shows how far.
 pub fn run_setup(
     setup: &Setup,
     backend: Backend,
     substeps: u32,
     duration: Duration,
+    bars: &Bars,
 ) -> Result<Report, String> {
-    let mut sim = simulation(setup, backend, substeps)?;
+    let mut sim = simulation(setup, backend, substeps, bars)?;
     let params = setup.scene.params;
     let mut samples = Samples::for_setup(setup);
     let mut times = Vec::new();
     let mut next_sample = 0.0;
-    let mut progress = Progress::new(setup.scenario.name());
+    let mut progress = bars.run(setup.scenario.name(), progress_units(duration, 0, 0.0).1);
     let finished = |sim: &dyn Simulation| match duration {
         Duration::Steps(n) => sim.steps() >= n,
         Duration::Time(t) => sim.time() >= t - 1e-9,
@@ -219,13 +193,10 @@ pub fn run_setup(
         if taken > 0 {
             times.push(ms / taken as f64);
         }
-        let fraction = match duration {
-            Duration::Steps(n) => sim.steps() as f64 / n.max(1) as f64,
-            Duration::Time(t) => sim.time() / t,
-        };
-        progress.show(
-            fraction,
-            &format!("t = {:.3} s, step {}", sim.time(), sim.steps()),
+        let (done, _) = progress_units(duration, sim.steps(), sim.time());
+        progress.set(
+            done,
+            format!("t = {:.3} s, step {}", sim.time(), sim.steps()),
         );
     }
     progress.finish();
@@ -244,12 +215,7 @@ pub fn run_setup(
     let unstable_step = sim.unstable_step();
     let mut report = Report {
         scenario: setup.scenario.name().into(),
-        backend: if backend == Backend::Gpu {
-            "gpu"
-        } else {
-            "cpu"
-        }
-        .into(),
+        backend: backend.name().into(),
         adapter: sim.adapter(),
         particles,
         integrator: integrator.into(),
@@ -274,6 +240,9 @@ pub fn run_setup(
         particles_final: d.particle_count,
         gpu_bytes_per_particle: sim.gpu_bytes_per_particle(),
         gpu_mib_per_million: sim.gpu_bytes_per_particle() as f64 * 1e6 / (1024.0 * 1024.0),
+        rollback: setup.rollback.enabled,
+        rollbacks: sim.rollbacks(),
+        dt_last: sim.last_dt(),
         health: if unstable_step.is_some() || d.non_finite_count > 0 || d.outside_count > 0 {
             "unstable"
         } else {
@@ -301,8 +270,63 @@ pub fn run_setup(
 }
 
 /// `sph-bench run`.
-pub fn run(args: &RunArgs) -> Result<Report, String> {
+pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
     let setup = configured_setup(args);
-    let duration = args.duration.unwrap_or(Duration::Time(setup.duration));
-    run_setup(&setup, args.backend, args.substeps, duration)
+    let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
+    run_setup(&setup, args.backend, args.substeps, duration, bars)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small dam break at several times its derived dt (0.003 s), for 0.2 s.
+    fn too_large_a_step(rollback: bool) -> Report {
+        let args = RunArgs {
+            particles: 500,
+            dt: Some(0.003),
+            rollback,
+            ..Default::default()
+        };
+        let derived = configured_setup(&RunArgs {
+            dt: None,
+            ..args.clone()
+        })
+        .scene
+        .params
+        .time_step;
+        assert!(0.003 > 4.0 * derived, "derived dt {derived}");
+        let setup = configured_setup(&args);
+        run_setup(
+            &setup,
+            Backend::Cpu,
+            1,
+            Duration::Time(0.2),
+            &Bars::new(true),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn rollback_reaches_the_solver_and_the_report() {
+        let on = too_large_a_step(true);
+        assert!(
+            on.rollback && on.rollbacks > 0,
+            "{} rollbacks",
+            on.rollbacks
+        );
+        assert_eq!((on.health.as_str(), on.unstable_step), ("ok", None));
+        assert!(
+            on.dt_last < 0.003 && on.dt_last > 0.0,
+            "dt_last {}",
+            on.dt_last
+        );
+        assert!(on.sim_time >= 0.2 - 1e-6);
+        let off = too_large_a_step(false);
+        assert!(!off.rollback);
+        assert_eq!(off.rollbacks, 0);
+        assert_eq!(off.health, "unstable");
+        assert!(off.unstable_step.is_some());
+        assert_eq!(off.dt_last, 0.003);
+    }
 }

@@ -5,7 +5,7 @@ use crate::scenarios::Setup;
 use bevy::prelude::*;
 use bevy_sph_fluid::headless;
 use bevy_sph_fluid::prelude::*;
-use sph_core::{CpuSolver, PipeEmitter};
+use sph_core::{CpuSolver, PipeEmitter, Rollback};
 use std::time::Instant;
 
 /// The particle state a scenario measures.
@@ -29,8 +29,10 @@ pub trait Simulation {
     fn steps(&self) -> u64;
     /// dt of the last step [s].
     fn last_dt(&self) -> f32;
-    /// The step detected as unstable, if any.
+    /// The step detected as unstable (and not rolled back), if any.
     fn unstable_step(&self) -> Option<u64>;
+    /// Unstable steps rolled back so far.
+    fn rollbacks(&self) -> u64;
     /// The current state (a readback on the GPU).
     fn state(&mut self) -> Result<State, String>;
     /// Stage name -> mean ms per step (CPU) or per evaluation (GPU timestamps).
@@ -54,6 +56,9 @@ impl CpuSimulation {
     pub fn new(setup: &Setup) -> Result<Self, String> {
         let s = &setup.scene;
         let mut solver = CpuSolver::new(s.params, s.container, setup.capacity.max(1))
+            .map_err(|e| e.to_string())?;
+        solver
+            .set_rollback(setup.rollback)
             .map_err(|e| e.to_string())?;
         solver.spawn(&s.positions(), Vec3::ZERO);
         Ok(Self {
@@ -93,6 +98,10 @@ impl Simulation for CpuSimulation {
         self.solver.unstable_step()
     }
 
+    fn rollbacks(&self) -> u64 {
+        self.solver.rollbacks()
+    }
+
     fn state(&mut self) -> Result<State, String> {
         let p = self.solver.particles();
         Ok(State {
@@ -130,6 +139,7 @@ pub struct GpuSimulation {
     app: App,
     adapter: String,
     substeps: u32,
+    rollback: Rollback,
 }
 
 impl GpuSimulation {
@@ -152,6 +162,7 @@ impl GpuSimulation {
             app,
             adapter,
             substeps: substeps.max(1),
+            rollback: setup.rollback,
         })
     }
 
@@ -182,6 +193,7 @@ impl Simulation for GpuSimulation {
             self.app.insert_resource(SphControl {
                 running: true,
                 substeps: k,
+                rollback: self.rollback,
                 ..default()
             });
             let mut frames = 0;
@@ -199,6 +211,7 @@ impl Simulation for GpuSimulation {
         }
         self.app.insert_resource(SphControl {
             running: false,
+            rollback: self.rollback,
             ..default()
         });
         headless::wait_for_gpu(&self.app);
@@ -224,6 +237,10 @@ impl Simulation for GpuSimulation {
             SphHealth::Unstable { step } => Some(step),
             _ => None,
         }
+    }
+
+    fn rollbacks(&self) -> u64 {
+        self.stats().rollbacks
     }
 
     fn state(&mut self) -> Result<State, String> {

@@ -3,8 +3,9 @@
 //! loss, sampled a hundred times along the way. Not part of the test suite.
 
 use crate::args::SoakArgs;
-use crate::run::{diagnostics, names, simulation, Progress};
-use crate::scenarios::{setup, Scenario};
+use crate::progress::Bars;
+use crate::run::{diagnostics, names, rollback, simulation};
+use crate::scenarios::{setup, Scenario, Setup};
 use serde::Serialize;
 
 /// The soak report.
@@ -26,8 +27,14 @@ pub struct SoakReport {
     pub wall_seconds: f64,
     /// "ok" or "unstable".
     pub health: String,
-    /// The step detected as unstable.
+    /// The step detected as unstable (and not rolled back).
     pub unstable_step: Option<u64>,
+    /// Unstable steps were rolled back and retried at half the dt (`--rollback on`).
+    pub rollback: bool,
+    /// Unstable steps rolled back (0 with rollback off).
+    pub rollbacks: u64,
+    /// The time step in use at the end [s] (after any halving by rollbacks).
+    pub dt_last: f32,
     /// Particles spawned minus particles at the end (0: nothing lost).
     pub particles_lost: i64,
     /// NaN particles at the end.
@@ -45,14 +52,17 @@ pub struct SoakReport {
 }
 
 /// Runs the soak.
-pub fn run(args: &SoakArgs) -> Result<SoakReport, String> {
-    let setup = setup(Scenario::DamBreak, args.particles, 0.146);
-    let mut sim = simulation(&setup, args.backend, args.substeps)?;
+pub fn run(args: &SoakArgs, bars: &Bars) -> Result<SoakReport, String> {
+    let setup = Setup {
+        rollback: rollback(args.rollback),
+        ..setup(Scenario::DamBreak, args.particles, 0.146)
+    };
+    let mut sim = simulation(&setup, args.backend, args.substeps, bars)?;
     let started = std::time::Instant::now();
     let chunk = (args.steps / 100).max(1);
-    let mut progress = Progress::new("soak");
+    let mut progress = bars.run("soak", args.steps);
     let mut report = SoakReport {
-        backend: format!("{:?}", args.backend).to_lowercase(),
+        backend: args.backend.name().into(),
         integrator: names(
             setup.scene.params.integrator,
             setup.scene.params.neighbor_search,
@@ -76,9 +86,9 @@ pub fn run(args: &SoakArgs) -> Result<SoakReport, String> {
             d.particle_count as f64,
         ]);
         report.density_error_peak_pct = report.density_error_peak_pct.max(d.density_error_mean_pct);
-        progress.show(
-            sim.steps() as f64 / args.steps as f64,
-            &format!(
+        progress.set(
+            sim.steps(),
+            format!(
                 "step {}, t = {:.2} s, density error {:.3} %",
                 sim.steps(),
                 sim.time(),
@@ -98,6 +108,9 @@ pub fn run(args: &SoakArgs) -> Result<SoakReport, String> {
     report.sim_time = sim.time();
     report.wall_seconds = started.elapsed().as_secs_f64();
     report.unstable_step = sim.unstable_step();
+    report.rollback = setup.rollback.enabled;
+    report.rollbacks = sim.rollbacks();
+    report.dt_last = sim.last_dt();
     report.nan_count = d.non_finite_count;
     report.escaped_count = d.outside_count;
     report.particles_lost = report.particles as i64 - d.particle_count as i64;

@@ -1,11 +1,12 @@
 //! `sph-bench trade`: the speed-against-accuracy study. Sweeps integrator × time step on the Martin &
 //! Moyce dam break, particle count × backend, neighbour search, the optional stages (surface
 //! tension, viscosity), and the 31,250-particle peer scene; finds each integrator's largest stable
-//! dt by bisection; writes `trade.md` (tables) and `trade.png` (cost per simulated second against
-//! the density error and the dam break's front error) into the output directory.
+//! dt by bisection; writes `trade.md` (tables) and `trade.png` and `trade.svg` (cost per simulated
+//! second against the density error and the dam break's front error) into the output directory.
 
 use crate::args::{Backend, Duration, RunArgs, TradeArgs};
-use crate::plot::{write_stacked_png, ScatterPlot, Series, PALETTE};
+use crate::plot::{write_stacked_png, write_stacked_svg, ScatterPlot, Series, PALETTE};
+use crate::progress::Bars;
 use crate::report::Report;
 use crate::run::{configured_setup, names, run_setup};
 use crate::scenarios::Scenario;
@@ -23,7 +24,7 @@ const INTEGRATORS: [Integrator; 3] = [
 const SWEEP_PARTICLES: usize = 2_000;
 
 /// Simulated time of a stability probe [s].
-const STABILITY_TIME: f64 = 2.0;
+const STABILITY_TIME: f32 = 2.0;
 
 /// Largest mean compression error a stable run may reach [%].
 const STABLE_DENSITY_ERROR_PCT: f32 = 10.0;
@@ -35,18 +36,24 @@ struct Row {
     report: Report,
 }
 
-fn backend_name(b: Backend) -> &'static str {
-    match b {
-        Backend::Cpu => "cpu",
-        Backend::Gpu => "gpu",
+/// One run of the study, before it runs.
+struct Planned {
+    group: &'static str,
+    label: String,
+    args: RunArgs,
+}
+
+impl Planned {
+    fn new(group: &'static str, label: String, args: RunArgs) -> Self {
+        Self { group, label, args }
     }
 }
 
-fn run_row(group: &'static str, label: String, args: &RunArgs) -> Result<Row, String> {
-    eprintln!("sph-bench trade: {group}: {label}");
-    let setup = configured_setup(args);
-    let duration = args.duration.unwrap_or(Duration::Time(setup.duration));
-    let report = run_setup(&setup, args.backend, args.substeps, duration)?;
+fn run_row(planned: Planned, bars: &Bars) -> Result<Row, String> {
+    let Planned { group, label, args } = planned;
+    let setup = configured_setup(&args);
+    let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
+    let report = run_setup(&setup, args.backend, args.substeps, duration, bars)?;
     Ok(Row {
         group,
         label,
@@ -60,28 +67,36 @@ fn stable(r: &Report) -> bool {
     r.health == "ok" && r.density_error_mean_max_pct < STABLE_DENSITY_ERROR_PCT
 }
 
-/// The largest stable dt of `integrator` on the dam break, by bisection in log(dt) between the
-/// derived step (stable) and 0.01 s; returns (dt, probes).
-fn largest_stable_dt(integrator: Integrator) -> Result<(f32, f32, u32), String> {
-    let base = RunArgs {
+/// The options of `integrator`'s stability probes (their dt aside): rollback off, since a
+/// rolled-back step would hide the instability the search looks for.
+fn probe_args(integrator: Integrator) -> RunArgs {
+    RunArgs {
         particles: SWEEP_PARTICLES,
         integrator,
-        duration: Some(Duration::Time(STABILITY_TIME)),
+        time: Some(STABILITY_TIME),
+        rollback: false,
         ..Default::default()
-    };
+    }
+}
+
+/// The largest stable dt of `integrator` on the dam break, by bisection in log(dt) between the
+/// derived step (stable) and 0.01 s, with rollback off; returns (that dt, the derived dt, probes).
+fn largest_stable_dt(integrator: Integrator, bars: &Bars) -> Result<(f32, f32, u32), String> {
+    let base = probe_args(integrator);
     let derived = configured_setup(&base).scene.params.time_step;
     let probe = |dt: f32| -> Result<bool, String> {
         let setup = configured_setup(&RunArgs {
             dt: Some(dt),
             ..base.clone()
         });
-        let r = run_setup(&setup, Backend::Cpu, 1, Duration::Time(STABILITY_TIME))?;
+        let duration = Duration::Time(STABILITY_TIME.into());
+        let r = run_setup(&setup, Backend::Cpu, 1, duration, bars)?;
         let ok = stable(&r);
-        eprintln!(
+        bars.note(format_args!(
             "  {integrator:?} dt {dt:.3e}: {} (mean density error peak {:.2} %)",
             if ok { "stable" } else { "unstable" },
             r.density_error_mean_max_pct
-        );
+        ));
         Ok(ok)
     };
     let (mut lo, mut hi) = (derived, 0.01f32);
@@ -130,10 +145,13 @@ fn table(rows: &[Row]) -> String {
         } else {
             format!("{:.2e}", r.dt)
         };
-        let health = match r.unstable_step {
+        let mut health = match r.unstable_step {
             Some(step) => format!("unstable at step {step}"),
             None => r.health.clone(),
         };
+        if r.rollbacks > 0 {
+            let _ = write!(health, " ({} rollbacks)", r.rollbacks);
+        }
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} | {:.2} | {:.1} | {:.3} | {:.3} | {} | {} | {} |",
@@ -159,8 +177,8 @@ fn table(rows: &[Row]) -> String {
 }
 
 /// Plots cost per simulated second against the density error and the front error, one series
-/// per backend × integrator.
-fn plot(rows: &[Row], path: &Path) -> Result<(), String> {
+/// per backend × integrator; writes `trade.png` and `trade.svg` into `dir`.
+fn plot(rows: &[Row], dir: &Path) -> Result<(), String> {
     let mut keys: Vec<String> = Vec::new();
     for row in rows {
         let key = format!("{} {}", row.report.backend, row.report.integrator);
@@ -187,17 +205,19 @@ fn plot(rows: &[Row], path: &Path) -> Result<(), String> {
     };
     let density = ScatterPlot {
         title: "Mean compression error at the end (stable runs)".into(),
-        x_label: "wall-clock seconds per simulated second".into(),
-        y_label: "density error [%]".into(),
+        x_label: "cost: wall-clock seconds per simulated second [s/s]".into(),
+        y_label: "mean density error [%]".into(),
         series: series(&|r| Some(r.density_error_mean_pct as f64)),
     };
     let front = ScatterPlot {
         title: "Dam-break front vs Martin & Moyce: RMS Z error (shifted)".into(),
-        x_label: "wall-clock seconds per simulated second".into(),
-        y_label: "RMS Z error".into(),
+        x_label: "cost: wall-clock seconds per simulated second [s/s]".into(),
+        y_label: "RMS error of Z = x/a [column widths a]".into(),
         series: series(&|r| r.dam_break.as_ref().map(|d| d.rms_z_shifted)),
     };
-    write_stacked_png(&[density, front], path, 1000, 640)
+    let plots = [density, front];
+    write_stacked_png(&plots, &dir.join("trade.png"), 1000, 640)?;
+    write_stacked_svg(&plots, &dir.join("trade.svg"), 1000, 640)
 }
 
 /// Milliseconds per step of the row matching `pred`.
@@ -212,7 +232,7 @@ fn stage_cost_table(rows: &[Row], backends: &[Backend], particles: usize) -> Str
         "| backend | baseline (viscosity on, surface tension off) ms/step | surface tension on | viscosity off |\n|---|---|---|---|\n",
     );
     for &b in backends {
-        let name = backend_name(b);
+        let name = b.name();
         let at = |group: &str| {
             ms_of(rows, |r| {
                 r.group == group && r.report.backend == name && r.report.particles >= particles / 2
@@ -238,9 +258,9 @@ fn stage_cost_table(rows: &[Row], backends: &[Backend], particles: usize) -> Str
     s
 }
 
-/// Runs the study and writes `trade.md` and `trade.png` into `args.out_dir`.
-pub fn run(args: &TradeArgs) -> Result<String, String> {
-    let mut rows = Vec::new();
+/// The runs of the study's table, in order.
+fn plan(args: &TradeArgs) -> Vec<Planned> {
+    let mut plan = Vec::new();
     let cpu = RunArgs {
         particles: SWEEP_PARTICLES,
         substeps: args.substeps,
@@ -255,118 +275,141 @@ pub fn run(args: &TradeArgs) -> Result<String, String> {
         };
         let derived = configured_setup(&base).scene.params.time_step;
         for factor in [1.0f32, 2.0, 4.0] {
-            rows.push(run_row(
+            plan.push(Planned::new(
                 "integrator × dt",
                 format!("{name}, {factor} × derived dt"),
-                &RunArgs {
+                RunArgs {
                     dt: Some(derived * factor),
                     ..base.clone()
                 },
-            )?);
+            ));
         }
-        rows.push(run_row(
+        plan.push(Planned::new(
             "integrator × dt",
             format!("{name}, adaptive λ 0.4"),
-            &RunArgs {
+            RunArgs {
                 adaptive: true,
                 dt: Some(0.01),
                 ..base.clone()
             },
-        )?);
+        ));
     }
     // Particle count × backend; search, surface tension and viscosity at the largest count.
-    let largest = args
-        .particles
-        .iter()
-        .copied()
-        .max()
-        .unwrap_or(SWEEP_PARTICLES);
+    let largest = largest_count(args);
     for &backend in &args.backends {
         let b = RunArgs {
             backend,
             ..cpu.clone()
         };
         for &n in &args.particles {
-            rows.push(run_row(
+            plan.push(Planned::new(
                 "particles",
                 format!("about {n} particles"),
-                &RunArgs {
+                RunArgs {
                     particles: n,
                     ..b.clone()
                 },
-            )?);
+            ));
         }
         let at_largest = RunArgs {
             particles: largest,
             ..b.clone()
         };
-        rows.push(run_row(
+        plan.push(Planned::new(
             "search",
             "spatial hash".into(),
-            &RunArgs {
+            RunArgs {
                 search: NeighborSearch::Hash,
                 ..at_largest.clone()
             },
-        )?);
-        rows.push(run_row(
+        ));
+        plan.push(Planned::new(
             "surface tension",
             "surface tension on".into(),
-            &RunArgs {
+            RunArgs {
                 surface_tension: true,
                 ..at_largest.clone()
             },
-        )?);
-        rows.push(run_row(
+        ));
+        plan.push(Planned::new(
             "viscosity",
             "viscosity off".into(),
-            &RunArgs {
+            RunArgs {
                 viscosity_alpha: Some(0.0),
                 ..at_largest.clone()
             },
-        )?);
-        rows.push(run_row(
+        ));
+        plan.push(Planned::new(
             "hydrostatic",
             "tank at rest, 1 s".into(),
-            &RunArgs {
+            RunArgs {
                 scenario: Scenario::Hydrostatic,
                 ..at_largest.clone()
             },
-        )?);
+        ));
         if backend == Backend::Cpu {
             // Less artificial viscosity matches the front better, but a tank at rest no
             // longer calms down (see the README's physics notes).
             for alpha in [0.02f32, 0.03] {
-                rows.push(run_row(
+                plan.push(Planned::new(
                     "viscosity α",
                     format!("α = {alpha} (default 0.05)"),
-                    &RunArgs {
+                    RunArgs {
                         viscosity_alpha: Some(alpha),
                         ..at_largest.clone()
                     },
-                )?);
+                ));
             }
         }
         if args.dambreak32k {
             for (label, adaptive) in [("dt 1e-3 as specified", false), ("adaptive λ 0.4", true)] {
-                rows.push(run_row(
+                plan.push(Planned::new(
                     "dambreak32k",
                     label.into(),
-                    &RunArgs {
+                    RunArgs {
                         scenario: Scenario::DamBreak32k,
                         adaptive,
                         ..b.clone()
                     },
-                )?);
+                ));
             }
         }
+    }
+    plan
+}
+
+/// The largest particle count of the sweep (where search and the optional stages are compared).
+fn largest_count(args: &TradeArgs) -> usize {
+    args.particles
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(SWEEP_PARTICLES)
+}
+
+/// Runs the study and writes `trade.md`, `trade.png` and `trade.svg` into `args.out_dir`.
+pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
+    let plan = plan(args);
+    let largest = largest_count(args);
+    let bars = bars.clearing_finished_runs();
+    let runs = plan.len() + INTEGRATORS.len();
+    let mut study = bars.study("trade", runs as u64);
+    let mut rows = Vec::with_capacity(plan.len());
+    for (k, planned) in plan.into_iter().enumerate() {
+        let what = format!("{}: {}", planned.group, planned.label);
+        study.set(k as u64, what.clone());
+        bars.note(format_args!("sph-bench trade: {what}"));
+        rows.push(run_row(planned, &bars)?);
     }
     // Largest stable dt per integrator (CPU, bisection).
     let mut limits = String::from(
         "| integrator | largest stable dt [s] | derived dt [s] | ratio | CFL number at c0 |\n|---|---|---|---|---|\n",
     );
-    for integrator in INTEGRATORS {
-        eprintln!("sph-bench trade: largest stable dt of {integrator:?}");
-        let (dt, derived, probes) = largest_stable_dt(integrator)?;
+    for (k, integrator) in INTEGRATORS.into_iter().enumerate() {
+        let what = format!("largest stable dt of {integrator:?}");
+        study.set((rows.len() + k) as u64, what.clone());
+        bars.note(format_args!("sph-bench trade: {what}"));
+        let (dt, derived, probes) = largest_stable_dt(integrator, &bars)?;
         let params = configured_setup(&RunArgs {
             particles: SWEEP_PARTICLES,
             ..Default::default()
@@ -383,7 +426,7 @@ pub fn run(args: &TradeArgs) -> Result<String, String> {
     }
     let dir = Path::new(&args.out_dir);
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    plot(&rows, &dir.join("trade.png"))?;
+    plot(&rows, dir)?;
     let markdown = format!(
         "# Speed against accuracy\n\n\
          Generated by `sph-bench trade` (see the README for the command). Scene: the Martin & Moyce \
@@ -391,13 +434,15 @@ pub fn run(args: &TradeArgs) -> Result<String, String> {
          the group says otherwise. Cost per simulated second = median wall-clock ms per step / mean dt. \
          Density error = mean compression max(0, ρ/ρ0 − 1) at the end; the peak of the mean is the \
          largest value seen over the run (sampled every 0.01 s). RMS Z: the front against the \
-         experiment for T ≤ 2.5, raw and with the best lag in [0, 0.3] removed. Hardware: 2 CPU \
+         experiment for T ≤ 2.5, raw and with the best lag in [0, 0.3] removed. Unstable steps are \
+         rolled back and retried at half the dt (the health column counts the rollbacks). Hardware: 2 CPU \
          cores; the GPU backend runs on lavapipe (Mesa's software Vulkan) on the same 2 cores.\n\n\
-         ![cost against accuracy](trade.png)\n\n\
+         ![cost against accuracy](trade.png) ([SVG](trade.svg))\n\n\
          ## Runs\n\n{}\n\
          ## Largest stable time step\n\n\
          Bisection in log(dt) between the derived step and 0.01 s on the CPU, {SWEEP_PARTICLES} particles, \
-         {STABILITY_TIME} s simulated. Stable: no instability detected, no NaN, nothing outside, and \
+         {STABILITY_TIME} s simulated, rollback off (a rollback would hide the instability). Stable: no \
+         instability detected, no NaN, nothing outside, and \
          the mean compression error below {STABLE_DENSITY_ERROR_PCT} % throughout.\n\n{}\n\
          ## What the optional stages cost\n\n\
          At {largest} particles (ms per step; change against the baseline). A scene without surface \
@@ -413,9 +458,37 @@ pub fn run(args: &TradeArgs) -> Result<String, String> {
     );
     let md = dir.join("trade.md");
     std::fs::write(&md, &markdown).map_err(|e| format!("cannot write {}: {e}", md.display()))?;
+    study.set(runs as u64, "done");
+    study.finish();
     Ok(format!(
-        "wrote {} and {}",
+        "wrote {}, {} and {}",
         md.display(),
-        dir.join("trade.png").display()
+        dir.join("trade.png").display(),
+        dir.join("trade.svg").display()
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_stability_search_runs_without_rollback_and_the_table_with_it() {
+        for integrator in INTEGRATORS {
+            let setup = configured_setup(&probe_args(integrator));
+            assert!(!setup.rollback.enabled, "{integrator:?}");
+        }
+        let args = TradeArgs {
+            backends: vec![Backend::Cpu, Backend::Gpu],
+            particles: vec![2_000, 8_000],
+            out_dir: "docs".into(),
+            dambreak32k: true,
+            substeps: 10,
+        };
+        let plan = plan(&args);
+        assert_eq!(plan.len(), 12 + 2 * (2 + 4 + 2) + 2);
+        assert!(plan
+            .iter()
+            .all(|p| configured_setup(&p.args).rollback.enabled));
+    }
 }
