@@ -246,6 +246,10 @@ pub fn runtime_panel(
             if p != params.0 {
                 params.0 = p;
             }
+            ui.checkbox(
+                &mut control.rollback.enabled,
+                "roll back unstable steps (retry at half the dt)",
+            );
             ui.add(
                 egui::Slider::new(&mut control.substeps, 1..=16)
                     .text("substeps / frame")
@@ -299,13 +303,14 @@ pub fn runtime_panel(
                 stats.backend, stats.adapter, history.steps_per_second
             ));
             ui.label(format!(
-                "particles {} / {} (refused {}) · t = {:.3} s · step {} · dt {:.2e} s",
+                "particles {} / {} (refused {}) · t = {:.3} s · step {} · dt {:.2e} s · rollbacks {}",
                 stats.particle_count,
                 stats.capacity,
                 stats.refused_spawns,
                 stats.sim_time,
                 stats.step_count,
-                stats.time_step
+                stats.time_step,
+                stats.rollbacks
             ));
             if let SphHealth::Unstable { step } = stats.health {
                 ui.colored_label(
