@@ -184,10 +184,13 @@ fn sph_deliver_snapshot(
         densities: bytemuck::pod_collect_to_vec(&density),
         neighbor_counts: neighbor_counts.map(|bytes| bytemuck::pod_collect_to_vec(&bytes)),
     };
-    // The GPU backend measures health on readback.
+    // The GPU backend measures health on readback. With rollback on, non-finite values are the
+    // clock's to judge: a snapshot may catch an unstable step that the next step's time-step
+    // pass rolls back.
     if let Some(container) = sim.container {
         let d = snapshot.diagnostics(&sim.frame.params, &container);
-        if !stats.health.is_unstable() {
+        let transient = sim.frame.rollback.enabled && d.non_finite_count > 0;
+        if !stats.health.is_unstable() && !transient {
             stats.health = SphHealth::of(&d, pending.step);
         }
         stats.diagnostics = Some(d);
