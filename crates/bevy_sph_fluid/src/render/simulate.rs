@@ -94,8 +94,13 @@ pub fn sph_simulate(world: &mut World) {
         f.step_count += steps as u64;
         f.dispatches_per_step = last_step_dispatches;
         f.status = None;
-        let mut names = stage_names;
-        names.dedup();
+        // The time step has two places in the list; each name once.
+        let mut names: Vec<&'static str> = Vec::new();
+        for name in stage_names {
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
         f.stage_names = names;
     });
 }
