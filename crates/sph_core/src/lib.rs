@@ -19,6 +19,7 @@
 //! assert_eq!(solver.diagnostics().non_finite_count, 0);
 //! ```
 
+pub mod collider;
 pub mod container;
 pub mod density;
 pub mod diagnostics;
@@ -32,6 +33,7 @@ pub mod neighbor;
 pub mod params;
 pub mod rng;
 pub mod rollback;
+pub mod sampling;
 pub mod scenario;
 pub mod solver;
 pub mod spawn;

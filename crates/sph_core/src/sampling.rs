@@ -1,0 +1,203 @@
+//! Boundary samples of collider shapes (groundwork for the Akinci 2012 boundary model, see
+//! `docs/design/boundary_akinci2012.md` §4): points spaced about one particle spacing s on the
+//! surfaces offset inward by dx/2 and 3dx/2, the depths of the fluid lattice mirrored into the
+//! solid, so a fluid particle at the wall sees a full kernel support. A layer that would cross the
+//! shape's medial axis is dropped; a shape too thin for any layer gets one layer on its mid
+//! surface. Each sample carries its outward normal. Samples are in the shape's frame.
+
+use crate::collider::ColliderShape;
+use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
+
+/// Samples of one shape, in its frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ShapeSamples {
+    /// Positions [m].
+    pub position: Vec<Vec3>,
+    /// Outward unit normals of the surface each sample lies under.
+    pub normal: Vec<Vec3>,
+}
+
+impl ShapeSamples {
+    fn push(&mut self, position: Vec3, normal: Vec3) {
+        self.position.push(position);
+        self.normal.push(normal.normalize_or(Vec3::Y));
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+}
+
+/// The inward depths of the sample layers for particle spacing `spacing`: dx/2 and 3dx/2.
+pub fn layer_depths(spacing: f32) -> [f32; 2] {
+    [0.5 * spacing, 1.5 * spacing]
+}
+
+/// Samples `shape` at spacing `spacing` (the fluid's particle spacing dx) in two inset layers.
+pub fn sample_shape(shape: &ColliderShape, spacing: f32) -> ShapeSamples {
+    let mut out = ShapeSamples::default();
+    let depths = layer_depths(spacing);
+    let thickness = match *shape {
+        ColliderShape::Cuboid { half_extents } => half_extents.min_element(),
+        ColliderShape::Sphere { radius }
+        | ColliderShape::Capsule { radius, .. }
+        | ColliderShape::Cylinder { radius, .. } => radius,
+    };
+    let usable: Vec<f32> = depths.into_iter().filter(|&d| d < thickness).collect();
+    if usable.is_empty() {
+        // Thinner than dx: one layer on the mid surface (depth = the half thickness).
+        sample_layer(shape, thickness, spacing, &mut out);
+    }
+    for depth in usable {
+        sample_layer(shape, depth, spacing, &mut out);
+    }
+    out
+}
+
+fn sample_layer(shape: &ColliderShape, depth: f32, s: f32, out: &mut ShapeSamples) {
+    match *shape {
+        ColliderShape::Cuboid { half_extents } => cuboid(half_extents - Vec3::splat(depth), s, out),
+        ColliderShape::Sphere { radius } => sphere_zone(radius - depth, None, Vec3::ZERO, s, out),
+        ColliderShape::Capsule {
+            radius,
+            half_length,
+        } => {
+            let r = radius - depth;
+            cylinder_side(r, half_length, s, false, out);
+            sphere_zone(r, Some(1.0), Vec3::Y * half_length, s, out);
+            sphere_zone(r, Some(-1.0), -Vec3::Y * half_length, s, out);
+        }
+        ColliderShape::Cylinder {
+            radius,
+            half_length,
+        } => {
+            let (r, h) = (radius - depth, (half_length - depth).max(0.0));
+            cylinder_side(r, h, s, true, out);
+            for y in [-h, h] {
+                disc(r, y, s, out);
+            }
+        }
+    }
+}
+
+/// Points on the surface of the box with half extents `a` (an axis of zero size collapses the
+/// box to a plate): a lattice of about `s` over the box, keeping the points on its faces.
+fn cuboid(a: Vec3, s: f32, out: &mut ShapeSamples) {
+    let a = a.max(Vec3::ZERO);
+    let n = (2.0 * a / s).ceil().as_uvec3();
+    let step = |axis: usize| {
+        if n[axis] == 0 {
+            0.0
+        } else {
+            2.0 * a[axis] / n[axis] as f32
+        }
+    };
+    let (dx, dy, dz) = (step(0), step(1), step(2));
+    for i in 0..=n.x {
+        for j in 0..=n.y {
+            for k in 0..=n.z {
+                let on_face = [(i, n.x), (j, n.y), (k, n.z)]
+                    .iter()
+                    .any(|&(c, m)| c == 0 || c == m);
+                if !on_face {
+                    continue;
+                }
+                let p = Vec3::new(
+                    -a.x + i as f32 * dx,
+                    -a.y + j as f32 * dy,
+                    -a.z + k as f32 * dz,
+                );
+                // The outward normal: towards the faces the point lies on.
+                let face = |c: u32, m: u32| -> f32 {
+                    if m == 0 {
+                        0.0
+                    } else if c == 0 {
+                        -1.0
+                    } else if c == m {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                };
+                let normal = Vec3::new(face(i, n.x), face(j, n.y), face(k, n.z));
+                out.push(
+                    p,
+                    if normal == Vec3::ZERO {
+                        Vec3::Y
+                    } else {
+                        normal
+                    },
+                );
+            }
+        }
+    }
+}
+
+/// A Fibonacci lattice on the sphere of radius `r` around `center`: the whole sphere, or with
+/// `hemisphere` = Some(+1.0 / -1.0) the upper / lower half (a capsule's caps).
+fn sphere_zone(r: f32, hemisphere: Option<f32>, center: Vec3, s: f32, out: &mut ShapeSamples) {
+    if r <= 0.0 {
+        out.push(center, Vec3::Y);
+        return;
+    }
+    let area = if hemisphere.is_some() { 2.0 } else { 4.0 } * PI * r * r;
+    let n = ((area / (s * s)).round() as usize).max(1);
+    let golden = PI * (3.0 - 5f32.sqrt());
+    for k in 0..n {
+        // Heights uniform in [-1, 1] (the whole sphere) or [0, 1] (a hemisphere).
+        let t = (k as f32 + 0.5) / n as f32;
+        let y = match hemisphere {
+            Some(side) => t * side,
+            None => 1.0 - 2.0 * t,
+        };
+        let ring = (1.0 - y * y).max(0.0).sqrt();
+        let phi = golden * k as f32;
+        let normal = Vec3::new(ring * phi.cos(), y, ring * phi.sin());
+        out.push(center + normal * r, normal);
+    }
+}
+
+/// Rings of radius `r` along y in [-h, h], about `s` apart, each shifted half a step from the
+/// last; `ends` includes the rings at ±h (a flat-capped cylinder), otherwise they are left to the
+/// caps (a capsule's hemispheres start there).
+fn cylinder_side(r: f32, h: f32, s: f32, ends: bool, out: &mut ShapeSamples) {
+    if r <= 0.0 {
+        return;
+    }
+    let rings = ((2.0 * h / s).ceil() as u32).max(1);
+    let per_ring = ((2.0 * PI * r / s).round() as u32).max(3);
+    let (first, last) = if ends { (0, rings) } else { (1, rings - 1) };
+    for j in first..=last {
+        let y = -h + 2.0 * h * j as f32 / rings as f32;
+        let shift = if j % 2 == 0 { 0.0 } else { 0.5 };
+        for k in 0..per_ring {
+            let phi = 2.0 * PI * (k as f32 + shift) / per_ring as f32;
+            let normal = Vec3::new(phi.cos(), 0.0, phi.sin());
+            out.push(normal * r + Vec3::Y * y, normal);
+        }
+    }
+}
+
+/// Concentric rings filling the disc of radius `r` at height `y` (without its rim, which the
+/// side's end ring holds), plus its centre; normals point away from the middle plane.
+fn disc(r: f32, y: f32, s: f32, out: &mut ShapeSamples) {
+    let normal = if y >= 0.0 { Vec3::Y } else { Vec3::NEG_Y };
+    out.push(Vec3::Y * y, normal);
+    let rings = (r / s).round() as u32;
+    for k in 1..rings {
+        let radius = r * k as f32 / rings as f32;
+        let per_ring = ((2.0 * PI * radius / s).round() as u32).max(3);
+        for m in 0..per_ring {
+            let phi = 2.0 * PI * m as f32 / per_ring as f32;
+            let p = Vec2::from_angle(phi) * radius;
+            out.push(Vec3::new(p.x, y, p.y), normal);
+        }
+    }
+}

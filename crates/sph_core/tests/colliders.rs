@@ -1,0 +1,159 @@
+//! Collider shapes and their boundary samples (groundwork for the Akinci 2012 boundary model):
+//! signed distances, validation, and samples at the two inset depths with about one spacing
+//! between neighbours.
+
+use glam::{Quat, Vec3};
+use sph_core::collider::{ColliderShape, PlacedShape, Pose};
+use sph_core::sampling::{layer_depths, sample_shape};
+
+const DX: f32 = 0.02;
+
+fn shapes() -> Vec<(&'static str, ColliderShape)> {
+    vec![
+        (
+            "cuboid",
+            ColliderShape::Cuboid {
+                half_extents: Vec3::new(0.2, 0.1, 0.15),
+            },
+        ),
+        ("sphere", ColliderShape::Sphere { radius: 0.12 }),
+        (
+            "capsule",
+            ColliderShape::Capsule {
+                radius: 0.08,
+                half_length: 0.1,
+            },
+        ),
+        (
+            "cylinder",
+            ColliderShape::Cylinder {
+                radius: 0.1,
+                half_length: 0.12,
+            },
+        ),
+    ]
+}
+
+#[test]
+fn signed_distances_are_exact_on_known_points() {
+    let cuboid = ColliderShape::Cuboid {
+        half_extents: Vec3::new(1.0, 2.0, 3.0),
+    };
+    assert_eq!(cuboid.signed_distance(Vec3::ZERO), -1.0);
+    assert_eq!(cuboid.signed_distance(Vec3::new(2.0, 0.0, 0.0)), 1.0);
+    assert!((cuboid.signed_distance(Vec3::new(2.0, 3.0, 0.0)) - 2f32.sqrt()).abs() < 1e-6);
+    let capsule = ColliderShape::Capsule {
+        radius: 0.5,
+        half_length: 1.0,
+    };
+    assert_eq!(capsule.signed_distance(Vec3::new(0.0, 2.0, 0.0)), 0.5);
+    assert_eq!(capsule.signed_distance(Vec3::new(1.0, 0.3, 0.0)), 0.5);
+    let cylinder = ColliderShape::Cylinder {
+        radius: 0.5,
+        half_length: 1.0,
+    };
+    assert_eq!(cylinder.signed_distance(Vec3::new(0.0, 1.5, 0.0)), 0.5);
+    assert_eq!(cylinder.signed_distance(Vec3::new(0.0, 0.0, 0.0)), -0.5);
+    // A rotated box: 90° about z swaps x and y.
+    let placed = PlacedShape {
+        shape: cuboid,
+        pose: Pose {
+            translation: Vec3::new(10.0, 0.0, 0.0),
+            rotation: Quat::from_rotation_z(std::f32::consts::FRAC_PI_2),
+        },
+    };
+    assert!((placed.signed_distance(Vec3::new(12.5, 0.0, 0.0)) - 0.5).abs() < 1e-5);
+}
+
+#[test]
+fn samples_lie_at_the_inset_depths_with_outward_normals() {
+    let depths = layer_depths(DX);
+    for (name, shape) in shapes() {
+        let samples = sample_shape(&shape, DX);
+        assert!(samples.len() > 100, "{name}: {} samples", samples.len());
+        for (&p, &n) in samples.position.iter().zip(&samples.normal) {
+            let d = -shape.signed_distance(p);
+            assert!(
+                depths.iter().any(|&depth| (d - depth).abs() < 1e-4),
+                "{name}: sample {p} at depth {d}"
+            );
+            assert!((n.length() - 1.0).abs() < 1e-4, "{name}: normal {n}");
+            // Moving along the normal goes towards the surface.
+            assert!(
+                shape.signed_distance(p + n * 0.1 * DX) > -d,
+                "{name}: normal {n} at {p} points inward"
+            );
+        }
+    }
+}
+
+#[test]
+fn samples_are_about_one_spacing_apart() {
+    for (name, shape) in shapes() {
+        let samples = sample_shape(&shape, DX);
+        let p = &samples.position;
+        let nearest: Vec<f32> = p
+            .iter()
+            .enumerate()
+            .map(|(i, &a)| {
+                p.iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != i)
+                    .map(|(_, &b)| a.distance(b))
+                    .fold(f32::INFINITY, f32::min)
+            })
+            .collect();
+        let min = nearest.iter().copied().fold(f32::INFINITY, f32::min);
+        let mean = nearest.iter().sum::<f32>() / nearest.len() as f32;
+        assert!(min > 0.3 * DX, "{name}: two samples {min} m apart");
+        assert!(
+            (0.6 * DX..=1.2 * DX).contains(&mean),
+            "{name}: mean nearest-neighbour distance {mean} m"
+        );
+    }
+}
+
+#[test]
+fn a_plate_thinner_than_the_spacing_gets_one_mid_layer() {
+    let plate = ColliderShape::Cuboid {
+        half_extents: Vec3::new(0.1, 0.004, 0.1),
+    };
+    let samples = sample_shape(&plate, DX);
+    assert!(!samples.is_empty());
+    assert!(samples.position.iter().all(|p| p.y.abs() < 1e-6));
+}
+
+#[test]
+fn bad_sizes_and_poses_are_named() {
+    let e = ColliderShape::Sphere { radius: 0.0 }
+        .validate()
+        .unwrap_err();
+    assert_eq!(e.field, "shape.radius");
+    let e = ColliderShape::Cuboid {
+        half_extents: Vec3::new(1.0, -1.0, 1.0),
+    }
+    .validate()
+    .unwrap_err();
+    assert!(e.to_string().contains("shape.half_extents.y") && e.to_string().contains("-1"));
+    let e = ColliderShape::Capsule {
+        radius: 0.1,
+        half_length: f32::NAN,
+    }
+    .validate()
+    .unwrap_err();
+    assert_eq!(e.field, "shape.half_length");
+    let e = Pose {
+        translation: Vec3::new(f32::INFINITY, 0.0, 0.0),
+        ..Pose::default()
+    }
+    .validate()
+    .unwrap_err();
+    assert_eq!(e.field, "pose.translation");
+    let e = Pose {
+        rotation: Quat::from_xyzw(0.0, 0.0, 0.0, 2.0),
+        ..Pose::default()
+    }
+    .validate()
+    .unwrap_err();
+    assert_eq!(e.field, "pose.rotation");
+}
