@@ -19,6 +19,7 @@
 //! assert_eq!(solver.diagnostics().non_finite_count, 0);
 //! ```
 
+pub mod boundary_akinci2012;
 pub mod collider;
 pub mod container;
 pub mod density;

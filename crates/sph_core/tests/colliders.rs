@@ -157,3 +157,66 @@ fn bad_sizes_and_poses_are_named() {
     .unwrap_err();
     assert_eq!(e.field, "pose.rotation");
 }
+
+mod akinci2012 {
+    use super::DX;
+    use glam::Vec3;
+    use sph_core::boundary_akinci2012::{
+        boundary_density_ratio, boundary_volumes, calibrate_gamma, lattice_density_ratio,
+    };
+    use sph_core::collider::ColliderShape;
+    use sph_core::sampling::sample_shape;
+    use sph_core::Kernels;
+
+    fn kernels() -> Kernels {
+        Kernels::new(2.0 * DX)
+    }
+
+    #[test]
+    fn volumes_of_a_regular_layer_are_even_and_about_a_particle_volume() {
+        let slab = ColliderShape::Cuboid {
+            half_extents: Vec3::new(0.2, 2.0 * DX, 0.2),
+        };
+        let samples = sample_shape(&slab, DX).position;
+        let volumes = boundary_volumes(&samples, &kernels(), 1.0);
+        // Samples of the outer layer's top face, away from edges: all alike.
+        let middle: Vec<f32> = samples
+            .iter()
+            .zip(&volumes)
+            .filter(|(p, _)| p.x.abs() < 0.05 && p.z.abs() < 0.05 && (p.y - 1.5 * DX).abs() < 1e-5)
+            .map(|(_, &v)| v)
+            .collect();
+        assert!(!middle.is_empty());
+        let (lo, hi) = middle
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+        assert!(hi / lo < 1.01, "{lo} .. {hi}");
+        // Two layers see fewer neighbours than a full lattice: more than dx³ each.
+        let dx3 = DX.powi(3);
+        assert!(lo > dx3 && lo < 2.0 * dx3, "V_b = {lo}, dx³ = {dx3}");
+    }
+
+    #[test]
+    fn a_calibrated_wall_completes_the_second_fluid_row_too() {
+        let k = kernels();
+        let gamma = calibrate_gamma(DX, &k);
+        println!("calibrated gamma = {gamma}");
+        assert!((0.5..1.0).contains(&gamma), "gamma = {gamma}");
+        // The second fluid row, 1.5 dx above the surface, is not what γ was fitted to.
+        let thickness = 2.0 * DX;
+        let half_width = 3.0 * k.h + 2.0 * DX;
+        let slab = ColliderShape::Cuboid {
+            half_extents: Vec3::new(half_width, thickness, half_width),
+        };
+        let samples = sample_shape(&slab, DX).position;
+        let volumes = boundary_volumes(&samples, &k, gamma);
+        let full = lattice_density_ratio(DX, &k, f32::NEG_INFINITY);
+        let probe = Vec3::new(0.0, thickness + 1.5 * DX, 0.0);
+        let fluid = lattice_density_ratio(DX, &k, -1.01 * DX);
+        let total = fluid + boundary_density_ratio(probe, &samples, &volumes, &k);
+        assert!(
+            (total / full - 1.0).abs() < 0.02,
+            "second row: {total} against a full lattice's {full}"
+        );
+    }
+}
