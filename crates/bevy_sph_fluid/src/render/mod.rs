@@ -27,7 +27,7 @@ pub(crate) fn build(app: &mut App) {
     load_shader_library!(app, "shaders/clock.wgsl");
     load_shader_library!(app, "shaders/checkpoint.wgsl");
     let mut embedded = Vec::new();
-    for stage in stages::ALL {
+    for stage in stages::all_stages() {
         if !embedded.contains(&stage.name) {
             (stage.embed)(app);
             embedded.push(stage.name);

@@ -48,7 +48,7 @@ pub(crate) fn init_sph_pipelines(mut commands: Commands, asset_server: Res<Asset
     let bitonic = [uniform_buffer_sized(true, NonZeroU64::new(16)).build(0, ShaderStages::COMPUTE)];
     let mut layouts = HashMap::default();
     let mut shaders = HashMap::default();
-    for stage in stages::ALL {
+    for stage in stages::all_stages() {
         layouts.insert(stage.name, stage_layout(stage));
         shaders
             .entry(stage.name)
@@ -158,7 +158,7 @@ pub(crate) fn prepare_sph_bind_groups(
         return;
     };
     state.bind_groups.clear();
-    for stage in stages::ALL {
+    for stage in stages::all_stages() {
         let Some(layout) = pipelines.layouts.get(stage.name) else {
             continue;
         };

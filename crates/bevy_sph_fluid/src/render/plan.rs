@@ -18,6 +18,25 @@ pub struct VariantKey {
 }
 
 impl VariantKey {
+    /// Every variant.
+    pub fn all() -> impl Iterator<Item = VariantKey> {
+        let flags = [false, true];
+        [NeighborSearch::Grid, NeighborSearch::Hash]
+            .into_iter()
+            .flat_map(move |search| {
+                flags.into_iter().flat_map(move |surface_tension| {
+                    flags.into_iter().flat_map(move |viscosity| {
+                        flags.into_iter().map(move |neighbor_counts| VariantKey {
+                            search,
+                            surface_tension,
+                            viscosity,
+                            neighbor_counts,
+                        })
+                    })
+                })
+            })
+    }
+
     /// The variant `params` need.
     pub fn of(params: &SphParams, neighbor_counts: bool) -> Self {
         Self {

@@ -1,7 +1,7 @@
 //! The stage registry: one `name.rs` + `name.wgsl` pair per GPU stage, each declaring a
 //! [`GpuStage`] `const`, and [`stage_list`], the ordered list of stages a scene runs, chosen from
-//! its settings. Adding a stage is adding its pair and one line in [`stage_list`] (and in
-//! [`ALL`], which embeds the shaders).
+//! its settings. Adding a stage is adding its pair and one line in [`stage_list`]; [`all_stages`]
+//! (embedded shaders, layouts, bind groups, the shader tests) follows from it.
 
 pub mod bitonic_sort;
 pub mod count_cells;
@@ -17,21 +17,6 @@ pub mod time_step;
 use super::plan::VariantKey;
 use super::stage::GpuStage;
 use sph_core::NeighborSearch;
-
-/// Every stage the plugin has (each shader is embedded once, at plugin build).
-pub const ALL: [&GpuStage; 11] = [
-    &time_step::AT_START,
-    &time_step::BEFORE_INTEGRATE,
-    &count_cells::STAGE,
-    &prefix_sum::STAGE,
-    &bitonic_sort::STAGE,
-    &hash_offsets::STAGE,
-    &scatter::STAGE,
-    &density::STAGE,
-    &normals::STAGE,
-    &forces::STAGE,
-    &integrate::STAGE,
-];
 
 /// The stages of one force evaluation of a scene of `key`, in order. Each stage's `role` then
 /// picks its pipeline for the evaluation's integrator phase, or skips it (the time step runs in
@@ -52,6 +37,23 @@ pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
         &integrate::STAGE,
     ]);
     list
+}
+
+/// Every stage of every scene's list, each once: their shaders are embedded and their layouts
+/// and bind groups made up front.
+pub fn all_stages() -> Vec<&'static GpuStage> {
+    let mut all: Vec<&'static GpuStage> = Vec::new();
+    for key in VariantKey::all() {
+        for stage in stage_list(&key) {
+            if !all
+                .iter()
+                .any(|s| s.name == stage.name && s.roles == stage.roles)
+            {
+                all.push(stage);
+            }
+        }
+    }
+    all
 }
 
 #[cfg(test)]
@@ -83,9 +85,11 @@ mod tests {
 
     #[test]
     fn names_are_unique_except_the_two_places_of_the_time_step() {
-        let mut names: Vec<&str> = ALL.iter().map(|s| s.name).collect();
+        let all = all_stages();
+        assert_eq!(all.len(), 11, "every stage file, the time step twice");
+        let mut names: Vec<&str> = all.iter().map(|s| s.name).collect();
         names.sort_unstable();
         names.dedup();
-        assert_eq!(names.len(), ALL.len() - 1);
+        assert_eq!(names.len(), all.len() - 1);
     }
 }
