@@ -1,6 +1,10 @@
 //! `sph-bench`: runs SPH scenarios on the CPU solver or the GPU plugin and writes the figures
 //! (speed, accuracy, stability) as JSON; validates against experiments; sweeps the speed-against-
 //! accuracy trade into a table and a plot; soaks. See the README, or `sph-bench --help`.
+//!
+//! The modules, top down (each imports only modules below it; `tests/module_imports.rs` fails on
+//! any import cycle): trade, soak, validate, run, hydrostatic, sim, plot, progress, args,
+//! martin_moyce, report, scenarios.
 
 mod args;
 mod hydrostatic;
@@ -167,101 +171,5 @@ fn main() {
     if let Err(e) = result {
         eprintln!("sph-bench: error: {e}");
         std::process::exit(2);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    /// Every module's source, by name, top down: a module may import only those below it.
-    const MODULES: [(&str, &str); 12] = [
-        ("trade", include_str!("trade.rs")),
-        ("soak", include_str!("soak.rs")),
-        ("validate", include_str!("validate.rs")),
-        ("run", include_str!("run.rs")),
-        ("hydrostatic", include_str!("hydrostatic.rs")),
-        ("sim", include_str!("sim.rs")),
-        ("plot", include_str!("plot.rs")),
-        ("progress", include_str!("progress.rs")),
-        ("args", include_str!("args.rs")),
-        ("martin_moyce", include_str!("martin_moyce.rs")),
-        ("report", include_str!("report.rs")),
-        ("scenarios", include_str!("scenarios.rs")),
-    ];
-
-    fn ident(s: &str) -> &str {
-        let end = s
-            .find(|c: char| !(c.is_alphanumeric() || c == '_'))
-            .unwrap_or(s.len());
-        &s[..end]
-    }
-
-    /// The first segment of every `crate::` path in `source` (`crate::{a::X, b}` names a and b).
-    fn crate_paths(source: &str) -> Vec<&str> {
-        let mut named = Vec::new();
-        for (at, _) in source.match_indices("crate::") {
-            let rest = &source[at + "crate::".len()..];
-            match rest.strip_prefix('{') {
-                Some(group) => {
-                    let mut depth = 0;
-                    let mut item_start = 0;
-                    for (k, c) in group.char_indices() {
-                        match c {
-                            '{' => depth += 1,
-                            '}' if depth == 0 => {
-                                named.push(ident(group[item_start..].trim_start()));
-                                break;
-                            }
-                            '}' => depth -= 1,
-                            ',' if depth == 0 => {
-                                named.push(ident(group[item_start..].trim_start()));
-                                item_start = k + 1;
-                            }
-                            _ => {}
-                        }
-                    }
-                }
-                None => named.push(ident(rest)),
-            }
-        }
-        named.retain(|n| !n.is_empty());
-        named
-    }
-
-    #[test]
-    fn the_module_list_matches_the_declarations() {
-        let declared: Vec<&str> = include_str!("main.rs")
-            .lines()
-            .filter_map(|l| l.strip_prefix("mod ")?.strip_suffix(';'))
-            .collect();
-        let mut listed: Vec<&str> = MODULES.iter().map(|m| m.0).collect();
-        listed.sort_unstable();
-        assert_eq!(declared, listed);
-    }
-
-    #[test]
-    fn modules_import_only_modules_below_them() {
-        let names: Vec<&str> = MODULES.iter().map(|m| m.0).collect();
-        for (level, (name, source)) in MODULES.iter().enumerate() {
-            // `super::` names main.rs, except in a module's own `mod tests` (its parent).
-            let outside_tests = source.split("#[cfg(test)]").next().unwrap_or(source);
-            assert!(!outside_tests.contains("super::"), "{name} names main.rs");
-            for target in crate_paths(source) {
-                let below = names.iter().position(|n| *n == target);
-                assert!(
-                    below.is_some(),
-                    "{name} names crate::{target}, not a module"
-                );
-                assert!(
-                    below > Some(level) || target == *name,
-                    "{name} imports {target}, which is not below it"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn crate_paths_are_found_in_every_form() {
-        let source = "use crate::a::X;\nuse crate::{b::{Y, Z}, c};\nlet v = crate::d::f();";
-        assert_eq!(crate_paths(source), ["a", "b", "c", "d"]);
     }
 }
