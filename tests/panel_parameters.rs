@@ -61,6 +61,8 @@ fn each_panel_parameter_changes_the_next_step() {
     app.update();
     step_to(&mut app, 3);
 
+    // Wall damping is not in the list: the walls' boundary samples keep the particles off the
+    // box's clamp, whose bounce it damps (sph_core's guard tests cover the clamp).
     let changes: [(&str, Change); 10] = [
         ("viscosity", |p| p.viscosity *= 20.0),
         ("stiffness", |p| p.stiffness *= 3.0),
@@ -69,7 +71,6 @@ fn each_panel_parameter_changes_the_next_step() {
             p.particle_mass *= 1.05;
         }),
         ("surface tension", |p| p.surface_tension = 0.5),
-        ("wall damping", |p| p.wall_damping = 0.0),
         ("gravity", |p| p.gravity.y = -3.0),
         ("time step", |p| p.time_step *= 0.5),
         ("adaptive time step, CFL factor 0.1", |p| {
@@ -78,6 +79,11 @@ fn each_panel_parameter_changes_the_next_step() {
         }),
         ("integrator: leapfrog", |p| {
             p.integrator = Integrator::Leapfrog
+        }),
+        // From a fresh evaluation the leapfrog's and kick-drift-kick's steps coincide, so each
+        // switch starts from symplectic Euler.
+        ("integrator: symplectic Euler", |p| {
+            p.integrator = Integrator::SymplecticEuler
         }),
         ("integrator: kick-drift-kick", |p| {
             p.integrator = Integrator::KickDriftKick

@@ -126,6 +126,11 @@ pub struct SphStats {
     pub refused_spawns: u64,
     /// Unstable steps rolled back since the last reset (see [`SphControl::rollback`]).
     pub rollbacks: u64,
+    /// Particles the last-resort guard moved out of a solid or back into the box since the last
+    /// reset (GPU: read back with the clock). 0 while the boundary model holds.
+    pub boundary_corrections: u64,
+    /// Boundary samples (Akinci 2012) of the container's walls and the colliders.
+    pub boundary_samples: u32,
     /// Compute dispatches in the last step (GPU backend).
     pub dispatches_per_step: u32,
     /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports

@@ -5,8 +5,8 @@
 
 use crate::api::*;
 use bevy::prelude::*;
-use sph_core::gpu_layout::{id_to_w, GpuClock};
-use sph_core::{BoxContainer, CpuSolver};
+use sph_core::gpu_layout::{id_to_w, GpuBoundarySamples, GpuClock};
+use sph_core::{Boundary, BoxContainer, CpuSolver};
 use std::sync::{Arc, Mutex};
 
 /// Most substeps per frame.
@@ -39,6 +39,9 @@ pub struct SphFrame {
     pub rollback: sph_core::Rollback,
     /// The state buffers.
     pub buffers: Option<SphGpuBuffers>,
+    /// The boundary samples (walls and colliders) with their generation: the render world
+    /// uploads them when the generation changes.
+    pub boundary: Option<(u64, Arc<GpuBoundarySamples>)>,
 }
 
 impl SphFrame {
@@ -71,6 +74,11 @@ pub struct SphSimulation {
     pub frame: SphFrame,
     /// Container the solver was built for.
     pub container: Option<BoxContainer>,
+    /// The GPU backend's boundary (walls and colliders), sorted on the CPU and uploaded when it
+    /// changes; the CPU backend's lives in its solver.
+    pub gpu_boundary: Option<Boundary>,
+    /// Bumped whenever the GPU boundary is re-sorted.
+    pub boundary_generation: u64,
 }
 
 impl SphSimulation {
@@ -86,6 +94,8 @@ impl SphSimulation {
             cpu: None,
             frame: SphFrame::default(),
             container: None,
+            gpu_boundary: None,
+            boundary_generation: 0,
         }
     }
 
@@ -111,6 +121,45 @@ impl SphSimulation {
             }
         }
         self.particle_count += take as u32;
+    }
+}
+
+impl SphSimulation {
+    /// The boundary of the backend in use: the CPU solver's or the GPU backend's.
+    pub fn boundary(&self) -> Option<&Boundary> {
+        match self.backend {
+            SphBackend::Cpu => self.cpu.as_ref().map(CpuSolver::boundary),
+            SphBackend::Gpu => self.gpu_boundary.as_ref(),
+        }
+    }
+
+    /// Builds the GPU boundary for `container` and `params` (or rebuilds it when either changed),
+    /// re-sorts it when a collider moved, and puts the samples in this frame's plan when they
+    /// changed.
+    pub(crate) fn prepare_gpu_boundary(
+        &mut self,
+        container: &BoxContainer,
+        params: &sph_core::SphParams,
+    ) -> Result<(), sph_core::ParamError> {
+        match &mut self.gpu_boundary {
+            Some(b) if b.matches(container, params) => {}
+            Some(b) => b.rebuild_for(container, params)?,
+            None => {
+                self.gpu_boundary =
+                    Some(Boundary::new(container, params, sph_core::Slip::default())?)
+            }
+        }
+        let Some(boundary) = &mut self.gpu_boundary else {
+            return Ok(());
+        };
+        if boundary.sort() || self.frame.boundary.is_none() {
+            self.boundary_generation += 1;
+            self.frame.boundary = Some((
+                self.boundary_generation,
+                Arc::new(GpuBoundarySamples::of(boundary)),
+            ));
+        }
+        Ok(())
     }
 }
 

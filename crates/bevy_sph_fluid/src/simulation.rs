@@ -299,6 +299,11 @@ fn sph_plan_step(
             stats.error = None;
         }
         SphBackend::Gpu => {
+            if let Err(e) = sim.prepare_gpu_boundary(&container, &params.0) {
+                stats.error = Some(e.to_string());
+                sim.frame.steps = 0;
+                return;
+            }
             let capacity = sim.capacity;
             let frame = &mut sim.frame;
             frame.active = true;
@@ -331,6 +336,8 @@ fn sph_update_stats(
             stats.time_step = solver.last_time_step();
             stats.clock_steps = solver.step_count();
             stats.rollbacks = solver.rollbacks();
+            stats.boundary_corrections = solver.boundary_corrections();
+            stats.boundary_samples = solver.boundary().len() as u32;
             stats.dispatches_per_step = 0;
             let d = solver.diagnostics();
             stats.health = match solver.unstable_step() {
@@ -346,6 +353,7 @@ fn sph_update_stats(
                 .collect();
         }
         (SphBackend::Gpu, _) => {
+            stats.boundary_samples = sim.gpu_boundary.as_ref().map_or(0, |b| b.len() as u32);
             if let Some(feedback) = &feedback {
                 let f = feedback.get();
                 stats.step_count = f.step_count;
@@ -369,6 +377,7 @@ fn sph_update_stats(
                 stats.sim_time = clock.time();
                 stats.time_step = clock.dt();
                 stats.rollbacks = clock.rollbacks as u64;
+                stats.boundary_corrections = clock.boundary_corrections as u64;
                 stats.clock_steps = clock.step as u64;
                 if clock.unstable_step != 0 {
                     stats.health = SphHealth::Unstable {

@@ -1,8 +1,9 @@
-//! Solid shapes the fluid meets (groundwork for the Akinci 2012 boundary model, see
+//! Solid shapes the fluid meets (the Akinci 2012 boundary model, see
 //! `docs/design/boundary_akinci2012.md`): primitive shapes in their own frame (y is the axis of
-//! capsules and cylinders), a rigid pose, validation that names the field, the value and the
-//! allowed range, and exact signed distances (negative inside) for the guard that projects
-//! particles out of solids and for the sampling tests.
+//! capsules and cylinders), a rigid pose, how a collider moves (static, kinematic, dynamic) and
+//! how the fluid slides along it (free slip or no slip), validation that names the field, the
+//! value and the allowed range, and exact signed distances (negative inside) for the guard that
+//! projects particles out of solids.
 
 use glam::{Quat, Vec3};
 use std::fmt;
@@ -197,5 +198,173 @@ impl PlacedShape {
     /// Signed distance of the world point `x` [m], negative inside.
     pub fn signed_distance(&self, x: Vec3) -> f32 {
         self.shape.signed_distance(self.pose.to_local(x))
+    }
+}
+
+/// How a collider moves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
+pub enum ColliderMotion {
+    /// Never moves; the fluid's force on it is still measured.
+    #[default]
+    Static,
+    /// Moved by the game: its pose and velocity are set every step or frame, the fluid sees the
+    /// velocity (Akinci 2012 §4: v_b = v + ω × (x_b − x_c)), and it does not feel the fluid.
+    Kinematic,
+    /// Moved by the game or a physics engine that applies the fluid's force and torque on it
+    /// (two-way coupling, Akinci 2012 §4); the fluid sees its pose and velocity like a kinematic
+    /// collider's.
+    Dynamic,
+}
+
+/// How the fluid slides along a collider (Akinci 2012 §3.2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
+pub enum Slip {
+    /// Free slip: the boundary exerts pressure only, normal to the surface.
+    Free,
+    /// No slip: the fluid's viscosity term also acts between fluid and boundary samples, times
+    /// `friction` (1 = the fluid's own viscosity).
+    NoSlip {
+        /// Factor on the fluid's viscosity μ for fluid-boundary pairs, in [0, 100].
+        friction: f32,
+    },
+}
+
+impl Default for Slip {
+    /// Free slip: water's own friction at a wall is far below what the fluid's artificial
+    /// viscosity would apply at a no-slip wall (a dam break's front then lags the experiment).
+    fn default() -> Self {
+        Self::Free
+    }
+}
+
+impl Slip {
+    /// The factor on μ for fluid-boundary pairs: 0 for free slip.
+    pub fn friction(&self) -> f32 {
+        match *self {
+            Self::Free => 0.0,
+            Self::NoSlip { friction } => friction,
+        }
+    }
+
+    /// Checks the friction factor: finite, in [0, 100].
+    pub fn validate(&self) -> Result<(), ColliderError> {
+        let f = self.friction();
+        if f.is_finite() && (0.0..=100.0).contains(&f) {
+            Ok(())
+        } else {
+            Err(ColliderError {
+                field: "slip.friction",
+                value: f.to_string(),
+                allowed: "[0, 100] (times the fluid's viscosity)",
+            })
+        }
+    }
+}
+
+/// A solid the fluid meets: a shape at a pose, with its velocity, its motion kind and its slip.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
+pub struct Collider {
+    /// The shape in its own frame.
+    pub shape: ColliderShape,
+    /// Where it is.
+    pub pose: Pose,
+    /// Velocity of the shape's origin [m/s] (kinematic and dynamic colliders).
+    pub linear_velocity: Vec3,
+    /// Angular velocity about the shape's origin [rad/s] (kinematic and dynamic colliders).
+    pub angular_velocity: Vec3,
+    /// How it moves.
+    pub motion: ColliderMotion,
+    /// How the fluid slides along it.
+    pub slip: Slip,
+}
+
+impl Collider {
+    /// A static, free-slip collider.
+    pub fn new(shape: ColliderShape, pose: Pose) -> Self {
+        Self {
+            shape,
+            pose,
+            linear_velocity: Vec3::ZERO,
+            angular_velocity: Vec3::ZERO,
+            motion: ColliderMotion::Static,
+            slip: Slip::default(),
+        }
+    }
+
+    /// The same collider with motion kind `motion`.
+    pub fn with_motion(mut self, motion: ColliderMotion) -> Self {
+        self.motion = motion;
+        self
+    }
+
+    /// The same collider with slip `slip`.
+    pub fn with_slip(mut self, slip: Slip) -> Self {
+        self.slip = slip;
+        self
+    }
+
+    /// Checks the shape, the pose, the velocities (finite) and the slip.
+    pub fn validate(&self) -> Result<(), ColliderError> {
+        self.shape.validate()?;
+        self.pose.validate()?;
+        for (field, v) in [
+            ("linear_velocity", self.linear_velocity),
+            ("angular_velocity", self.angular_velocity),
+        ] {
+            if !v.is_finite() {
+                return Err(ColliderError {
+                    field,
+                    value: format!("{v:?}"),
+                    allowed: "finite components",
+                });
+            }
+        }
+        self.slip.validate()
+    }
+
+    /// Signed distance of the world point `x` [m], negative inside.
+    pub fn signed_distance(&self, x: Vec3) -> f32 {
+        self.shape.signed_distance(self.pose.to_local(x))
+    }
+
+    /// The velocity of the solid at the world point `x`: v + ω × (x − x_c) (zero when static).
+    pub fn point_velocity(&self, x: Vec3) -> Vec3 {
+        match self.motion {
+            ColliderMotion::Static => Vec3::ZERO,
+            _ => self.linear_velocity + self.angular_velocity.cross(x - self.pose.translation),
+        }
+    }
+
+    /// The radius of a sphere around the pose's origin that holds the shape [m].
+    pub fn bounding_radius(&self) -> f32 {
+        self.shape.bounding_radius()
+    }
+}
+
+impl ColliderShape {
+    /// The radius of a sphere around the origin that holds the shape [m].
+    pub fn bounding_radius(&self) -> f32 {
+        match *self {
+            Self::Cuboid { half_extents } => half_extents.length(),
+            Self::Sphere { radius } => radius,
+            Self::Capsule {
+                radius,
+                half_length,
+            } => radius + half_length,
+            Self::Cylinder {
+                radius,
+                half_length,
+            } => (radius * radius + half_length * half_length).sqrt(),
+        }
+    }
+
+    /// The outward unit normal at the local point `p`, from the signed distance's central
+    /// differences (step `eps` [m]); +y where the gradient vanishes.
+    pub fn normal(&self, p: Vec3, eps: f32) -> Vec3 {
+        let d = |e: Vec3| self.signed_distance(p + e) - self.signed_distance(p - e);
+        Vec3::new(d(Vec3::X * eps), d(Vec3::Y * eps), d(Vec3::Z * eps)).normalize_or(Vec3::Y)
     }
 }

@@ -1,6 +1,10 @@
-//! Forces pass: symmetric pressure (design eq. 9), viscosity (design eq. 10, Müller 2003 eq. 14),
-//! gravity, and Akinci 2013 surface tension when γ > 0. Writes accelerations a_i = f_i / ρ_i + g.
+//! Forces pass: Monaghan's symmetric pressure force (Monaghan 1992 eq. 3.3, p_i/ρ_i² + p_j/ρ_j²),
+//! viscosity (design eq. 10, Müller 2003 eq. 14), gravity, Akinci 2013 surface tension when
+//! γ > 0, and the boundary samples' pressure and friction (Akinci 2012 eqs. 10 and 11, the
+//! pressure mirrored onto the sample). Writes accelerations a_i and the fluid's reaction on every
+//! boundary body.
 
+use crate::boundary::{BodyForceSum, Boundary};
 use crate::neighbor::Neighbors;
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::surface_tension_pair;
@@ -20,11 +24,13 @@ pub struct ForceInputs<'a> {
     pub pressure: &'a [f32],
     /// Akinci normals (read only when surface tension is on).
     pub normal: &'a [Vec3],
+    /// The boundary samples, if the walls or any collider are sampled.
+    pub boundary: Option<&'a Boundary>,
 }
 
-/// Acceleration of particle i:
-/// a_i = -(1/ρ_i) Σ_j m (p_i + p_j) / (2 ρ_j) ∇W_spiky
-///       + (μ/ρ_i) Σ_j m (v_j - v_i) / ρ_j ∇²W_visc + Σ_j F_ij^st / m + g.
+/// The fluid's acceleration of particle i:
+/// a_i = -Σ_j m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky (Monaghan 1992 eq. 3.3)
+///       + (μ/ρ_i) Σ_j m (v_j - v_i) / ρ_j ∇²W_visc (Müller 2003 eq. 14) + Σ_j F_ij^st / m + g.
 /// The pairwise forces m_i a_ij are antisymmetric, so internal forces conserve momentum.
 #[inline]
 pub fn acceleration_at(
@@ -36,11 +42,12 @@ pub fn acceleration_at(
     let x_i = input.position[i];
     let v_i = input.velocity[i];
     let rho_i = input.density[i];
-    let p_i = input.pressure[i];
+    let p_i = input.pressure[i] / (rho_i * rho_i);
     let n_i = input.normal.get(i).copied().unwrap_or(Vec3::ZERO);
     let with_viscosity = ctx.viscosity > 0.0;
     let with_surface_tension = ctx.surface_tension > 0.0;
-    let mut pressure_viscosity = Vec3::ZERO;
+    let mut pressure = Vec3::ZERO;
+    let mut viscosity = Vec3::ZERO;
     let mut surface_tension = Vec3::ZERO;
     neighbors.for_each_neighbor(input.position, x_i, |j, r, r2| {
         if j == i {
@@ -48,31 +55,100 @@ pub fn acceleration_at(
         }
         let r_len = r2.sqrt();
         let rho_j = input.density[j];
-        let p_j = input.pressure[j];
-        // Design eq. 9: f_i^p = -Σ m (p_i + p_j) / (2 ρ_j) ∇W_spiky(r_ij).
-        pressure_viscosity -= ctx.kernels.spiky_grad(r, r_len) * ((p_i + p_j) / (2.0 * rho_j));
+        // Monaghan 1992 eq. 3.3: a_i^p = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky(r_ij).
+        pressure -= ctx.kernels.spiky_grad(r, r_len) * (p_i + input.pressure[j] / (rho_j * rho_j));
         if with_viscosity {
             // Design eq. 10: f_i^v = μ Σ m (v_j - v_i) / ρ_j ∇²W_visc(r_ij).
-            pressure_viscosity += (input.velocity[j] - v_i)
-                * (ctx.viscosity * ctx.kernels.viscosity_laplacian(r_len) / rho_j);
+            viscosity +=
+                (input.velocity[j] - v_i) * (ctx.kernels.viscosity_laplacian(r_len) / rho_j);
         }
         if with_surface_tension {
             surface_tension +=
                 surface_tension_pair(ctx, r, r_len, rho_i, rho_j, n_i, input.normal[j]);
         }
     });
-    pressure_viscosity * (ctx.mass / rho_i) + surface_tension + ctx.gravity
+    pressure * (ctx.mass * ctx.pressure_gradient_scale)
+        + viscosity * (ctx.viscosity * ctx.mass / rho_i)
+        + surface_tension
+        + ctx.gravity
 }
 
-/// Fills `acceleration` for every (sorted) particle.
+/// The boundary's acceleration of particle i, with the pressure mirrored onto each sample
+/// (p_b = p_i, ρ_b = ρ0) and the pseudo-mass Ψ_b = ρ0 V_b (Akinci 2012 eq. 10 in Monaghan's form):
+/// a_i^p = -Σ_b ρ0 V_b (p_i/ρ_i² + p_i/ρ0²) ∇W_spiky(x_i - x_b),
+/// and on no-slip bodies the fluid's viscosity against the sample's velocity, times the body's
+/// friction f (Akinci 2012 §3.2 with Müller's Laplacian):
+/// a_i^v = (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc.
+/// `reaction(body, force, at)` receives the force on the sample's body, -m a_ib (Akinci 2012 §4).
+#[inline]
+pub fn boundary_acceleration_at(
+    ctx: &StageContext,
+    boundary: &Boundary,
+    input: &ForceInputs,
+    i: usize,
+    mut reaction: impl FnMut(u32, Vec3, Vec3),
+) -> Vec3 {
+    let x_i = input.position[i];
+    let v_i = input.velocity[i];
+    let rho_i = input.density[i];
+    let p_i = input.pressure[i];
+    let rho0 = ctx.rest_density;
+    let mirrored = p_i / (rho_i * rho_i) + p_i / (rho0 * rho0);
+    let viscous = ctx.viscosity / rho_i;
+    let mut total = Vec3::ZERO;
+    boundary
+        .grid
+        .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
+            let r_len = r2.sqrt();
+            let volume = boundary.volume[b];
+            let mut a = ctx.kernels.spiky_grad(r, r_len)
+                * (-rho0 * volume * mirrored * ctx.pressure_gradient_scale);
+            let body = boundary.body[b];
+            let friction = boundary.friction[body as usize];
+            if friction > 0.0 {
+                a += (boundary.velocity[b] - v_i)
+                    * (friction * viscous * volume * ctx.kernels.viscosity_laplacian(r_len));
+            }
+            reaction(body, a * -ctx.mass, boundary.position[b]);
+            total += a;
+        });
+    total
+}
+
+/// Fills `acceleration` for every (sorted) particle; returns the fluid's force and torque on
+/// every boundary body (indexed like [`Boundary::friction`]; empty without a boundary).
 pub fn compute_accelerations(
     ctx: &StageContext,
     neighbors: &Neighbors,
     input: &ForceInputs,
     acceleration: &mut [Vec3],
-) {
+) -> Vec<BodyForceSum> {
+    let Some(boundary) = input.boundary else {
+        acceleration
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, a)| *a = acceleration_at(ctx, neighbors, input, i));
+        return Vec::new();
+    };
+    let bodies = boundary.body_count();
     acceleration
         .par_iter_mut()
         .enumerate()
-        .for_each(|(i, a)| *a = acceleration_at(ctx, neighbors, input, i));
+        .fold(
+            || vec![BodyForceSum::default(); bodies],
+            |mut sums, (i, a)| {
+                let wall = boundary_acceleration_at(ctx, boundary, input, i, |body, f, at| {
+                    sums[body as usize].add(f, at, boundary.origin[body as usize])
+                });
+                *a = acceleration_at(ctx, neighbors, input, i) + wall;
+                sums
+            },
+        )
+        .reduce(
+            || vec![BodyForceSum::default(); bodies],
+            |mut a, b| {
+                a.iter_mut().zip(&b).for_each(|(a, b)| a.merge(b));
+                a
+            },
+        )
 }

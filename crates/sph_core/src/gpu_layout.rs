@@ -40,7 +40,8 @@ pub struct GpuSphParams {
     pub gravity: [f32; 4],
     /// h, h², poly6 and ∇poly6 constants.
     pub kernel_a: [f32; 4],
-    /// ∇spiky, ∇²viscosity, cohesion and cohesion offset constants.
+    /// ∇spiky (times the pressure-gradient correction of [`crate::stage::StageContext`]),
+    /// ∇²viscosity, cohesion and cohesion offset constants.
     pub kernel_b: [f32; 4],
     /// ρ0, stiffness k, viscosity μ, surface tension γ.
     pub material: [f32; 4],
@@ -100,8 +101,10 @@ pub struct GpuClock {
     pub rule_dt_bits: u32,
     /// The rule's dt at the checkpoint [s], f32 bits (a retry takes half of it).
     pub checkpoint_rule_dt_bits: u32,
+    /// Particles the guard moved back into the box since the reset (see [`crate::guard`]).
+    pub boundary_corrections: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 impl GpuClock {
@@ -172,7 +175,8 @@ impl GpuSphParams {
             gravity: v4(params.gravity, params.particle_mass),
             kernel_a: [k.h, k.h2, k.poly6, k.poly6_grad],
             kernel_b: [
-                k.spiky_grad,
+                // The pressure force's gradient constant, with the rest-lattice correction.
+                k.spiky_grad * crate::stage::pressure_gradient_scale(params, &k),
                 k.viscosity_laplacian,
                 k.cohesion,
                 k.cohesion_offset,
@@ -251,4 +255,41 @@ pub fn id_to_w(id: u32) -> f32 {
 /// The particle id stored in a position's w component.
 pub fn w_to_id(w: f32) -> u32 {
     w.to_bits()
+}
+
+/// The boundary samples as the GPU reads them, in the order of the grid sort
+/// ([`crate::Boundary`]): `position` (xyz, w = volume V_b), `velocity` (xyz, w = the body's
+/// friction factor, 0 = free slip) and `cell_start` (cells + 1 exclusive offsets over the
+/// container's dense grid, the same grid the fluid uses in grid mode).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GpuBoundarySamples {
+    /// Positions [m], w = V_b [m³].
+    pub position: Vec<[f32; 4]>,
+    /// Velocities [m/s], w = friction factor.
+    pub velocity: Vec<[f32; 4]>,
+    /// Exclusive cell offsets, cells + 1 entries.
+    pub cell_start: Vec<u32>,
+}
+
+impl GpuBoundarySamples {
+    /// The sorted samples of `boundary` (sort it first).
+    pub fn of(boundary: &crate::Boundary) -> Self {
+        let position = boundary
+            .position
+            .iter()
+            .zip(&boundary.volume)
+            .map(|(p, &v)| [p.x, p.y, p.z, v])
+            .collect();
+        let velocity = boundary
+            .velocity
+            .iter()
+            .zip(&boundary.body)
+            .map(|(u, &b)| [u.x, u.y, u.z, boundary.friction[b as usize]])
+            .collect();
+        Self {
+            position,
+            velocity,
+            cell_start: boundary.grid.cell_start.clone(),
+        }
+    }
 }

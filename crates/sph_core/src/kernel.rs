@@ -117,6 +117,50 @@ impl Kernels {
         self.viscosity_laplacian * (self.h - r_len)
     }
 
+    /// Σ_j W_poly6(x_j) Δx³ over a cubic lattice of spacing Δx through the origin: the density
+    /// ratio ρ/ρ0 that the rest lattice gives with m = ρ0 Δx³ (1.0098 at h = 2Δx). Summed in
+    /// f64 in a fixed order, so the same inputs always give the same value.
+    pub fn lattice_sum(&self, spacing: f32) -> f32 {
+        let n = (self.h / spacing).ceil() as i32;
+        let (h2, dx) = (self.h as f64 * self.h as f64, spacing as f64);
+        let mut sum = 0.0f64;
+        for i in -n..=n {
+            for j in -n..=n {
+                for k in -n..=n {
+                    let r2 = ((i * i + j * j + k * k) as f64) * dx * dx;
+                    if r2 < h2 {
+                        sum += (h2 - r2).powi(3);
+                    }
+                }
+            }
+        }
+        (sum * self.poly6 as f64 * dx * dx * dx) as f32
+    }
+
+    /// Σ_j Δx³ (y_j - y_i)² |∇W_spiky(r_ij)| / r_ij over a cubic lattice of spacing Δx: the
+    /// factor by which the SPH gradient Σ_j V_j (p_j - p_i) ∇W of a linear pressure field
+    /// under-estimates it on the rest lattice (0.956 at h = 2Δx with V_j = Δx³). The forces pass
+    /// divides the pressure gradient by it (times m / (ρ0 Δx³)), a first-order kernel-gradient
+    /// correction of the rest configuration (Bonet & Lok 1999, evaluated once on the lattice
+    /// instead of per particle), so hydrostatic water holds up with ρ0 g depth.
+    pub fn lattice_gradient_moment(&self, spacing: f32) -> f32 {
+        let n = (self.h / spacing).ceil() as i32;
+        let (h, dx) = (self.h as f64, spacing as f64);
+        let mut sum = 0.0f64;
+        for i in -n..=n {
+            for j in -n..=n {
+                for k in -n..=n {
+                    let r = (((i * i + j * j + k * k) as f64).sqrt()) * dx;
+                    if r > 0.0 && r < h {
+                        let dy = j as f64 * dx;
+                        sum += dy * dy * (h - r) * (h - r) / r;
+                    }
+                }
+            }
+        }
+        (sum * (-self.spiky_grad as f64) * dx * dx * dx) as f32
+    }
+
     /// Akinci 2013 eq. 2 cohesion spline C(r):
     /// 32/(π h⁹) × (h - r)³ r³ for h/2 < r <= h, 2 (h - r)³ r³ - h⁶/64 for 0 < r <= h/2, else 0.
     #[inline]

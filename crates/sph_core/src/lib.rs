@@ -19,6 +19,7 @@
 //! assert_eq!(solver.diagnostics().non_finite_count, 0);
 //! ```
 
+pub mod boundary;
 pub mod boundary_akinci2012;
 pub mod collider;
 pub mod container;
@@ -28,6 +29,7 @@ pub mod eos;
 pub mod forces;
 pub mod front;
 pub mod gpu_layout;
+pub mod guard;
 pub mod integrate;
 pub mod kernel;
 pub mod neighbor;
@@ -42,6 +44,8 @@ pub mod stability;
 pub mod stage;
 pub mod surface_tension_akinci2013;
 
+pub use boundary::{BodyForce, Boundary, ColliderId};
+pub use collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 pub use container::{BoxContainer, Walls};
 pub use diagnostics::Diagnostics;
 pub use eos::Eos;

@@ -6,6 +6,7 @@
 //! surface. Each sample carries its outward normal. Samples are in the shape's frame.
 
 use crate::collider::ColliderShape;
+use crate::container::BoxContainer;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -200,4 +201,35 @@ fn disc(r: f32, y: f32, s: f32, out: &mut ShapeSamples) {
             out.push(Vec3::new(p.x, y, p.y), normal);
         }
     }
+}
+
+/// The container's walls as boundary samples, in the world frame: the fluid lattice mirrored
+/// through the floor and the four side walls, two layers deep (dx/2 and 3dx/2 outside each
+/// wall, with the edges and corners filled), up to the top of the walls; the top stays open.
+/// Along each axis the spacing is the container's size divided into whole cells of about
+/// `spacing`, so a block spawned from the container's corner lies on the same lattice. Normals
+/// point into the container. Returns the samples and the volume of one lattice cell [m³].
+pub fn container_shell(container: &BoxContainer, spacing: f32) -> (ShapeSamples, f32) {
+    let (lo, size) = (container.min(), container.size());
+    let cells = (size / spacing).round().max(Vec3::ONE);
+    let step = size / cells;
+    let n = cells.as_ivec3();
+    let mut out = ShapeSamples::default();
+    for k in -2..n.z + 2 {
+        for j in -2..n.y {
+            for i in -2..n.x + 2 {
+                let outside = glam::IVec3::new(
+                    (i < 0) as i32 - (i >= n.x) as i32,
+                    (j < 0) as i32,
+                    (k < 0) as i32 - (k >= n.z) as i32,
+                );
+                if outside == glam::IVec3::ZERO {
+                    continue;
+                }
+                let cell = glam::Vec3::new(i as f32, j as f32, k as f32) + 0.5;
+                out.push(lo + cell * step, outside.as_vec3());
+            }
+        }
+    }
+    (out, step.x * step.y * step.z)
 }

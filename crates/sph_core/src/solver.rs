@@ -1,10 +1,15 @@
 //! The CPU reference solver: structure-of-arrays f32 particle data, rayon-parallel passes, and the
-//! same stage order as the GPU pipeline (sort -> density -> [normals] -> forces -> integrate).
+//! same stage order as the GPU pipeline (sort -> density -> [normals] -> forces -> integrate),
+//! with the container's walls and the colliders as Akinci 2012 boundary samples
+//! ([`crate::boundary`]).
 
+use crate::boundary::{BodyForce, BodyForceSum, Boundary, ColliderId};
+use crate::collider::{Collider, ColliderError, Pose, Slip};
 use crate::container::BoxContainer;
 use crate::density::compute_density_pressure;
 use crate::diagnostics::{Diagnostics, DiagnosticsInput};
 use crate::forces::{compute_accelerations, ForceInputs};
+use crate::guard::Guard;
 use crate::integrate;
 use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
@@ -83,13 +88,16 @@ impl ParticleData {
     }
 }
 
-/// What a spawn did: how many particles were added and how many were refused for capacity.
+/// What a spawn did: how many particles were added, how many were refused for capacity and how
+/// many were left out because they lay inside (or within half a spacing of) a collider.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SpawnReport {
     /// Particles added.
     pub spawned: usize,
     /// Particles refused because the solver was full.
     pub refused: usize,
+    /// Particles left out because they lay inside a collider.
+    pub inside_colliders: usize,
 }
 
 /// Wall-clock time spent in each stage since the solver was created (or the timings were reset).
@@ -156,6 +164,15 @@ pub struct CpuSolver {
     rollback_state: RollbackState,
     /// The step (1-based) that went unstable; the solver is frozen until [`CpuSolver::clear`].
     unstable_step: Option<u64>,
+    /// The walls' and colliders' samples.
+    boundary: Boundary,
+    /// Particles the guard moved out of a solid or back into the box since the last clear.
+    boundary_corrections: u64,
+    /// The fluid's force on each boundary body, summed over the evaluations since the last
+    /// [`CpuSolver::take_collider_forces`], and the number of those evaluations.
+    body_force_sums: (Vec<BodyForceSum>, u64),
+    /// The fluid's force on each boundary body in the last evaluation.
+    last_body_forces: Vec<BodyForceSum>,
 }
 
 /// Checks a particle capacity (1 ..= 2^26).
@@ -188,6 +205,10 @@ impl CpuSolver {
             capacity,
         )?;
         Ok(Self {
+            boundary: Boundary::new(&container, &params, Slip::default())?,
+            boundary_corrections: 0,
+            body_force_sums: (Vec::new(), 0),
+            last_body_forces: Vec::new(),
             params,
             container,
             capacity,
@@ -225,6 +246,9 @@ impl CpuSolver {
                 params.smoothing_radius,
                 self.capacity,
             )?;
+        }
+        if !self.boundary.matches(&self.container, &params) {
+            self.boundary.rebuild_for(&self.container, &params)?;
         }
         self.params = params;
         self.forces_stale = true;
@@ -271,6 +295,105 @@ impl CpuSolver {
         &self.neighbors
     }
 
+    /// The walls' and colliders' boundary samples.
+    pub fn boundary(&self) -> &Boundary {
+        &self.boundary
+    }
+
+    /// Samples the container's walls with slip `slip` (the default: no slip), or with `None`
+    /// leaves them to the last-resort clamp alone (the box without a boundary model).
+    pub fn set_wall_boundary(&mut self, slip: Option<Slip>) {
+        self.boundary.set_walls(slip);
+        self.forces_stale = true;
+    }
+
+    /// Adds a collider (validated: the error names the field, the value and the range; nothing
+    /// changes on error). Its samples join the boundary at the next step.
+    pub fn add_collider(&mut self, collider: Collider) -> Result<ColliderId, ColliderError> {
+        let id = self.boundary.add(collider)?;
+        self.forces_stale = true;
+        Ok(id)
+    }
+
+    /// Removes a collider; false when the handle is unknown.
+    pub fn remove_collider(&mut self, id: ColliderId) -> bool {
+        let removed = self.boundary.remove(id);
+        self.forces_stale |= removed;
+        removed
+    }
+
+    /// Moves a collider to `pose` with the given velocities (what the fluid sees of a kinematic
+    /// or dynamic collider); validated, nothing changes on error.
+    pub fn set_collider_motion(
+        &mut self,
+        id: ColliderId,
+        pose: Pose,
+        linear_velocity: Vec3,
+        angular_velocity: Vec3,
+    ) -> Result<(), ColliderError> {
+        self.boundary
+            .set_motion(id, pose, linear_velocity, angular_velocity)
+    }
+
+    /// The colliders with their handles.
+    pub fn colliders(&self) -> impl Iterator<Item = (ColliderId, &Collider)> {
+        self.boundary.colliders()
+    }
+
+    /// The fluid's force and torque on collider `id`, averaged over the force evaluations since
+    /// the last call of [`Self::take_collider_forces`].
+    pub fn collider_force(&self, id: ColliderId) -> Option<BodyForce> {
+        self.boundary.collider(id)?;
+        let (sums, n) = &self.body_force_sums;
+        let s = sums.get(id.0 as usize + 1).copied().unwrap_or_default();
+        let n = (*n).max(1) as f64;
+        Some(BodyForce {
+            force: (s.force / n).as_vec3(),
+            torque: (s.torque / n).as_vec3(),
+        })
+    }
+
+    /// The fluid's force and torque on the walls (body 0), averaged like [`Self::collider_force`].
+    pub fn wall_force(&self) -> BodyForce {
+        let (sums, n) = &self.body_force_sums;
+        let s = sums.first().copied().unwrap_or_default();
+        let n = (*n).max(1) as f64;
+        BodyForce {
+            force: (s.force / n).as_vec3(),
+            torque: (s.torque / n).as_vec3(),
+        }
+    }
+
+    /// Every collider's averaged force (see [`Self::collider_force`]); starts a new average.
+    pub fn take_collider_forces(&mut self) -> Vec<(ColliderId, BodyForce)> {
+        let forces = self
+            .colliders()
+            .filter_map(|(id, _)| self.collider_force(id).map(|f| (id, f)))
+            .collect();
+        self.body_force_sums = (Vec::new(), 0);
+        forces
+    }
+
+    /// Particles the guard moved out of a solid or back into the box since the last clear (0
+    /// while the boundary model holds).
+    pub fn boundary_corrections(&self) -> u64 {
+        self.boundary_corrections
+    }
+
+    /// Particles inside any collider now (deeper than 1e-5 m).
+    pub fn inside_collider_count(&self) -> usize {
+        let colliders: Vec<Collider> = self.colliders().map(|(_, c)| *c).collect();
+        let guard = Guard {
+            walls: self.container.walls(self.params.wall_damping),
+            colliders: &colliders,
+        };
+        self.particles
+            .position
+            .par_iter()
+            .filter(|&&x| guard.inside_any(x, 1e-5))
+            .count()
+    }
+
     /// Adds particles with one common velocity; refuses (and reports) what exceeds the capacity.
     pub fn spawn(&mut self, positions: &[Vec3], velocity: Vec3) -> SpawnReport {
         self.spawn_each(positions, |_| velocity)
@@ -289,12 +412,22 @@ impl CpuSolver {
     }
 
     fn spawn_each(&mut self, positions: &[Vec3], velocity: impl Fn(usize) -> Vec3) -> SpawnReport {
+        let colliders: Vec<Collider> = self.boundary.colliders().map(|(_, c)| *c).collect();
+        let guard = Guard {
+            walls: self.container.walls(self.params.wall_damping),
+            colliders: &colliders,
+        };
+        // A particle closer than half a spacing to a solid would start inside its boundary.
+        let clearance = 0.45 * self.params.spacing();
+        let outside: Vec<usize> = (0..positions.len())
+            .filter(|&k| !guard.inside_any(positions[k], -clearance))
+            .collect();
         let free = self.capacity - self.particles.len();
-        let take = positions.len().min(free);
+        let take = outside.len().min(free);
         let p = &mut self.particles;
         let rho0 = self.params.rest_density;
-        for (k, &x) in positions[..take].iter().enumerate() {
-            let v = velocity(k);
+        for &k in &outside[..take] {
+            let (x, v) = (positions[k], velocity(k));
             p.position.push(x);
             p.velocity.push(v);
             p.velocity_predicted.push(v);
@@ -310,7 +443,8 @@ impl CpuSolver {
         self.rollback_state.save_requested |= take > 0;
         SpawnReport {
             spawned: take,
-            refused: positions.len() - take,
+            refused: outside.len() - take,
+            inside_colliders: positions.len() - outside.len(),
         }
     }
 
@@ -324,6 +458,8 @@ impl CpuSolver {
         self.step_count = 0;
         self.time = 0.0;
         self.unstable_step = None;
+        self.boundary_corrections = 0;
+        self.body_force_sums = (Vec::new(), 0);
     }
 
     /// How unstable steps are handled (rollback on by default).
@@ -369,10 +505,9 @@ impl CpuSolver {
             return self.params.time_step;
         }
         let p = &self.particles;
-        adaptive_time_step(
-            &self.params,
-            &StepExtremes::measure(&p.velocity, &p.acceleration),
-        )
+        let mut extremes = StepExtremes::measure(&p.velocity, &p.acceleration);
+        extremes.max_speed = extremes.max_speed.max(self.boundary.max_speed());
+        adaptive_time_step(&self.params, &extremes)
     }
     /// Force evaluations the next step takes: two for the design's leapfrog, one otherwise, plus
     /// one for kick-drift-kick right after a spawn or parameter change.
@@ -389,9 +524,11 @@ impl CpuSolver {
     /// the viscosity term reads `velocity_predicted` unless `use_velocity`.
     fn evaluate(&mut self, ctx: &StageContext, use_velocity: bool) {
         let (neighbors, p, t) = (&mut self.neighbors, &mut self.particles, &mut self.timings);
+        let boundary = &mut self.boundary;
         for stage in evaluation_stages(&self.params) {
             match stage {
                 CpuStage::Sort => timed(&mut t.sort, || {
+                    let _ = boundary.sort();
                     let order = neighbors.sort(&p.position);
                     p.reorder(order, &mut self.scratch);
                 }),
@@ -400,6 +537,7 @@ impl CpuSolver {
                         ctx,
                         neighbors,
                         &p.position,
+                        Some(boundary),
                         &mut p.density,
                         &mut p.pressure,
                     )
@@ -418,10 +556,16 @@ impl CpuSolver {
                         density: &p.density,
                         pressure: &p.pressure,
                         normal: &p.normal,
+                        boundary: Some(boundary),
                     };
-                    timed(&mut t.forces, || {
+                    let forces = timed(&mut t.forces, || {
                         compute_accelerations(ctx, neighbors, &input, &mut p.acceleration)
-                    })
+                    });
+                    let (sums, evaluations) = &mut self.body_force_sums;
+                    sums.resize(forces.len(), BodyForceSum::default());
+                    sums.iter_mut().zip(&forces).for_each(|(s, f)| s.merge(f));
+                    *evaluations += 1;
+                    self.last_body_forces = forces;
                 }
                 // Placed by the integrator around the evaluations (see `advance`).
                 CpuStage::TimeStep | CpuStage::Integrate => {}
@@ -475,19 +619,24 @@ impl CpuSolver {
     fn advance(&mut self, dt_scale: f32) -> f32 {
         let ctx = StageContext::new(&self.params);
         let dt;
-        let walls = self.container.walls(self.params.wall_damping);
+        let colliders: Vec<Collider> = self.boundary.colliders().map(|(_, c)| *c).collect();
+        let guard = Guard {
+            walls: self.container.walls(self.params.wall_damping),
+            colliders: &colliders,
+        };
+        let mut corrections = 0;
         match self.params.integrator {
             Integrator::SymplecticEuler => {
                 self.evaluate(&ctx, true);
                 dt = self.next_time_step() * dt_scale;
                 let p = &mut self.particles;
-                timed(&mut self.timings.integrate, || {
+                corrections += timed(&mut self.timings.integrate, || {
                     integrate::euler(
                         &mut p.position,
                         &mut p.velocity,
                         &p.acceleration,
                         dt,
-                        &walls,
+                        &guard,
                     )
                 });
             }
@@ -498,14 +647,14 @@ impl CpuSolver {
                 }
                 dt = self.next_time_step() * dt_scale;
                 let p = &mut self.particles;
-                timed(&mut self.timings.integrate, || {
+                corrections += timed(&mut self.timings.integrate, || {
                     integrate::kick_drift(
                         &mut p.position,
                         &mut p.velocity,
                         &mut p.velocity_predicted,
                         &p.acceleration,
                         dt,
-                        &walls,
+                        &guard,
                     )
                 });
                 self.evaluate(&ctx, false);
@@ -516,7 +665,7 @@ impl CpuSolver {
                         &mut p.velocity,
                         &p.acceleration,
                         dt,
-                        &walls,
+                        &guard,
                     )
                 });
             }
@@ -524,7 +673,7 @@ impl CpuSolver {
                 self.evaluate(&ctx, true);
                 dt = self.next_time_step() * dt_scale;
                 let p = &mut self.particles;
-                timed(&mut self.timings.integrate, || {
+                corrections += timed(&mut self.timings.integrate, || {
                     p.acceleration_start.copy_from_slice(&p.acceleration);
                     integrate::leapfrog_drift(
                         &mut p.position,
@@ -532,7 +681,7 @@ impl CpuSolver {
                         &mut p.velocity_predicted,
                         &p.acceleration_start,
                         dt,
-                        &walls,
+                        &guard,
                     )
                 });
                 self.evaluate(&ctx, false);
@@ -544,12 +693,13 @@ impl CpuSolver {
                         &p.acceleration_start,
                         &p.acceleration,
                         dt,
-                        &walls,
+                        &guard,
                     )
                 });
             }
         }
         self.forces_stale = false;
+        self.boundary_corrections += corrections;
         dt
     }
 

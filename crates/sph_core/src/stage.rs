@@ -22,13 +22,18 @@ pub struct StageContext {
     pub surface_tension: f32,
     /// Gravity g.
     pub gravity: Vec3,
+    /// The rest-lattice correction of the pressure gradient, 1 / G
+    /// ([`Kernels::lattice_gradient_moment`] times m / (ρ0 Δx³)).
+    pub pressure_gradient_scale: f32,
 }
 
 impl StageContext {
     /// The constants of `params`.
     pub fn new(params: &SphParams) -> Self {
+        let kernels = Kernels::new(params.smoothing_radius);
         Self {
-            kernels: Kernels::new(params.smoothing_radius),
+            kernels,
+            pressure_gradient_scale: pressure_gradient_scale(params, &kernels),
             eos: Eos::from_params(params),
             mass: params.particle_mass,
             rest_density: params.rest_density,
@@ -36,6 +41,19 @@ impl StageContext {
             surface_tension: params.surface_tension,
             gravity: params.gravity,
         }
+    }
+}
+
+/// 1 / G, the rest-lattice correction of the pressure gradient for `params` (see
+/// [`Kernels::lattice_gradient_moment`]).
+pub fn pressure_gradient_scale(params: &SphParams, kernels: &Kernels) -> f32 {
+    let spacing = params.spacing();
+    let volume_scale = params.particle_mass / (params.rest_density * spacing.powi(3));
+    let moment = kernels.lattice_gradient_moment(spacing) * volume_scale;
+    if moment.is_finite() && moment > 0.0 {
+        1.0 / moment
+    } else {
+        1.0
     }
 }
 

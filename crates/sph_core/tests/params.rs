@@ -34,7 +34,10 @@ fn derivation_from_spacing() {
         viscosity_alpha: 0.05,
     };
     let p = SphParams::from_spacing(d);
-    assert!((p.particle_mass - 1000.0 * 1e-6).abs() < 1e-9);
+    // m = ρ0 Δx³ / L, with L the rest lattice's kernel sum (1.0098 at h = 2 Δx).
+    let lattice = sph_core::Kernels::new(0.02).lattice_sum(0.01);
+    assert!((lattice - 1.0098).abs() < 1e-3, "lattice sum {lattice}");
+    assert!((p.particle_mass * lattice - 1000.0 * 1e-6).abs() < 1e-9);
     assert!((p.smoothing_radius - 0.02).abs() < 1e-7);
     // c0 = 10 v_peak = 20 m/s, B = ρ0 c0² / 7.
     assert!((p.stiffness - 1000.0 * 400.0 / 7.0).abs() < 1e-2);

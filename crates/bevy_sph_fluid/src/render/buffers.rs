@@ -70,11 +70,17 @@ pub enum Buf {
     Clock,
     /// The rollback checkpoint: position, velocity, acceleration of every slot.
     Checkpoint,
+    /// Boundary samples' positions (w = volume V_b), sorted by cell; sized by samples.
+    BoundaryPosition,
+    /// Boundary samples' velocities (w = friction factor).
+    BoundaryVelocity,
+    /// Boundary samples' exclusive cell offsets over the dense grid.
+    BoundaryCellStart,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 24] = [
+    pub const ALL: [Buf; 27] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -99,6 +105,16 @@ impl Buf {
         Buf::NeighborCount,
         Buf::Clock,
         Buf::Checkpoint,
+        Buf::BoundaryPosition,
+        Buf::BoundaryVelocity,
+        Buf::BoundaryCellStart,
+    ];
+
+    /// The boundary's buffers, sized by the samples and written by [`upload_boundary`].
+    pub const BOUNDARY: [Buf; 3] = [
+        Buf::BoundaryPosition,
+        Buf::BoundaryVelocity,
+        Buf::BoundaryCellStart,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -133,6 +149,9 @@ impl Buf {
             Buf::NeighborCount => "sph_neighbor_count",
             Buf::Clock => "sph_clock",
             Buf::Checkpoint => "sph_checkpoint",
+            Buf::BoundaryPosition => "sph_boundary_position",
+            Buf::BoundaryVelocity => "sph_boundary_velocity",
+            Buf::BoundaryCellStart => "sph_boundary_cell_start",
         }
     }
 }
@@ -190,6 +209,10 @@ pub struct SphGpuState {
     pub status: Option<String>,
     /// Spawns that arrived before the buffers were ready.
     pending_spawns: Vec<PendingSpawn>,
+    /// The boundary generation last uploaded (0: none).
+    boundary_generation: u64,
+    /// Boundary samples on the GPU.
+    pub boundary_samples: u32,
 }
 
 /// New particles waiting for upload: first slot, positions (w = id), velocities.
@@ -233,6 +256,10 @@ fn allocate(
             Buf::SortKeys | Buf::SortValues => 4 * sort_len as u64,
             Buf::BucketStart | Buf::BucketEnd => 4 * table,
             Buf::Checkpoint => 3 * 16 * n,
+            // Sized by the samples when they are uploaded (`upload_boundary`); an empty boundary
+            // has no samples in any cell.
+            Buf::BoundaryPosition | Buf::BoundaryVelocity => 16,
+            Buf::BoundaryCellStart => 4 * (cells + 1),
             _ => 16 * n,
         }
     };
@@ -421,6 +448,12 @@ pub(crate) fn prepare_sph_buffers(
             &[0; 4],
         );
     }
+    if let Some((generation, samples)) = &frame.boundary {
+        if *generation != state.boundary_generation || needs_allocation {
+            upload_boundary(&device, &queue, &mut state, samples);
+            state.boundary_generation = *generation;
+        }
+    }
     let uniforms = GpuSphParams::with_grid(
         &frame.params,
         &frame.container,
@@ -430,4 +463,51 @@ pub(crate) fn prepare_sph_buffers(
     )
     .with_rollback(&frame.rollback);
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
+}
+
+/// Writes the boundary samples; their buffers are reallocated (and the bind groups rebuilt) only
+/// when the samples outgrow them, never the particle buffers.
+fn upload_boundary(
+    device: &RenderDevice,
+    queue: &RenderQueue,
+    state: &mut SphGpuState,
+    samples: &sph_core::gpu_layout::GpuBoundarySamples,
+) {
+    let Some(buffers) = state.buffers.as_mut() else {
+        return;
+    };
+    let need = (16 * samples.position.len() as u64).max(16);
+    let mut grown = false;
+    for buf in [Buf::BoundaryPosition, Buf::BoundaryVelocity] {
+        if buffers.at(buf).size() < need {
+            let old = buffers.at(buf).size();
+            // Room for growth, so a collider added at run time rarely reallocates.
+            let bytes = need + need / 4;
+            buffers.storage[buf as usize - 1] = storage_buffer(device, buf.label(), bytes);
+            buffers.bytes += bytes - old;
+            grown = true;
+        }
+    }
+    let starts = bytemuck::cast_slice(&samples.cell_start);
+    if buffers.at(Buf::BoundaryCellStart).size() < starts.len() as u64 {
+        // The grid and the samples disagree (a container change in flight): skip this frame.
+        return;
+    }
+    if !samples.position.is_empty() {
+        queue.write_buffer(
+            buffers.at(Buf::BoundaryPosition),
+            0,
+            bytemuck::cast_slice(&samples.position),
+        );
+        queue.write_buffer(
+            buffers.at(Buf::BoundaryVelocity),
+            0,
+            bytemuck::cast_slice(&samples.velocity),
+        );
+    }
+    queue.write_buffer(buffers.at(Buf::BoundaryCellStart), 0, starts);
+    state.boundary_samples = samples.position.len() as u32;
+    if grown {
+        state.generation += 1;
+    }
 }

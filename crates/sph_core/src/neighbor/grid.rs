@@ -189,6 +189,29 @@ impl DenseGrid {
         (acc[0] + acc[1]) + (acc[2] + acc[3])
     }
 
+    /// Σ_j c_j w(r²) over the candidates of the 27 cells, with per-point weights `weights` (the
+    /// boundary samples' volumes), for a weight `w` that is zero for r >= h: branch-free.
+    #[inline]
+    pub fn weighted_sum_over_candidates(
+        &self,
+        positions: &[Vec3],
+        weights: &[f32],
+        x_i: Vec3,
+        w: impl Fn(f32) -> f32,
+    ) -> f32 {
+        let mut acc = [0.0f32; 2];
+        self.for_each_row(x_i, |start, end| {
+            for (k, (&x_j, &c)) in positions[start..end]
+                .iter()
+                .zip(&weights[start..end])
+                .enumerate()
+            {
+                acc[k & 1] += c * w((x_i - x_j).length_squared());
+            }
+        });
+        acc[0] + acc[1]
+    }
+
     /// Candidates visited for a particle at `x_i` (all particles of the 27 cells).
     pub fn candidate_count(&self, x_i: Vec3) -> usize {
         let mut n = 0;

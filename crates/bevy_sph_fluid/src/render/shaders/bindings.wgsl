@@ -35,3 +35,9 @@
 // Rollback: the last good state, three arrays of capacity vec4s (position, velocity,
 // acceleration) one after the other (see shaders/checkpoint.wgsl).
 @group(0) @binding(24) var<storage, read_write> checkpoint: array<vec4<f32>>;
+// The Akinci 2012 boundary samples of the walls and colliders, sorted by cell over the dense
+// grid (uploaded by the CPU, sph_core::gpu_layout::GpuBoundarySamples): position (w = volume
+// V_b), velocity (w = the body's friction factor, 0 = free slip), exclusive cell offsets.
+@group(0) @binding(25) var<storage, read_write> boundary_position: array<vec4<f32>>;
+@group(0) @binding(26) var<storage, read_write> boundary_velocity: array<vec4<f32>>;
+@group(0) @binding(27) var<storage, read_write> boundary_cell_start: array<u32>;

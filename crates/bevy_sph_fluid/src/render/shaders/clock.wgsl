@@ -23,3 +23,8 @@ fn record_speed(v: vec3<f32>) {
 fn record_acceleration(a: vec3<f32>) {
     atomicMax(&clock.max_acceleration_bits, bitcast<u32>(length(a)));
 }
+
+// Count a particle the guard moved back into the box.
+fn record_correction() {
+    atomicAdd(&clock.boundary_corrections, 1u);
+}

@@ -96,3 +96,8 @@ fn collide(x: vec3<f32>, v: vec3<f32>) -> PositionVelocity {
     let cz = collide_axis(x.z, v.z, lo.z, hi.z, damping);
     return PositionVelocity(vec3<f32>(cx.x, cy.x, cz.x), vec3<f32>(cx.y, cy.y, cz.y));
 }
+
+// Whether x lies beyond the box (the guard's clamp then counts a correction; sph_core::guard).
+fn outside_box(x: vec3<f32>) -> bool {
+    return any(x < params.box_min.xyz) || any(x > params.box_max.xyz);
+}

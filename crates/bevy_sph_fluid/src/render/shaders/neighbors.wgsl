@@ -3,7 +3,7 @@
 // sph_core::neighbor.
 #define_import_path sph::neighbors
 
-#import sph::bindings::{params, cell_start, bucket_start, bucket_end}
+#import sph::bindings::{params, cell_start, bucket_start, bucket_end, boundary_cell_start}
 
 fn grid_cell(p: vec3<f32>) -> vec3<i32> {
     let c = vec3<i32>(floor((p - params.grid_origin.xyz) / params.grid_origin.w));
@@ -78,4 +78,18 @@ fn accepts(c: vec3<i32>, q: u32, x_j: vec3<f32>) -> bool {
 #else
     return true;
 #endif
+}
+
+// The q-th (of 9) range of sorted boundary samples around the grid cell c: the boundary samples
+// are sorted over the dense grid in both search modes (Rust twin: sph_core::boundary).
+fn boundary_range(c: vec3<i32>, q: u32) -> vec2<u32> {
+    let dims = vec3<i32>(params.grid_dims.xyz);
+    let y = c.y + i32(q % 3u) - 1;
+    let z = c.z + i32(q / 3u) - 1;
+    if y < 0 || y >= dims.y || z < 0 || z >= dims.z {
+        return vec2<u32>(0u, 0u);
+    }
+    let x0 = max(c.x - 1, 0);
+    let x1 = min(c.x + 1, dims.x - 1);
+    return vec2<u32>(boundary_cell_start[grid_index(vec3<i32>(x0, y, z))], boundary_cell_start[grid_index(vec3<i32>(x1, y, z)) + 1u]);
 }

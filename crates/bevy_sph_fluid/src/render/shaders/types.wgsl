@@ -63,7 +63,8 @@ struct SphClock {
     // The time-step rule's dt before the rollback scale, now and at the checkpoint.
     rule_dt: f32,
     checkpoint_rule_dt: f32,
-    pad_a: u32,
+    // Particles the guard moved back into the box since the reset (sph_core::guard).
+    boundary_corrections: atomic<u32>,
     pad_b: u32,
     pad_c: u32,
 }

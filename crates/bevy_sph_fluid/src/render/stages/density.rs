@@ -6,7 +6,7 @@ use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
 use sph_core::CpuStage;
 
-/// ρ_i = m Σ W_poly6, p_i = EOS(ρ_i) for every particle (with `NEIGHBOR_COUNT`, the variant
+/// ρ_i = m Σ W_poly6 + ρ0 Σ_b V_b W_poly6 (the boundary samples), p_i = EOS(ρ_i) for every particle (with `NEIGHBOR_COUNT`, the variant
 /// shader def of the debug views, also the neighbours within h).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_density",
@@ -21,6 +21,8 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::CellStart,
         Buf::BucketStart,
         Buf::BucketEnd,
+        Buf::BoundaryPosition,
+        Buf::BoundaryCellStart,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],

@@ -1,8 +1,9 @@
-// ρ_i = m Σ_j W_poly6(x_i - x_j) (Müller 2003 eq. 3, self included), then p_i from the EOS.
-// Rust twin: sph_core::density. NEIGHBOR_COUNT (debug) also records each particle's neighbours.
-#import sph::bindings::{params, position, density, pressure, neighbor_count}
+// ρ_i = m Σ_j W_poly6(x_i - x_j) (Müller 2003 eq. 3, self included)
+//     + ρ0 Σ_b V_b W_poly6(x_i - x_b) (Akinci 2012 eq. 6, the walls' and colliders' samples),
+// then p_i from the EOS. Rust twin: sph_core::density. NEIGHBOR_COUNT (debug) also records each particle's neighbours.
+#import sph::bindings::{params, position, density, pressure, neighbor_count, boundary_position}
 #import sph::kernels::{poly6, eos_pressure}
-#import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
+#import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -27,7 +28,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
-    let rho = params.gravity.w * sum;
+    var boundary = 0.0;
+    let g = grid_cell(x_i);
+    for (var q = 0u; q < 9u; q++) {
+        let range = boundary_range(g, q);
+        for (var b = range.x; b < range.y; b++) {
+            let sample = boundary_position[b];
+            let r = x_i - sample.xyz;
+            boundary += sample.w * poly6(dot(r, r));
+        }
+    }
+    let rho = params.gravity.w * sum + params.material.x * boundary;
     density[i] = rho;
     pressure[i] = eos_pressure(rho);
 #ifdef NEIGHBOR_COUNT

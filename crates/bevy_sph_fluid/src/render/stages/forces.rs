@@ -8,7 +8,8 @@ use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
 use sph_core::CpuStage;
 
-/// Pressure, viscosity, surface tension and gravity for every particle. Roles: plain,
+/// Pressure, viscosity, surface tension, the boundary samples' pressure and friction, and gravity
+/// for every particle. Roles: plain,
 /// kick-drift-kick closing kick, leapfrog first evaluation (keep a0), leapfrog second (kick).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_forces",
@@ -28,6 +29,9 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BucketStart,
         Buf::BucketEnd,
         Buf::Clock,
+        Buf::BoundaryPosition,
+        Buf::BoundaryVelocity,
+        Buf::BoundaryCellStart,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[

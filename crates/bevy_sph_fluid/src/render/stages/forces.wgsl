@@ -1,7 +1,10 @@
-// a_i = -(1/ρ_i) Σ m (p_i + p_j)/(2ρ_j) ∇W_spiky            (design eq. 9)
+// a_i = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky                (Monaghan 1992 eq. 3.3)
 //     + (μ/ρ_i) Σ m (v_j - v_i)/ρ_j ∇²W_visc             (design eq. 10, VISCOSITY)
 //     - γ Σ K_ij (m C(r) r/|r| + n_i - n_j)               (Akinci 2013, SURFACE_TENSION)
+//     - Σ_b ρ0 V_b (p_i/ρ_i² + p_i/ρ0²) ∇W_spiky          (Akinci 2012 eq. 10, pressure mirrored)
+//     + (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc            (no-slip bodies, friction f)
 //     + g
+// The spiky constant of the uniforms carries the rest-lattice gradient correction.
 // and the integrator's closing phase on the particle's own velocity (neighbours read only
 // positions and predicted velocities, so this is race-free):
 // POST_KDK            v = v½ + a dt/2, wall response          (sph_core::integrate::kick)
@@ -11,9 +14,9 @@
 // acceleration the next step does not start from), |v| by the closing kicks; nothing is
 // integrated or recorded while the clock is frozen.
 // Rust twin: sph_core::forces.
-#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal}
+#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal, boundary_position, boundary_velocity}
 #import sph::kernels::{spiky_grad, viscosity_laplacian, cohesion, collide}
-#import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
+#import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
 
 fn viscosity_velocity(j: u32) -> vec3<f32> {
@@ -32,17 +35,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let x_i = position[i].xyz;
     let rho_i = density[i];
-    let p_i = pressure[i];
+    let p_i = pressure[i] / (rho_i * rho_i);
     let m = params.gravity.w;
     let h2 = params.kernel_a.y;
-#ifdef VISCOSITY
     let v_i = viscosity_velocity(i);
-#endif
 #ifdef SURFACE_TENSION
     let n_i = normal[i].xyz;
     var surface = vec3<f32>(0.0);
 #endif
-    var pressure_viscosity = vec3<f32>(0.0);
+    var pressure_sum = vec3<f32>(0.0);
+    var viscosity_sum = vec3<f32>(0.0);
     let c = home_cell(x_i);
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
@@ -58,9 +60,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
             let r_len = sqrt(r2);
             let rho_j = density[j];
-            pressure_viscosity -= spiky_grad(r, r_len) * ((p_i + pressure[j]) / (2.0 * rho_j));
+            pressure_sum -= spiky_grad(r, r_len) * (p_i + pressure[j] / (rho_j * rho_j));
 #ifdef VISCOSITY
-            pressure_viscosity += (viscosity_velocity(j) - v_i) * (params.material.z * viscosity_laplacian(r_len) / rho_j);
+            viscosity_sum += (viscosity_velocity(j) - v_i) * (viscosity_laplacian(r_len) / rho_j);
 #endif
 #ifdef SURFACE_TENSION
             let correction = 2.0 * params.material.x / (rho_i + rho_j);
@@ -72,7 +74,30 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
         }
     }
-    var a = pressure_viscosity * (m / rho_i) + params.gravity.xyz;
+    // The boundary samples (Rust twin: sph_core::forces::boundary_acceleration_at).
+    let rho0 = params.material.x;
+    let mirrored = p_i + pressure[i] / (rho0 * rho0);
+    let viscous = params.material.z / rho_i;
+    var wall = vec3<f32>(0.0);
+    let g = grid_cell(x_i);
+    for (var q = 0u; q < 9u; q++) {
+        let range = boundary_range(g, q);
+        for (var b = range.x; b < range.y; b++) {
+            let sample = boundary_position[b];
+            let r = x_i - sample.xyz;
+            let r2 = dot(r, r);
+            if r2 >= h2 {
+                continue;
+            }
+            let r_len = sqrt(r2);
+            wall += spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
+            let u = boundary_velocity[b];
+            if u.w > 0.0 {
+                wall += (u.xyz - v_i) * (u.w * viscous * sample.w * viscosity_laplacian(r_len));
+            }
+        }
+    }
+    var a = pressure_sum * m + viscosity_sum * (params.material.z * m / rho_i) + wall + params.gravity.xyz;
 #ifdef SURFACE_TENSION
     a += surface;
 #endif

@@ -1,10 +1,10 @@
-// Symplectic Euler: v += a dt; x += v dt; collide (sph_core::integrate::euler). The leapfrogs'
+// Symplectic Euler: v += a dt; x += v dt; guard (sph_core::integrate::euler). The leapfrogs'
 // phases are fused into count_cells (before) and forces (after). It runs right after the
 // time-step pass, so it saves or restores the rollback checkpoint first, and does not integrate
 // a state being restored.
 #import sph::bindings::{params, position, velocity, acceleration}
-#import sph::kernels::collide
-#import sph::clock::{step_dt, frozen, record_speed}
+#import sph::kernels::{collide, outside_box}
+#import sph::clock::{step_dt, frozen, record_speed, record_correction}
 #import sph::checkpoint::{apply_checkpoint, restoring}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
@@ -20,7 +20,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let dt = step_dt();
     let a = acceleration[i].xyz;
     let v = velocity[i].xyz + a * dt;
-    let moved = collide(position[i].xyz + v * dt, v);
+    let drifted = position[i].xyz + v * dt;
+    if outside_box(drifted) {
+        record_correction();
+    }
+    let moved = collide(drifted, v);
     position[i] = vec4<f32>(moved.x, position[i].w);
     velocity[i] = vec4<f32>(moved.v, 0.0);
     record_speed(moved.v);

@@ -1,0 +1,194 @@
+//! The Akinci 2012 boundary in the CPU solver: the container's walls complete the rest lattice at
+//! walls, edges and corners; fluid-boundary forces and the reactions on the bodies balance; the
+//! guard projects particles out of colliders and counts them; spawns leave colliders empty; a
+//! settling tank keeps every particle in the box.
+
+use glam::{Quat, Vec3};
+use sph_core::boundary::{BodyForceSum, Boundary};
+use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
+use sph_core::density::density_at;
+use sph_core::forces::{boundary_acceleration_at, ForceInputs};
+use sph_core::guard::Guard;
+use sph_core::scenario::hydrostatic;
+use sph_core::stage::StageContext;
+use sph_core::{BlockSpawn, BoxContainer, CpuSolver, SphParams};
+
+fn tank() -> (SphParams, BoxContainer, BlockSpawn) {
+    let params = SphParams::water();
+    let dx = params.spacing();
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::splat(20.0 * dx));
+    let block = BlockSpawn::new(Vec3::ZERO, Vec3::splat(12.0 * dx), dx);
+    (params, container, block)
+}
+
+#[test]
+fn the_walls_complete_the_rest_lattice_at_walls_edges_and_corners() {
+    let (params, container, block) = tank();
+    let mut solver = CpuSolver::new(params, container, block.count()).unwrap();
+    solver.spawn(&block.positions(), Vec3::ZERO);
+    solver.step();
+    let ctx = StageContext::new(&params);
+    let positions = block.positions();
+    let mut neighbors = solver.neighbors().clone();
+    let order = neighbors.sort(&positions).to_vec();
+    let sorted: Vec<Vec3> = order.iter().map(|&k| positions[k as usize]).collect();
+    let dx = params.spacing();
+    let probes = [
+        ("interior", Vec3::splat(5.5 * dx)),
+        ("floor", Vec3::new(5.5, 0.5, 5.5) * dx),
+        ("wall", Vec3::new(0.5, 5.5, 5.5) * dx),
+        ("edge", Vec3::new(0.5, 0.5, 5.5) * dx),
+        ("corner", Vec3::splat(0.5 * dx)),
+    ];
+    for (name, x) in probes {
+        let rho = density_at(&ctx, &neighbors, &sorted, Some(solver.boundary()), x);
+        let error = (rho / params.rest_density - 1.0).abs();
+        assert!(error < 1e-3, "{name}: ρ/ρ0 - 1 = {error}");
+        let fluid = density_at(&ctx, &neighbors, &sorted, None, x);
+        if name != "interior" {
+            assert!(fluid < 0.9 * rho, "{name}: the boundary adds nothing");
+        }
+    }
+}
+
+#[test]
+fn the_fluid_force_on_a_collider_balances_the_particles_reaction() {
+    let (params, container, _) = tank();
+    let dx = params.spacing();
+    let mut boundary = Boundary::new(&container, &params, Slip::Free).unwrap();
+    boundary.set_walls(None);
+    let centre = Vec3::splat(10.0 * dx);
+    let sphere = Collider::new(
+        ColliderShape::Sphere { radius: 3.0 * dx },
+        Pose {
+            translation: centre,
+            rotation: Quat::IDENTITY,
+        },
+    )
+    .with_slip(Slip::NoSlip { friction: 1.0 })
+    .with_motion(ColliderMotion::Kinematic);
+    let id = boundary.add(sphere).unwrap();
+    boundary
+        .set_motion(id, sphere.pose, Vec3::new(0.0, 0.0, 0.3), Vec3::ZERO)
+        .unwrap();
+    assert!(boundary.sort());
+    let ctx = StageContext::new(&params);
+    // One particle at rest just outside the sphere, at 1 kPa.
+    let x = centre + Vec3::new(3.4 * dx, 0.4 * dx, 0.0);
+    let input = ForceInputs {
+        position: &[x],
+        velocity: &[Vec3::ZERO],
+        density: &[params.rest_density],
+        pressure: &[1000.0],
+        normal: &[],
+        boundary: Some(&boundary),
+    };
+    let mut on_body = BodyForceSum::default();
+    let a = boundary_acceleration_at(&ctx, &boundary, &input, 0, |body, f, at| {
+        assert_eq!(body, id.0 + 1);
+        on_body.add(f, at, centre);
+    });
+    // Newton's third law: the sphere's force is exactly the particle's reaction.
+    let particle = a * params.particle_mass;
+    assert!(particle.length() > 0.0);
+    assert!((on_body.force.as_vec3() + particle).length() < 1e-5 * particle.length());
+    // The particle is pushed outward, and dragged along the moving sphere (no slip).
+    let outward = (x - centre).normalize();
+    assert!(a.dot(outward) > 0.0, "{a}");
+    assert!(a.z > 0.0, "no drag along the sphere's velocity: {a}");
+}
+
+#[test]
+fn the_guard_projects_particles_out_of_colliders_and_counts_them() {
+    let (params, container, _) = tank();
+    let box_collider = Collider::new(
+        ColliderShape::Cuboid {
+            half_extents: Vec3::new(0.05, 0.02, 0.05),
+        },
+        Pose {
+            translation: Vec3::new(0.2, 0.1, 0.2),
+            rotation: Quat::from_rotation_y(0.5),
+        },
+    );
+    let colliders = [box_collider];
+    let guard = Guard {
+        walls: container.walls(params.wall_damping),
+        colliders: &colliders,
+    };
+    let mut inside = Vec3::new(0.2, 0.115, 0.2);
+    let mut v = Vec3::new(0.0, -1.0, 0.0);
+    assert!(guard.apply(&mut inside, &mut v));
+    assert!(
+        box_collider.signed_distance(inside).abs() < 1e-4,
+        "{inside}"
+    );
+    assert!(v.y >= 0.0, "velocity into the box kept: {v}");
+    let mut outside = Vec3::new(0.3, 0.3, 0.3);
+    let mut w = Vec3::new(0.0, -1.0, 0.0);
+    assert!(!guard.apply(&mut outside, &mut w));
+    assert_eq!(
+        (outside, w),
+        (Vec3::new(0.3, 0.3, 0.3), Vec3::new(0.0, -1.0, 0.0))
+    );
+    let mut beyond = Vec3::new(-0.01, 0.1, 0.1);
+    assert!(guard.apply(&mut beyond, &mut w));
+    assert_eq!(beyond.x, 0.0);
+}
+
+#[test]
+fn spawns_skip_colliders_and_bad_colliders_are_refused_by_name() {
+    let (params, container, block) = tank();
+    let mut solver = CpuSolver::new(params, container, block.count()).unwrap();
+    let sphere = Collider::new(
+        ColliderShape::Sphere { radius: 0.04 },
+        Pose {
+            translation: Vec3::splat(0.06),
+            rotation: Quat::IDENTITY,
+        },
+    );
+    solver.add_collider(sphere).unwrap();
+    let report = solver.spawn(&block.positions(), Vec3::ZERO);
+    assert!(report.inside_colliders > 0);
+    assert_eq!(report.spawned + report.inside_colliders, block.count());
+    assert_eq!(solver.inside_collider_count(), 0);
+
+    let bad = Collider {
+        linear_velocity: Vec3::new(f32::NAN, 0.0, 0.0),
+        ..sphere.with_motion(ColliderMotion::Kinematic)
+    };
+    let e = solver.add_collider(bad).unwrap_err();
+    assert_eq!(e.field, "linear_velocity");
+    let e = solver
+        .add_collider(sphere.with_slip(Slip::NoSlip { friction: -1.0 }))
+        .unwrap_err();
+    assert_eq!(e.field, "slip.friction");
+    let e = solver
+        .add_collider(Collider::new(
+            ColliderShape::Sphere { radius: 100.0 },
+            Pose::default(),
+        ))
+        .unwrap_err();
+    assert_eq!(e.field, "shape");
+    assert_eq!(solver.colliders().count(), 1);
+}
+
+#[test]
+fn a_settling_tank_keeps_every_particle_in_the_box() {
+    let scene = hydrostatic(0.1, 0.1, 0.01);
+    let mut solver = CpuSolver::new(scene.params, scene.container, scene.particle_count()).unwrap();
+    solver.spawn(&scene.positions(), Vec3::ZERO);
+    for _ in 0..400 {
+        solver.step();
+    }
+    let d = solver.diagnostics();
+    assert_eq!((d.non_finite_count, d.outside_count), (0, 0));
+    assert_eq!(solver.len(), scene.particle_count());
+    // The bottom row stays about half a spacing above the floor: the walls hold.
+    let lowest = solver
+        .particles()
+        .position
+        .iter()
+        .map(|x| x.y)
+        .fold(f32::INFINITY, f32::min);
+    assert!(lowest > 0.2 * 0.01, "lowest particle at {lowest} m");
+}
