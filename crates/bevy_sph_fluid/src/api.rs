@@ -124,6 +124,8 @@ pub struct SphStats {
     pub capacity: u32,
     /// Particles refused because the capacity was full, since the last reset.
     pub refused_spawns: u64,
+    /// Particles left out of spawns because they lay inside a collider, since the last reset.
+    pub spawns_inside_colliders: u64,
     /// Unstable steps rolled back since the last reset (see [`SphControl::rollback`]).
     pub rollbacks: u64,
     /// Particles the last-resort guard moved out of a solid or back into the box since the last
@@ -131,6 +133,8 @@ pub struct SphStats {
     pub boundary_corrections: u64,
     /// Boundary samples (Akinci 2012) of the container's walls and the colliders.
     pub boundary_samples: u32,
+    /// Colliders refused this frame (the simulation goes on without them).
+    pub collider_errors: Vec<SphColliderError>,
     /// Compute dispatches in the last step (GPU backend).
     pub dispatches_per_step: u32,
     /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports
@@ -151,6 +155,84 @@ pub struct SphStats {
 #[derive(Component, Clone, Copy, Debug, PartialEq, Reflect, Deref, DerefMut)]
 #[reflect(Component)]
 pub struct SphContainer(pub BoxContainer);
+
+/// A solid the water meets, placed by the entity's [`GlobalTransform`]: an Akinci 2012 boundary
+/// of samples in the shape, on both backends. The shape is sampled when the component is added
+/// or changed; moving the transform only moves the samples. A transform's scale scales the
+/// shape (uniformly for spheres, capsules and cylinders). Invalid shapes, poses or scales are
+/// refused: [`SphStats::collider_errors`] names the entity, the field and the value, and the
+/// simulation goes on without that collider.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Component)]
+#[require(Transform, SphColliderForce)]
+pub struct SphCollider {
+    /// The shape in the entity's frame (y is the axis of capsules and cylinders).
+    pub shape: sph_core::ColliderShape,
+    /// Static (never moves), kinematic (the game moves it; the water sees its velocity) or
+    /// dynamic (the game or a physics engine moves it and applies [`SphColliderForce`]).
+    pub motion: sph_core::ColliderMotion,
+    /// Free slip (pressure only) or no slip (the water's viscosity against the surface).
+    pub slip: sph_core::Slip,
+}
+
+impl SphCollider {
+    /// A static, free-slip collider of `shape`.
+    pub fn new(shape: sph_core::ColliderShape) -> Self {
+        Self {
+            shape,
+            motion: sph_core::ColliderMotion::Static,
+            slip: sph_core::Slip::Free,
+        }
+    }
+
+    /// The same collider with motion kind `motion`.
+    pub fn with_motion(mut self, motion: sph_core::ColliderMotion) -> Self {
+        self.motion = motion;
+        self
+    }
+
+    /// The same collider with slip `slip`.
+    pub fn with_slip(mut self, slip: sph_core::Slip) -> Self {
+        self.slip = slip;
+        self
+    }
+}
+
+/// The water's force and torque on a collider (about the entity's origin), averaged over the
+/// steps of the last frame that stepped: for game code or a physics engine to apply to a dynamic
+/// body. Written on the CPU backend; on the GPU backend it stays zero for now (the reduction
+/// of the reaction forces on the device is not built yet).
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Reflect)]
+#[reflect(Component)]
+pub struct SphColliderForce {
+    /// Force [N].
+    pub force: Vec3,
+    /// Torque about the entity's origin [N m].
+    pub torque: Vec3,
+}
+
+/// A collider the simulation refused, with why.
+#[derive(Clone, Debug, PartialEq, Reflect)]
+pub struct SphColliderError {
+    /// The entity carrying the [`SphCollider`].
+    pub entity: Entity,
+    /// The field, e.g. `shape.radius` or `transform.scale`.
+    pub field: String,
+    /// The offending value.
+    pub value: String,
+    /// What is allowed.
+    pub allowed: String,
+}
+
+impl std::fmt::Display for SphColliderError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "collider {}: `{}` = {}: allowed {}",
+            self.entity, self.field, self.value, self.allowed
+        )
+    }
+}
 
 /// A block of particles spawned once when the component is added, and again on every reset.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]

@@ -26,6 +26,7 @@
 //! on top. No module imports one that imports it back (`tests/module_imports.rs`).
 
 pub mod api;
+pub mod colliders;
 pub mod headless;
 mod plugin;
 mod readback;

@@ -68,6 +68,8 @@ pub struct SphSimulation {
     pub next_id: u32,
     /// Refused particles since the last reset.
     pub refused: u64,
+    /// Particles left out of spawns since the last reset because they lay inside a collider.
+    pub inside_colliders: u64,
     /// The CPU solver (CPU backend).
     pub cpu: Option<CpuSolver>,
     /// This frame's plan for the render world.
@@ -79,6 +81,9 @@ pub struct SphSimulation {
     pub gpu_boundary: Option<Boundary>,
     /// Bumped whenever the GPU boundary is re-sorted.
     pub boundary_generation: u64,
+    /// Bumped when the boundary is replaced without its colliders (a rebuilt CPU solver), so
+    /// the collider systems add them again.
+    pub boundary_epoch: u64,
 }
 
 impl SphSimulation {
@@ -91,16 +96,34 @@ impl SphSimulation {
             particle_count: 0,
             next_id: 0,
             refused: 0,
+            inside_colliders: 0,
             cpu: None,
             frame: SphFrame::default(),
             container: None,
             gpu_boundary: None,
             boundary_generation: 0,
+            boundary_epoch: 0,
         }
     }
 
-    /// Queues particles for spawning; refuses (and counts) what exceeds the capacity.
+    /// Queues particles for spawning; leaves out (and counts) what lies inside a collider and
+    /// refuses (and counts) what exceeds the capacity.
     pub(crate) fn spawn(&mut self, positions: &[Vec3], velocity: Vec3) {
+        let admitted: Vec<Vec3>;
+        let positions = match self.boundary() {
+            Some(b) if b.colliders().next().is_some() => {
+                // Closer than half a spacing to a solid, a particle would start in its boundary.
+                let clearance = 0.45 * b.spacing();
+                admitted = positions
+                    .iter()
+                    .copied()
+                    .filter(|&x| b.admits(x, clearance))
+                    .collect();
+                self.inside_colliders += (positions.len() - admitted.len()) as u64;
+                &admitted[..]
+            }
+            _ => positions,
+        };
         let free = (self.capacity - self.particle_count) as usize;
         let take = positions.len().min(free);
         self.refused += (positions.len() - take) as u64;
@@ -133,10 +156,24 @@ impl SphSimulation {
         }
     }
 
-    /// Builds the GPU boundary for `container` and `params` (or rebuilds it when either changed),
-    /// re-sorts it when a collider moved, and puts the samples in this frame's plan when they
-    /// changed.
-    pub(crate) fn prepare_gpu_boundary(
+    /// The boundary of the backend in use, to add, move and remove colliders: the CPU solver's,
+    /// or the GPU backend's (built for `container` and `params`, or rebuilt when either changed).
+    /// `None` before the CPU solver exists or when `params` cannot build a grid.
+    pub fn boundary_mut(
+        &mut self,
+        container: &BoxContainer,
+        params: &sph_core::SphParams,
+    ) -> Option<&mut Boundary> {
+        match self.backend {
+            SphBackend::Cpu => self.cpu.as_mut().map(CpuSolver::boundary_mut),
+            SphBackend::Gpu => {
+                self.ensure_gpu_boundary(container, params).ok()?;
+                self.gpu_boundary.as_mut()
+            }
+        }
+    }
+
+    fn ensure_gpu_boundary(
         &mut self,
         container: &BoxContainer,
         params: &sph_core::SphParams,
@@ -149,6 +186,18 @@ impl SphSimulation {
                     Some(Boundary::new(container, params, sph_core::Slip::default())?)
             }
         }
+        Ok(())
+    }
+
+    /// Builds the GPU boundary for `container` and `params` (or rebuilds it when either changed),
+    /// re-sorts it when a collider moved, and puts the samples in this frame's plan when they
+    /// changed.
+    pub(crate) fn prepare_gpu_boundary(
+        &mut self,
+        container: &BoxContainer,
+        params: &sph_core::SphParams,
+    ) -> Result<(), sph_core::ParamError> {
+        self.ensure_gpu_boundary(container, params)?;
         let Some(boundary) = &mut self.gpu_boundary else {
             return Ok(());
         };

@@ -3,6 +3,7 @@
 //! statistics are gathered from the solver or from the render world's feedback.
 
 use crate::api::*;
+use crate::colliders::{sph_sync_colliders, sph_write_collider_forces};
 use crate::sets::SphSystems;
 use crate::shared::{ClockReadback, SphRenderFeedback, SphSimulation, MAX_SUBSTEPS};
 use bevy::ecs::schedule::InternedScheduleLabel;
@@ -19,6 +20,7 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
             (
                 sph_apply_capacity,
                 sph_track_container,
+                sph_sync_colliders,
                 sph_reset,
                 sph_spawn_blocks,
                 sph_emit,
@@ -26,7 +28,7 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
                 .chain()
                 .in_set(SphSystems::Prepare),
             sph_plan_step.in_set(SphSystems::Step),
-            sph_update_stats.in_set(SphSystems::Writeback),
+            (sph_update_stats, sph_write_collider_forces).in_set(SphSystems::Writeback),
         ),
     );
 }
@@ -117,6 +119,7 @@ fn sph_track_container(
                     solver.spawn_with_velocities(&particles.position, &particles.velocity);
                 }
                 sim.cpu = Some(solver);
+                sim.boundary_epoch += 1;
                 stats.error = None;
             }
             Err(e) => stats.error = Some(e.to_string()),
@@ -133,6 +136,7 @@ fn reset_particles(
     sim.particle_count = 0;
     sim.next_id = 0;
     sim.refused = 0;
+    sim.inside_colliders = 0;
     sim.frame.reset = true;
     sim.frame.spawn_offset = 0;
     sim.frame.spawn_positions.clear();
@@ -296,7 +300,8 @@ fn sph_plan_step(
             for _ in 0..steps {
                 solver.step();
             }
-            stats.error = None;
+            // A refused collider stays reported while it is refused.
+            stats.error = stats.collider_errors.first().map(ToString::to_string);
         }
         SphBackend::Gpu => {
             if let Err(e) = sim.prepare_gpu_boundary(&container, &params.0) {
@@ -329,6 +334,7 @@ fn sph_update_stats(
     stats.capacity = sim.capacity;
     stats.particle_count = sim.particle_count;
     stats.refused_spawns = sim.refused;
+    stats.spawns_inside_colliders = sim.inside_colliders;
     match (sim.backend, &sim.cpu) {
         (SphBackend::Cpu, Some(solver)) => {
             stats.step_count = solver.step_count();

@@ -8,7 +8,7 @@ use naga_oil::compose::{
 };
 use std::collections::HashMap;
 
-const LIBRARY: [(&str, &str); 6] = [
+const LIBRARY: [(&str, &str); 7] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -32,6 +32,10 @@ const LIBRARY: [(&str, &str); 6] = [
     (
         "checkpoint.wgsl",
         include_str!("../src/render/shaders/checkpoint.wgsl"),
+    ),
+    (
+        "guard.wgsl",
+        include_str!("../src/render/shaders/guard.wgsl"),
     ),
 ];
 

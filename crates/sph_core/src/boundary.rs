@@ -259,6 +259,12 @@ impl Boundary {
         Ok(())
     }
 
+    /// Whether a particle may be spawned at `x`: at least `clearance` outside every collider.
+    pub fn admits(&self, x: Vec3, clearance: f32) -> bool {
+        self.colliders()
+            .all(|(_, c)| c.signed_distance(x) >= clearance)
+    }
+
     /// Number of sorted samples (inside the grid's reach).
     pub fn len(&self) -> usize {
         self.position.len()

@@ -46,7 +46,7 @@ pub struct GpuSphParams {
     /// ρ0, stiffness k, viscosity μ, surface tension γ.
     pub material: [f32; 4],
     /// Equation of state (0 linear, 1 Tait), clamp negative pressure (0/1), adaptive time step
-    /// (0/1), unused.
+    /// (0/1), colliders in the guard's list (set by the plugin from the boundary upload).
     pub flags: [u32; 4],
     /// The time-step rule: largest dt, CFL factor λ, viscous limit 0.125 h² ρ0/μ (f32::MAX
     /// without viscosity), speed of sound c0.
@@ -257,6 +257,57 @@ pub fn w_to_id(w: f32) -> u32 {
     w.to_bits()
 }
 
+/// A collider as the GPU guard reads it (WGSL `GpuCollider`): where it is, its shape and its
+/// velocity. Rust twin: [`crate::collider::Collider`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuCollider {
+    /// Translation [m]; w = shape kind (0 cuboid, 1 sphere, 2 capsule, 3 cylinder).
+    pub translation: [f32; 4],
+    /// Rotation quaternion (x, y, z, w).
+    pub rotation: [f32; 4],
+    /// Cuboid: half extents; sphere: (radius, 0, 0); capsule and cylinder: (radius,
+    /// half_length, 0); w = bounding radius.
+    pub size: [f32; 4],
+    /// Linear velocity [m/s] (zero for static colliders).
+    pub linear_velocity: [f32; 4],
+    /// Angular velocity [rad/s].
+    pub angular_velocity: [f32; 4],
+}
+
+impl GpuCollider {
+    /// The GPU form of `c`.
+    pub fn of(c: &crate::collider::Collider) -> Self {
+        use crate::collider::{ColliderMotion, ColliderShape};
+        let (kind, size) = match c.shape {
+            ColliderShape::Cuboid { half_extents } => (0.0, half_extents),
+            ColliderShape::Sphere { radius } => (1.0, Vec3::new(radius, 0.0, 0.0)),
+            ColliderShape::Capsule {
+                radius,
+                half_length,
+            } => (2.0, Vec3::new(radius, half_length, 0.0)),
+            ColliderShape::Cylinder {
+                radius,
+                half_length,
+            } => (3.0, Vec3::new(radius, half_length, 0.0)),
+        };
+        let moving = c.motion != ColliderMotion::Static;
+        let v = |x: Vec3| {
+            let x = if moving { x } else { Vec3::ZERO };
+            [x.x, x.y, x.z, 0.0]
+        };
+        let t = c.pose.translation;
+        let q = c.pose.rotation;
+        Self {
+            translation: [t.x, t.y, t.z, kind],
+            rotation: [q.x, q.y, q.z, q.w],
+            size: [size.x, size.y, size.z, c.bounding_radius()],
+            linear_velocity: v(c.linear_velocity),
+            angular_velocity: v(c.angular_velocity),
+        }
+    }
+}
+
 /// The boundary samples as the GPU reads them, in the order of the grid sort
 /// ([`crate::Boundary`]): `position` (xyz, w = volume V_b), `velocity` (xyz, w = the body's
 /// friction factor, 0 = free slip) and `cell_start` (cells + 1 exclusive offsets over the
@@ -269,6 +320,8 @@ pub struct GpuBoundarySamples {
     pub velocity: Vec<[f32; 4]>,
     /// Exclusive cell offsets, cells + 1 entries.
     pub cell_start: Vec<u32>,
+    /// The colliders, for the guard.
+    pub colliders: Vec<GpuCollider>,
 }
 
 impl GpuBoundarySamples {
@@ -290,6 +343,10 @@ impl GpuBoundarySamples {
             position,
             velocity,
             cell_start: boundary.grid.cell_start.clone(),
+            colliders: boundary
+                .colliders()
+                .map(|(_, c)| GpuCollider::of(c))
+                .collect(),
         }
     }
 }

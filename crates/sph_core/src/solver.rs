@@ -300,6 +300,19 @@ impl CpuSolver {
         &self.boundary
     }
 
+    /// The boundary, to add, move or remove colliders through [`Boundary`]'s own API (forces are
+    /// re-evaluated before the next step).
+    pub fn boundary_mut(&mut self) -> &mut Boundary {
+        self.forces_stale = true;
+        &mut self.boundary
+    }
+
+    /// Force evaluations summed into the collider forces since the last
+    /// [`Self::take_collider_forces`].
+    pub fn collider_force_evaluations(&self) -> u64 {
+        self.body_force_sums.1
+    }
+
     /// Samples the container's walls with slip `slip` (the default: no slip), or with `None`
     /// leaves them to the last-resort clamp alone (the box without a boundary model).
     pub fn set_wall_boundary(&mut self, slip: Option<Slip>) {

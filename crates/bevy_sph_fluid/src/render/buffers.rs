@@ -11,7 +11,7 @@ use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{BindGroup, Buffer, BufferDescriptor, BufferUsages};
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::storage::GpuShaderBuffer;
-use sph_core::gpu_layout::{bitonic_steps, sort_length, GpuClock, GpuSphParams};
+use sph_core::gpu_layout::{bitonic_steps, sort_length, GpuClock, GpuCollider, GpuSphParams};
 use sph_core::neighbor::grid::DenseGrid;
 use sph_core::neighbor::hash::hash_table_size;
 use sph_core::NeighborSearch;
@@ -76,11 +76,13 @@ pub enum Buf {
     BoundaryVelocity,
     /// Boundary samples' exclusive cell offsets over the dense grid.
     BoundaryCellStart,
+    /// The colliders (`GpuCollider`), for the guard.
+    Colliders,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 27] = [
+    pub const ALL: [Buf; 28] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -108,13 +110,15 @@ impl Buf {
         Buf::BoundaryPosition,
         Buf::BoundaryVelocity,
         Buf::BoundaryCellStart,
+        Buf::Colliders,
     ];
 
     /// The boundary's buffers, sized by the samples and written by [`upload_boundary`].
-    pub const BOUNDARY: [Buf; 3] = [
+    pub const BOUNDARY: [Buf; 4] = [
         Buf::BoundaryPosition,
         Buf::BoundaryVelocity,
         Buf::BoundaryCellStart,
+        Buf::Colliders,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -152,6 +156,7 @@ impl Buf {
             Buf::BoundaryPosition => "sph_boundary_position",
             Buf::BoundaryVelocity => "sph_boundary_velocity",
             Buf::BoundaryCellStart => "sph_boundary_cell_start",
+            Buf::Colliders => "sph_colliders",
         }
     }
 }
@@ -213,6 +218,8 @@ pub struct SphGpuState {
     boundary_generation: u64,
     /// Boundary samples on the GPU.
     pub boundary_samples: u32,
+    /// Colliders in the guard's list on the GPU.
+    pub boundary_colliders: u32,
 }
 
 /// New particles waiting for upload: first slot, positions (w = id), velocities.
@@ -259,6 +266,7 @@ fn allocate(
             // Sized by the samples when they are uploaded (`upload_boundary`); an empty boundary
             // has no samples in any cell.
             Buf::BoundaryPosition | Buf::BoundaryVelocity => 16,
+            Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
             _ => 16 * n,
         }
@@ -454,7 +462,7 @@ pub(crate) fn prepare_sph_buffers(
             state.boundary_generation = *generation;
         }
     }
-    let uniforms = GpuSphParams::with_grid(
+    let mut uniforms = GpuSphParams::with_grid(
         &frame.params,
         &frame.container,
         grid.dims,
@@ -462,6 +470,7 @@ pub(crate) fn prepare_sph_buffers(
         state.particle_count,
     )
     .with_rollback(&frame.rollback);
+    uniforms.flags[3] = state.boundary_colliders;
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
 }
 
@@ -477,8 +486,14 @@ fn upload_boundary(
         return;
     };
     let need = (16 * samples.position.len() as u64).max(16);
+    let collider_bytes =
+        (std::mem::size_of::<GpuCollider>() * samples.colliders.len().max(1)) as u64;
     let mut grown = false;
-    for buf in [Buf::BoundaryPosition, Buf::BoundaryVelocity] {
+    for (buf, need) in [
+        (Buf::BoundaryPosition, need),
+        (Buf::BoundaryVelocity, need),
+        (Buf::Colliders, collider_bytes),
+    ] {
         if buffers.at(buf).size() < need {
             let old = buffers.at(buf).size();
             // Room for growth, so a collider added at run time rarely reallocates.
@@ -506,7 +521,15 @@ fn upload_boundary(
         );
     }
     queue.write_buffer(buffers.at(Buf::BoundaryCellStart), 0, starts);
+    if !samples.colliders.is_empty() {
+        queue.write_buffer(
+            buffers.at(Buf::Colliders),
+            0,
+            bytemuck::cast_slice(&samples.colliders),
+        );
+    }
     state.boundary_samples = samples.position.len() as u32;
+    state.boundary_colliders = samples.colliders.len() as u32;
     if grown {
         state.generation += 1;
     }

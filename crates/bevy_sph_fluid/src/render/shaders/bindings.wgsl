@@ -2,7 +2,7 @@
 // position.w holds the particle id (bit-cast). `sorted_*` receive the scatter and are copied back.
 #define_import_path sph::bindings
 
-#import sph::types::{SphUniforms, SphClock}
+#import sph::types::{SphUniforms, SphClock, GpuCollider}
 
 @group(0) @binding(0) var<uniform> params: SphUniforms;
 @group(0) @binding(1) var<storage, read_write> position: array<vec4<f32>>;
@@ -41,3 +41,5 @@
 @group(0) @binding(25) var<storage, read_write> boundary_position: array<vec4<f32>>;
 @group(0) @binding(26) var<storage, read_write> boundary_velocity: array<vec4<f32>>;
 @group(0) @binding(27) var<storage, read_write> boundary_cell_start: array<u32>;
+// The colliders, for the guard (params.flags.w of them).
+@group(0) @binding(28) var<storage, read_write> colliders: array<GpuCollider>;

@@ -75,3 +75,15 @@ struct BitonicStep {
     pad_a: u32,
     pad_b: u32,
 }
+
+// A collider for the guard (Rust twin: sph_core::gpu_layout::GpuCollider): translation (w = shape
+// kind: 0 cuboid, 1 sphere, 2 capsule, 3 cylinder), rotation quaternion, size (cuboid: half
+// extents; sphere: radius; capsule, cylinder: radius, half length; w = bounding radius), linear
+// and angular velocity.
+struct GpuCollider {
+    translation: vec4<f32>,
+    rotation: vec4<f32>,
+    size: vec4<f32>,
+    linear_velocity: vec4<f32>,
+    angular_velocity: vec4<f32>,
+}

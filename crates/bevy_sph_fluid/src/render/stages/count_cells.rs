@@ -33,6 +33,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::SortValues,
         Buf::Clock,
         Buf::Checkpoint,
+        Buf::Colliders,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[

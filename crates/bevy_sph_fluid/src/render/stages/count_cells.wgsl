@@ -4,8 +4,8 @@
 // (skipped while the clock is frozen), after the rollback checkpoint is saved or restored
 // (APPLY_CHECKPOINT: the roles that run right after the time-step pass), then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
 #import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, cell_of, rank_in_cell, cell_counts, sort_keys, sort_values}
-#import sph::kernels::{collide, outside_box}
-#import sph::clock::{step_dt, frozen, record_correction}
+#import sph::guard::guard
+#import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::apply_checkpoint
 #import sph::neighbors::{grid_cell, grid_index, hash_cell, hash_key}
 
@@ -38,10 +38,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let a = acceleration[i].xyz;
     let kicked = velocity[i].xyz + a * (0.5 * dt);
     let drifted = x + kicked * dt;
-    if outside_box(drifted) {
-        record_correction();
-    }
-    let moved = collide(drifted, kicked);
+    let moved = guard(drifted, kicked);
     x = moved.x;
     velocity[i] = vec4<f32>(moved.v, 0.0);
     velocity_predicted[i] = vec4<f32>(moved.v + a * (0.5 * dt), 0.0);
@@ -53,10 +50,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let a0 = acceleration_start[i].xyz;
     let v = velocity[i].xyz;
     let drifted = x + v * dt + a0 * (0.5 * dt * dt);
-    if outside_box(drifted) {
-        record_correction();
-    }
-    let moved = collide(drifted, v + a0 * dt);
+    let moved = guard(drifted, v + a0 * dt);
     x = moved.x;
     velocity_predicted[i] = vec4<f32>(moved.v, 0.0);
     position[i] = vec4<f32>(x, position[i].w);

@@ -22,6 +22,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::AccelerationStart,
         Buf::Clock,
         Buf::Checkpoint,
+        Buf::Colliders,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],

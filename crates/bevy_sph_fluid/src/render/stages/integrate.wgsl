@@ -3,8 +3,8 @@
 // time-step pass, so it saves or restores the rollback checkpoint first, and does not integrate
 // a state being restored.
 #import sph::bindings::{params, position, velocity, acceleration}
-#import sph::kernels::{collide, outside_box}
-#import sph::clock::{step_dt, frozen, record_speed, record_correction}
+#import sph::guard::guard
+#import sph::clock::{step_dt, frozen, record_speed}
 #import sph::checkpoint::{apply_checkpoint, restoring}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
@@ -21,10 +21,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let a = acceleration[i].xyz;
     let v = velocity[i].xyz + a * dt;
     let drifted = position[i].xyz + v * dt;
-    if outside_box(drifted) {
-        record_correction();
-    }
-    let moved = collide(drifted, v);
+    let moved = guard(drifted, v);
     position[i] = vec4<f32>(moved.x, position[i].w);
     velocity[i] = vec4<f32>(moved.v, 0.0);
     record_speed(moved.v);

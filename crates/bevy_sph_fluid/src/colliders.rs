@@ -1,0 +1,243 @@
+//! Main-world collider systems: every [`SphCollider`] entity becomes a collider of the backend's
+//! boundary ([`sph_core::Boundary`], the CPU solver's or the GPU backend's), resampled when the
+//! component changes, moved when its [`GlobalTransform`] moves (kinematic and dynamic colliders
+//! carry the velocity of that move over the frame's simulated time), removed with the
+//! component; and the water's force on each collider is written back to [`SphColliderForce`].
+
+use crate::api::*;
+use crate::shared::{SphSimulation, MAX_SUBSTEPS};
+use bevy::platform::collections::HashMap;
+use bevy::prelude::*;
+use sph_core::collider::ColliderError;
+use sph_core::{Collider, ColliderId, ColliderMotion, ColliderShape, Pose};
+
+/// What the boundary holds for one entity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackedCollider {
+    /// The boundary's handle.
+    pub id: ColliderId,
+    /// The component and scale it was sampled from.
+    pub sampled: (SphCollider, Vec3),
+    /// The pose it was last placed at.
+    pub pose: Pose,
+}
+
+/// The entities' colliders in the backend's boundary.
+#[derive(Resource, Default, Debug)]
+pub struct SphColliderMap {
+    /// By entity.
+    pub tracked: HashMap<Entity, TrackedCollider>,
+    /// The boundary epoch the handles belong to (a rebuilt CPU solver starts a new one).
+    pub epoch: u64,
+}
+
+/// The shape scaled by a transform's scale: per axis for a cuboid, uniformly otherwise.
+fn scaled_shape(shape: ColliderShape, scale: Vec3) -> Result<ColliderShape, ColliderError> {
+    if !scale.is_finite() || scale.min_element() <= 0.0 {
+        return Err(ColliderError {
+            field: "transform.scale",
+            value: format!("{scale}"),
+            allowed: "finite and positive on every axis",
+        });
+    }
+    let uniform = (scale.max_element() - scale.min_element()) <= 1e-4 * scale.max_element();
+    Ok(match shape {
+        ColliderShape::Cuboid { half_extents } => ColliderShape::Cuboid {
+            half_extents: half_extents * scale,
+        },
+        _ if !uniform => {
+            return Err(ColliderError {
+                field: "transform.scale",
+                value: format!("{scale}"),
+                allowed: "a uniform scale for spheres, capsules and cylinders",
+            })
+        }
+        ColliderShape::Sphere { radius } => ColliderShape::Sphere {
+            radius: radius * scale.x,
+        },
+        ColliderShape::Capsule {
+            radius,
+            half_length,
+        } => ColliderShape::Capsule {
+            radius: radius * scale.x,
+            half_length: half_length * scale.x,
+        },
+        ColliderShape::Cylinder {
+            radius,
+            half_length,
+        } => ColliderShape::Cylinder {
+            radius: radius * scale.x,
+            half_length: half_length * scale.x,
+        },
+    })
+}
+
+/// The simulated time one running frame advances [s] (the velocity of a moved collider is its
+/// displacement over it).
+fn frame_sim_time(control: &SphControl, params: &SphParams, stats: &SphStats) -> f32 {
+    let steps = if control.running {
+        control.substeps.clamp(1, MAX_SUBSTEPS)
+    } else {
+        control.single_step as u32
+    };
+    let dt = if params.adaptive_time_step && stats.time_step > 0.0 {
+        stats.time_step.min(params.time_step)
+    } else {
+        params.time_step
+    };
+    steps as f32 * dt
+}
+
+fn refuse(entity: Entity, e: ColliderError, stats: &mut SphStats) {
+    let error = SphColliderError {
+        entity,
+        field: e.field.to_string(),
+        value: e.value,
+        allowed: e.allowed.to_string(),
+    };
+    warn!("SphFluidPlugin: {error}");
+    stats.collider_errors.push(error);
+}
+
+/// Adds, resamples, moves and removes the entities' colliders.
+pub(crate) fn sph_sync_colliders(
+    colliders: Query<(Entity, &SphCollider, &GlobalTransform)>,
+    mut removed: RemovedComponents<SphCollider>,
+    params: Res<SphParams>,
+    control: Res<SphControl>,
+    mut map: ResMut<SphColliderMap>,
+    mut sim: ResMut<SphSimulation>,
+    mut stats: ResMut<SphStats>,
+) {
+    stats.collider_errors.clear();
+    let Some(container) = sim.container else {
+        return;
+    };
+    let tau = frame_sim_time(&control, &params, &stats);
+    if sim.boundary_epoch != map.epoch {
+        map.tracked.clear();
+        map.epoch = sim.boundary_epoch;
+    }
+    let Some(boundary) = sim.boundary_mut(&container, &params.0) else {
+        return;
+    };
+    for entity in removed.read() {
+        if let Some(t) = map.tracked.remove(&entity) {
+            boundary.remove(t.id);
+        }
+    }
+    let mut seen = Vec::new();
+    for (entity, collider, transform) in &colliders {
+        seen.push(entity);
+        let (scale, rotation, translation) = transform.to_scale_rotation_translation();
+        let pose = Pose {
+            translation,
+            rotation,
+        };
+        let tracked = map.tracked.get(&entity).copied();
+        let resample = tracked.is_none_or(|t| t.sampled != (*collider, scale));
+        if resample {
+            if let Some(t) = tracked {
+                boundary.remove(t.id);
+                map.tracked.remove(&entity);
+            }
+            let added = scaled_shape(collider.shape, scale).and_then(|shape| {
+                boundary.add(Collider {
+                    shape,
+                    pose,
+                    linear_velocity: Vec3::ZERO,
+                    angular_velocity: Vec3::ZERO,
+                    motion: collider.motion,
+                    slip: collider.slip,
+                })
+            });
+            match added {
+                Ok(id) => {
+                    map.tracked.insert(
+                        entity,
+                        TrackedCollider {
+                            id,
+                            sampled: (*collider, scale),
+                            pose,
+                        },
+                    );
+                }
+                Err(e) => refuse(entity, e, &mut stats),
+            }
+            continue;
+        }
+        let Some(t) = tracked else { continue };
+        let moving = collider.motion != ColliderMotion::Static;
+        let (linear, angular) = if moving && tau > 0.0 {
+            let delta = pose.rotation * t.pose.rotation.inverse();
+            let (axis, angle) = delta.to_axis_angle();
+            (
+                (pose.translation - t.pose.translation) / tau,
+                axis * (angle / tau),
+            )
+        } else {
+            (Vec3::ZERO, Vec3::ZERO)
+        };
+        if pose == t.pose && linear == Vec3::ZERO {
+            let was_moving = boundary.collider(t.id).is_some_and(|c| {
+                c.linear_velocity != Vec3::ZERO || c.angular_velocity != Vec3::ZERO
+            });
+            if !was_moving {
+                continue;
+            }
+        }
+        match boundary.set_motion(t.id, pose, linear, angular) {
+            Ok(()) => {
+                if let Some(t) = map.tracked.get_mut(&entity) {
+                    t.pose = pose;
+                }
+            }
+            Err(e) => refuse(entity, e, &mut stats),
+        }
+    }
+    // Entities that lost their transform or were despawned without a removal event.
+    let gone: Vec<Entity> = map
+        .tracked
+        .keys()
+        .filter(|e| !seen.contains(e))
+        .copied()
+        .collect();
+    for entity in gone {
+        if let Some(t) = map.tracked.remove(&entity) {
+            boundary.remove(t.id);
+        }
+    }
+    if let Some(first) = stats.collider_errors.first() {
+        stats.error = Some(first.to_string());
+    }
+}
+
+/// Writes the water's force on every collider (CPU backend) into its [`SphColliderForce`].
+pub(crate) fn sph_write_collider_forces(
+    map: Res<SphColliderMap>,
+    mut sim: ResMut<SphSimulation>,
+    mut forces: Query<(Entity, &mut SphColliderForce)>,
+) {
+    let Some(solver) = &mut sim.cpu else {
+        return;
+    };
+    if solver.collider_force_evaluations() == 0 {
+        return;
+    }
+    let by_id: HashMap<ColliderId, sph_core::BodyForce> =
+        solver.take_collider_forces().into_iter().collect();
+    for (entity, mut out) in &mut forces {
+        let Some(t) = map.tracked.get(&entity) else {
+            continue;
+        };
+        if let Some(f) = by_id.get(&t.id) {
+            let value = SphColliderForce {
+                force: f.force,
+                torque: f.torque,
+            };
+            if *out != value {
+                *out = value;
+            }
+        }
+    }
+}
