@@ -225,9 +225,13 @@ pub struct RunArgs {
     /// first unstable step ends the run).
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub rollback: bool,
-    /// Artificial viscosity α of ν = α h c0 / 10 [default: the scenario's, 0.05].
+    /// Artificial viscosity α of ν = α h c0 / 10 [default: the scenario's, 0.15].
     #[arg(long, value_name = "ALPHA", value_parser = viscosity_alpha)]
     pub viscosity_alpha: Option<f32>,
+    /// The container's walls as Akinci 2012 boundary samples (off: only the box's clamp, the
+    /// model before the boundary; CPU backend only, for the cost study).
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
+    pub walls: bool,
     /// Run this many steps [steps] [default: the scenario's own simulated time].
     #[arg(long, value_name = "N", value_parser = steps, conflicts_with = "time")]
     pub steps: Option<u64>,
@@ -258,6 +262,7 @@ impl Default for RunArgs {
             adaptive: false,
             rollback: true,
             viscosity_alpha: None,
+            walls: true,
             steps: None,
             time: None,
             substeps: 10,

@@ -1,6 +1,6 @@
 //! The hydrostatic tank: pressure against ρ0 g depth, layer by layer, averaged over the last 40 %
-//! of the run (the column's acoustic oscillation averages out), for the interior particles (at
-//! least h from the side walls, which have no boundary particles). Depth is measured from the
+//! of the run (the column's acoustic oscillation averages out), for every particle (the walls
+//! are Akinci 2012 boundary samples, so the particles next to them count too). Depth is measured from the
 //! water's initial surface (weak compressibility changes the height by the density error, well
 //! under 1 %), so a splashing particle cannot move the reference.
 
@@ -29,7 +29,7 @@ impl HydrostaticSampler {
             start: 0.6 * setup.duration,
             spacing: p.spacing(),
             surface: setup.scene.container.min().y + setup.water_depth.unwrap_or(0.0),
-            margin: p.smoothing_radius,
+            margin: 0.0,
             sums: Vec::new(),
             density_error_sum: 0.0,
             density_samples: 0,

@@ -89,6 +89,30 @@ fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
             h.max_error_below_top_pct, h.mean_error_below_top_pct, h.density_error_mean_pct
         );
     }
+    eprintln!(
+        "sph-bench: end speed mean {:.4} m/s, max {:.4} m/s; boundary corrections {}, inside \
+         colliders {}, left out of the spawns {}",
+        report.speed_mean_end,
+        report.speed_max_end,
+        report.boundary_corrections,
+        report.inside_collider_count,
+        report.spawns_inside_colliders
+    );
+    if let Some(d) = report.level_difference_end {
+        eprintln!("sph-bench: level difference at the end {d:.4} m");
+    }
+    for f in &report.collider_forces {
+        eprintln!(
+            "sph-bench: force on {}: ({:.3}, {:.3}, {:.3}) N",
+            f.name, f.force[0], f.force[1], f.force[2]
+        );
+    }
+    if let Some(b) = &report.buoyancy {
+        eprintln!(
+            "sph-bench: buoyancy {:.4} N against rho0 g V = {:.4} N ({:+.2} %)",
+            b.measured_n, b.expected_n, b.error_pct
+        );
+    }
     Ok(())
 }
 

@@ -49,6 +49,30 @@ pub struct HydrostaticFigures {
     pub density_error_mean_pct: f64,
 }
 
+/// The water's force on one collider, averaged over the last 40 % of the run.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct ColliderForceReport {
+    /// The collider's name in the scenario.
+    pub name: String,
+    /// Force [N].
+    pub force: [f32; 3],
+    /// Torque about the collider's origin [N m].
+    pub torque: [f32; 3],
+    /// Force evaluations averaged.
+    pub evaluations: u64,
+}
+
+/// The buoyancy scenario: the vertical force on the held box against ρ0 g V.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct BuoyancyFigures {
+    /// ρ0 |g| V of the box [N].
+    pub expected_n: f64,
+    /// The mean upward force on it over the last 40 % of the run [N].
+    pub measured_n: f64,
+    /// (measured - expected) / expected [%] (target within ±5).
+    pub error_pct: f64,
+}
+
 /// One run's figures (the fields the issue asks for, plus context).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Report {
@@ -117,6 +141,26 @@ pub struct Report {
     pub health: String,
     /// The step at which the instability was detected (the run stops there).
     pub unstable_step: Option<u64>,
+    /// Mean particle speed at the end [m/s].
+    pub speed_mean_end: f32,
+    /// Largest particle speed at the end [m/s].
+    pub speed_max_end: f32,
+    /// Particles the last-resort guard moved out of a solid or back into the box (0 while the
+    /// boundary model holds).
+    pub boundary_corrections: u64,
+    /// Particles inside any collider at the end.
+    pub inside_collider_count: usize,
+    /// Particles of the scenario's blocks left out because they lay inside a collider.
+    pub spawns_inside_colliders: u64,
+    /// The gate scenario: |left level - right level| at the end [m].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub level_difference_end: Option<f32>,
+    /// The water's force on each collider over the last 40 % of the run (CPU backend; the GPU
+    /// backend does not reduce collider forces yet, so the list is empty there).
+    pub collider_forces: Vec<ColliderForceReport>,
+    /// The buoyancy scenario's figures (CPU backend).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub buoyancy: Option<BuoyancyFigures>,
     /// Dam-break scenarios: the front and its error against the experiment.
     #[serde(flatten)]
     pub dam_break: Option<DamBreakFigures>,

@@ -5,7 +5,7 @@ use crate::args::{integrator_name, search_name, Backend, Duration, RunArgs};
 use crate::hydrostatic::HydrostaticSampler;
 use crate::martin_moyce::{experiment, rms_error_and_best_shift};
 use crate::progress::Bars;
-use crate::report::{DamBreakFigures, Report};
+use crate::report::{BuoyancyFigures, ColliderForceReport, DamBreakFigures, Report};
 use crate::scenarios::{setup, Setup, G};
 use crate::sim::{CpuSimulation, GpuSimulation, Simulation, State};
 use sph_core::diagnostics::DiagnosticsInput;
@@ -41,6 +41,7 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
         }
     }
     s.rollback = rollback(args.rollback);
+    s.walls = args.walls;
     s
 }
 
@@ -163,6 +164,11 @@ pub fn run_setup(
     let mut times = Vec::new();
     let mut next_sample = 0.0;
     let mut progress = bars.run(setup.scenario.name(), progress_units(duration, 0, 0.0).1);
+    let end = match duration {
+        Duration::Time(t) => t,
+        Duration::Steps(n) => n as f64 * params.time_step as f64,
+    };
+    let mut forces = ForceWindow::new(0.6 * end, setup.colliders.len());
     let finished = |sim: &dyn Simulation| match duration {
         Duration::Steps(n) => sim.steps() >= n,
         Duration::Time(t) => sim.time() >= t - 1e-9,
@@ -193,6 +199,7 @@ pub fn run_setup(
         if taken > 0 {
             times.push(ms / taken as f64);
         }
+        forces.record(sim.as_mut());
         let (done, _) = progress_units(duration, sim.steps(), sim.time());
         progress.set(
             done,
@@ -211,7 +218,19 @@ pub fn run_setup(
     } else {
         params.time_step as f64
     };
-    let particles = setup.scene.particle_count().max(setup.capacity);
+    let left_out = sim.spawns_inside_colliders();
+    let particles = setup.scene.particle_count().max(setup.capacity) - left_out as usize;
+    let speeds: Vec<f32> = state.velocities.iter().map(|v| v.length()).collect();
+    let colliders_now: Vec<sph_core::Collider> = setup
+        .colliders
+        .iter()
+        .map(|c| c.at(sim_time_of(&*sim)))
+        .collect();
+    let inside_collider_count = state
+        .positions
+        .iter()
+        .filter(|&&x| colliders_now.iter().any(|c| c.signed_distance(x) < -1e-5))
+        .count();
     let unstable_step = sim.unstable_step();
     let mut report = Report {
         scenario: setup.scenario.name().into(),
@@ -250,8 +269,20 @@ pub fn run_setup(
         }
         .into(),
         unstable_step,
+        speed_mean_end: speeds.iter().sum::<f32>() / speeds.len().max(1) as f32,
+        speed_max_end: speeds.iter().copied().fold(0.0, f32::max),
+        boundary_corrections: sim.boundary_corrections(),
+        inside_collider_count,
+        spawns_inside_colliders: left_out,
+        level_difference_end: setup
+            .gate_x
+            .map(|x| level_difference(&state, x, setup.scene.params.spacing())),
+        collider_forces: forces.report(&setup.colliders),
         ..Default::default()
     };
+    if setup.scenario == crate::scenarios::Scenario::Buoyancy {
+        report.buoyancy = buoyancy(setup, &report.collider_forces);
+    }
     if let Some(mut figures) = samples.dam_break {
         // Only a run that reached T = 2.5 is compared (NaN, written as null, otherwise).
         let reached = figures.front_nd.last().is_some_and(|p| p[0] >= 2.5);
@@ -267,6 +298,99 @@ pub fn run_setup(
     }
     report.hydrostatic = samples.hydrostatic.map(|h| h.finish(&params));
     Ok(report)
+}
+
+fn sim_time_of(sim: &dyn Simulation) -> f64 {
+    sim.time()
+}
+
+/// The water level of each basin (the 98th percentile of the heights of the particles more than
+/// 4 spacings from the gate and the side walls) and their difference [m].
+pub fn level_difference(state: &State, gate_x: f32, spacing: f32) -> f32 {
+    let level = |left: bool| {
+        let mut y: Vec<f32> = state
+            .positions
+            .iter()
+            .filter(|x| {
+                let away = (x.x - gate_x).abs() > 4.0 * spacing;
+                away && (x.x < gate_x) == left
+            })
+            .map(|x| x.y)
+            .collect();
+        if y.is_empty() {
+            return 0.0;
+        }
+        y.sort_by(f32::total_cmp);
+        y[((y.len() - 1) as f32 * 0.98) as usize]
+    };
+    (level(true) - level(false)).abs()
+}
+
+/// Averages the water's force on each collider over the window from `start` on.
+struct ForceWindow {
+    start: f64,
+    sums: Vec<(sph_core::glam::DVec3, sph_core::glam::DVec3)>,
+    evaluations: u64,
+}
+
+impl ForceWindow {
+    fn new(start: f64, colliders: usize) -> Self {
+        Self {
+            start,
+            sums: vec![Default::default(); colliders],
+            evaluations: 0,
+        }
+    }
+
+    fn record(&mut self, sim: &mut dyn Simulation) {
+        let in_window = sim.time() >= self.start;
+        let Some((forces, n)) = sim.take_collider_forces() else {
+            return;
+        };
+        if !in_window || n == 0 {
+            return;
+        }
+        for (sum, f) in self.sums.iter_mut().zip(&forces) {
+            sum.0 += f.force.as_dvec3() * n as f64;
+            sum.1 += f.torque.as_dvec3() * n as f64;
+        }
+        self.evaluations += n;
+    }
+
+    fn report(&self, colliders: &[crate::scenarios::ScenarioCollider]) -> Vec<ColliderForceReport> {
+        if self.evaluations == 0 {
+            return Vec::new();
+        }
+        let n = self.evaluations as f64;
+        colliders
+            .iter()
+            .zip(&self.sums)
+            .map(|(c, (f, t))| ColliderForceReport {
+                name: c.name.into(),
+                force: (*f / n).as_vec3().to_array(),
+                torque: (*t / n).as_vec3().to_array(),
+                evaluations: self.evaluations,
+            })
+            .collect()
+    }
+}
+
+/// The held box's upward force against ρ0 |g| V.
+fn buoyancy(setup: &Setup, forces: &[ColliderForceReport]) -> Option<BuoyancyFigures> {
+    let c = setup.colliders.first()?;
+    let f = forces.first()?;
+    let sph_core::collider::ColliderShape::Cuboid { half_extents } = c.collider.shape else {
+        return None;
+    };
+    let p = &setup.scene.params;
+    let volume = 8.0 * (half_extents.x * half_extents.y * half_extents.z) as f64;
+    let expected = p.rest_density as f64 * p.gravity.length() as f64 * volume;
+    let measured = f.force[1] as f64;
+    Some(BuoyancyFigures {
+        expected_n: expected,
+        measured_n: measured,
+        error_pct: (measured - expected) / expected * 100.0,
+    })
 }
 
 /// `sph-bench run`.

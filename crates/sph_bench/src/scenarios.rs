@@ -1,8 +1,9 @@
 //! The scenarios of `sph-bench`: their scenes, emitters and default durations.
 
-use sph_core::glam::Vec3;
+use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose};
+use sph_core::glam::{Quat, Vec3};
 use sph_core::scenario::{dam_break, hydrostatic, Scene};
-use sph_core::{BoxContainer, PipeEmitter, Rollback, SpacingDerivation, SphParams};
+use sph_core::{BlockSpawn, BoxContainer, PipeEmitter, Rollback, SpacingDerivation, SphParams};
 
 /// Gravity [m/s²] of every scenario (T = t sqrt(2g/a)).
 pub const G: f64 = 9.81;
@@ -18,15 +19,24 @@ pub enum Scenario {
     PipeFill,
     /// The scene our peers were measured on: 31,250 particles, dt 1e-3, 0.5 s.
     DamBreak32k,
+    /// A dam break of 31,250 particles against a rotated box, a sphere and a capsule.
+    Obstacles,
+    /// Two basins at different levels joined through a gate lifted at 0.5 m/s from t = 0.2 s.
+    Gate,
+    /// The hydrostatic tank with a static box held at mid-depth: the water's force on it.
+    Buoyancy,
 }
 
 impl Scenario {
     /// Every scenario.
-    pub const ALL: [Scenario; 4] = [
+    pub const ALL: [Scenario; 7] = [
         Scenario::DamBreak,
         Scenario::Hydrostatic,
         Scenario::PipeFill,
         Scenario::DamBreak32k,
+        Scenario::Obstacles,
+        Scenario::Gate,
+        Scenario::Buoyancy,
     ];
 
     /// The command-line name.
@@ -36,6 +46,9 @@ impl Scenario {
             Scenario::Hydrostatic => "hydrostatic",
             Scenario::PipeFill => "pipe-fill",
             Scenario::DamBreak32k => "dambreak32k",
+            Scenario::Obstacles => "obstacles",
+            Scenario::Gate => "gate",
+            Scenario::Buoyancy => "buoyancy",
         }
     }
 
@@ -46,7 +59,52 @@ impl Scenario {
             Scenario::Hydrostatic => "a 0.2 m cube of water at rest for 1 s",
             Scenario::PipeFill => "a pipe fills a 0.6 x 0.4 x 0.3 m box, then 0.5 s settling",
             Scenario::DamBreak32k => "the peers' scene: 31,250 particles, dt 1e-3 s, 0.5 s",
+            Scenario::Obstacles => {
+                "31,250 particles break against a rotated box, a sphere and a capsule, 1 s"
+            }
+            Scenario::Gate => {
+                "two basins (0.3 and 0.1 m) and a gate lifted at 0.5 m/s from 0.2 s, 3.2 s"
+            }
+            Scenario::Buoyancy => "the hydrostatic tank with a box held at mid-depth, 1 s",
         }
+    }
+}
+
+/// A kinematic lift: the collider rises at `speed` from `start` on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lift {
+    /// When the lift starts [s].
+    pub start: f64,
+    /// Upward speed [m/s].
+    pub speed: f32,
+}
+
+/// A collider of a scenario, named in the report.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScenarioCollider {
+    /// Its name in the report.
+    pub name: &'static str,
+    /// The collider at t = 0.
+    pub collider: Collider,
+    /// How it moves (kinematic colliders).
+    pub lift: Option<Lift>,
+}
+
+impl ScenarioCollider {
+    /// The collider at simulated time `t`: its pose and velocity.
+    pub fn at(&self, t: f64) -> Collider {
+        let mut c = self.collider;
+        if let Some(lift) = self.lift {
+            let moving = t > lift.start;
+            let rise = ((t - lift.start).max(0.0) as f32) * lift.speed;
+            c.pose.translation.y += rise;
+            c.linear_velocity = if moving {
+                Vec3::Y * lift.speed
+            } else {
+                Vec3::ZERO
+            };
+        }
+        c
     }
 }
 
@@ -69,6 +127,12 @@ pub struct Setup {
     pub water_depth: Option<f32>,
     /// How unstable steps are handled (rollback on unless the command turns it off).
     pub rollback: Rollback,
+    /// Colliders in the water.
+    pub colliders: Vec<ScenarioCollider>,
+    /// The gate scenario: the x of the gate between the two basins [m].
+    pub gate_x: Option<f32>,
+    /// The container's walls are boundary samples (false: the box's clamp only; CPU).
+    pub walls: bool,
 }
 
 /// Rounds `length` to whole lattice cells of `spacing`.
@@ -95,6 +159,9 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 water_depth: None,
                 rollback: Rollback::default(),
                 emitter: None,
+                colliders: Vec::new(),
+                gate_x: None,
+                walls: true,
                 scene,
             }
         }
@@ -112,11 +179,17 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 water_depth: Some(depth),
                 rollback: Rollback::default(),
                 emitter: None,
+                colliders: Vec::new(),
+                gate_x: None,
+                walls: true,
                 scene,
             }
         }
         Scenario::PipeFill => pipe_fill(particles.max(1)),
         Scenario::DamBreak32k => dam_break_32k(),
+        Scenario::Obstacles => obstacles(),
+        Scenario::Gate => gate(),
+        Scenario::Buoyancy => buoyancy(particles),
     }
 }
 
@@ -149,6 +222,9 @@ fn pipe_fill(particles: usize) -> Setup {
         column_width_a: None,
         water_depth: None,
         rollback: Rollback::default(),
+        colliders: Vec::new(),
+        gate_x: None,
+        walls: true,
     }
 }
 
@@ -177,6 +253,145 @@ fn dam_break_32k() -> Setup {
         water_depth: None,
         rollback: Rollback::default(),
         emitter: None,
+        colliders: Vec::new(),
+        gate_x: None,
+        walls: true,
         scene,
     }
+}
+
+fn placed(shape: ColliderShape, translation: Vec3, rotation: Quat) -> Collider {
+    Collider::new(
+        shape,
+        Pose {
+            translation,
+            rotation,
+        },
+    )
+}
+
+/// The dambreak32k tank and column, with a box (0.2 m, turned 30° about y), a ball (0.1 m radius)
+/// and a capsule lying across the flow in the water's path; 1 s at the derived dt.
+fn obstacles() -> Setup {
+    let mut s = dam_break_32k();
+    let p = &mut s.scene.params;
+    p.time_step = SphParams::from_spacing(SpacingDerivation {
+        spacing: p.spacing(),
+        expected_peak_speed: (2.0 * 9.81 * 1.0f32).sqrt(),
+        ..Default::default()
+    })
+    .time_step;
+    s.scenario = Scenario::Obstacles;
+    s.duration = 1.0;
+    s.colliders = vec![
+        ScenarioCollider {
+            name: "box",
+            collider: placed(
+                ColliderShape::Cuboid {
+                    half_extents: Vec3::splat(0.1),
+                },
+                Vec3::new(0.9, 0.1, 0.2),
+                Quat::from_rotation_y(30f32.to_radians()),
+            ),
+            lift: None,
+        },
+        ScenarioCollider {
+            name: "sphere",
+            collider: placed(
+                ColliderShape::Sphere { radius: 0.1 },
+                Vec3::new(1.3, 0.1, 0.35),
+                Quat::IDENTITY,
+            ),
+            lift: None,
+        },
+        ScenarioCollider {
+            name: "capsule",
+            collider: placed(
+                ColliderShape::Capsule {
+                    radius: 0.06,
+                    half_length: 0.12,
+                },
+                Vec3::new(1.65, 0.06, 0.25),
+                Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
+            ),
+            lift: None,
+        },
+    ];
+    s
+}
+
+/// A tank 0.8 × 0.5 × 0.1 m on a 0.01 m lattice: the left basin 0.3 m deep, the right one 0.1 m,
+/// a 0.04 m gate between them (x = 0.4) lifted at 0.5 m/s from t = 0.2 s; 3.2 s.
+fn gate() -> Setup {
+    let spacing = 0.01;
+    let params = SphParams::from_spacing(SpacingDerivation {
+        spacing,
+        expected_peak_speed: (2.0 * 9.81 * 0.3f32).sqrt(),
+        ..Default::default()
+    });
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.8, 0.5, 0.1));
+    let gate_x = 0.4;
+    let left = BlockSpawn::new(Vec3::ZERO, Vec3::new(0.38, 0.3, 0.1), spacing);
+    let right = BlockSpawn::new(Vec3::new(0.42, 0.0, 0.0), Vec3::new(0.8, 0.1, 0.1), spacing);
+    let scene = Scene {
+        params,
+        container,
+        blocks: vec![left, right],
+    };
+    Setup {
+        scenario: Scenario::Gate,
+        capacity: scene.particle_count(),
+        duration: 3.2,
+        column_width_a: None,
+        water_depth: None,
+        rollback: Rollback::default(),
+        emitter: None,
+        colliders: vec![ScenarioCollider {
+            name: "gate",
+            collider: placed(
+                ColliderShape::Cuboid {
+                    half_extents: Vec3::new(0.02, 0.25, 0.08),
+                },
+                Vec3::new(gate_x, 0.25, 0.05),
+                Quat::IDENTITY,
+            )
+            .with_motion(ColliderMotion::Kinematic),
+            lift: Some(Lift {
+                start: 0.2,
+                speed: 0.5,
+            }),
+        }],
+        gate_x: Some(gate_x),
+        walls: true,
+        scene,
+    }
+}
+
+/// The hydrostatic tank of about `particles` particles with a static box (0.3 × 0.2 × 0.3 of
+/// the depth) held at mid-depth, its faces on the lattice's cell faces.
+fn buoyancy(particles: usize) -> Setup {
+    let mut s = setup(Scenario::Hydrostatic, particles, 0.146);
+    let depth = s.water_depth.unwrap_or(0.2);
+    let spacing = s.scene.params.spacing();
+    let half = Vec3::new(
+        cells(0.15 * depth, spacing),
+        cells(0.1 * depth, spacing),
+        cells(0.15 * depth, spacing),
+    );
+    let centre = Vec3::new(
+        cells(0.5 * depth, spacing),
+        cells(0.5 * depth, spacing),
+        cells(0.5 * depth, spacing),
+    );
+    s.scenario = Scenario::Buoyancy;
+    s.colliders = vec![ScenarioCollider {
+        name: "box",
+        collider: placed(
+            ColliderShape::Cuboid { half_extents: half },
+            centre,
+            Quat::IDENTITY,
+        ),
+        lift: None,
+    }];
+    s
 }

@@ -1,11 +1,11 @@
 //! One interface over the two backends: the CPU solver stepped directly, and the plugin's GPU
 //! passes in a headless app (steps in frames of `substeps`, waited for, state read back on demand).
 
-use crate::scenarios::Setup;
+use crate::scenarios::{ScenarioCollider, Setup};
 use bevy::prelude::*;
 use bevy_sph_fluid::headless;
 use bevy_sph_fluid::prelude::*;
-use sph_core::{CpuSolver, PipeEmitter, Rollback};
+use sph_core::{ColliderId, CpuSolver, PipeEmitter, Rollback};
 use std::time::Instant;
 
 /// The particle state a scenario measures.
@@ -43,12 +43,22 @@ pub trait Simulation {
     fn gpu_bytes_per_particle(&self) -> u32;
     /// Adapter name.
     fn adapter(&self) -> String;
+    /// Particles the last-resort guard corrected so far.
+    fn boundary_corrections(&self) -> u64;
+    /// Particles left out of the spawns because they lay inside a collider.
+    fn spawns_inside_colliders(&self) -> u64;
+    /// The water's force on each of the setup's colliders averaged since the last call, with
+    /// the number of force evaluations averaged (CPU; the GPU has no collider forces yet).
+    fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)>;
 }
 
-/// The CPU reference solver, with the scenario's emitter fed every step.
+/// The CPU reference solver, with the scenario's emitter fed every step and its kinematic
+/// colliders moved before every step.
 pub struct CpuSimulation {
     solver: CpuSolver,
     emitter: Option<PipeEmitter>,
+    colliders: Vec<(ScenarioCollider, ColliderId)>,
+    spawns_inside_colliders: u64,
 }
 
 impl CpuSimulation {
@@ -60,11 +70,40 @@ impl CpuSimulation {
         solver
             .set_rollback(setup.rollback)
             .map_err(|e| e.to_string())?;
-        solver.spawn(&s.positions(), Vec3::ZERO);
+        if !setup.walls {
+            solver.set_wall_boundary(None);
+        }
+        let mut colliders = Vec::new();
+        for c in &setup.colliders {
+            let id = solver
+                .add_collider(c.at(0.0))
+                .map_err(|e| format!("collider {}: {e}", c.name))?;
+            colliders.push((*c, id));
+        }
+        let report = solver.spawn(&s.positions(), Vec3::ZERO);
         Ok(Self {
             solver,
             emitter: setup.emitter.clone(),
+            colliders,
+            spawns_inside_colliders: report.inside_colliders as u64,
         })
+    }
+
+    /// Moves the lifted colliders to their pose at the middle of the next step.
+    fn move_colliders(&mut self) {
+        let t = self.solver.time() + 0.5 * self.solver.last_time_step() as f64;
+        for (c, id) in &self.colliders {
+            if c.lift.is_some() {
+                let at = c.at(t);
+                // The pose is valid for every t (a translation along y of a valid collider).
+                let _ = self.solver.set_collider_motion(
+                    *id,
+                    at.pose,
+                    at.linear_velocity,
+                    at.angular_velocity,
+                );
+            }
+        }
     }
 }
 
@@ -77,6 +116,7 @@ impl Simulation for CpuSimulation {
                 let emission = emitter.emit(dt);
                 self.solver.spawn(&emission.positions, emission.velocity);
             }
+            self.move_colliders();
             self.solver.step();
         }
         Ok((steps, t.elapsed().as_secs_f64() * 1e3))
@@ -132,19 +172,49 @@ impl Simulation for CpuSimulation {
     fn adapter(&self) -> String {
         "cpu".into()
     }
+
+    fn boundary_corrections(&self) -> u64 {
+        self.solver.boundary_corrections()
+    }
+
+    fn spawns_inside_colliders(&self) -> u64 {
+        self.spawns_inside_colliders
+    }
+
+    fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)> {
+        let n = self.solver.collider_force_evaluations();
+        let forces = self.solver.take_collider_forces();
+        let by_id: Vec<sph_core::BodyForce> = self
+            .colliders
+            .iter()
+            .map(|(_, id)| {
+                forces
+                    .iter()
+                    .find(|(k, _)| k == id)
+                    .map(|(_, f)| *f)
+                    .unwrap_or_default()
+            })
+            .collect();
+        Some((by_id, n))
+    }
 }
 
-/// The plugin's GPU passes in a headless app.
+/// The plugin's GPU passes in a headless app; the scenario's colliders are `SphCollider`
+/// entities whose transforms follow their lifts frame by frame.
 pub struct GpuSimulation {
     app: App,
     adapter: String,
     substeps: u32,
     rollback: Rollback,
+    colliders: Vec<(ScenarioCollider, Entity)>,
 }
 
 impl GpuSimulation {
     /// Builds the app, spawns the scenario and takes no step yet (shaders compile on the first).
     pub fn new(setup: &Setup, substeps: u32) -> Result<Self, String> {
+        if !setup.walls {
+            return Err("--walls off: the GPU backend always samples the walls (CPU only)".into());
+        }
         let adapter = headless::vulkan_adapter()?;
         let s = &setup.scene;
         let mut app = headless::headless_app(
@@ -153,7 +223,38 @@ impl GpuSimulation {
             SphBackend::Gpu,
             true,
         );
-        headless::spawn_scene(&mut app, s);
+        app.insert_resource(SphParams(s.params));
+        app.world_mut().spawn(SphContainer(s.container));
+        app.update();
+        let colliders = setup
+            .colliders
+            .iter()
+            .map(|c| {
+                let at = c.at(0.0);
+                let entity = app
+                    .world_mut()
+                    .spawn((
+                        SphCollider {
+                            shape: at.shape,
+                            motion: at.motion,
+                            slip: at.slip,
+                        },
+                        Transform::from_translation(at.pose.translation)
+                            .with_rotation(at.pose.rotation),
+                    ))
+                    .id();
+                (*c, entity)
+            })
+            .collect();
+        // Two frames: the colliders' transforms propagate, then the blocks spawn around them.
+        app.update();
+        app.update();
+        for block in &s.blocks {
+            app.world_mut().spawn(SphBlockSpawn {
+                block: *block,
+                velocity: Vec3::ZERO,
+            });
+        }
         if let Some(emitter) = setup.emitter.clone() {
             app.world_mut().spawn(SphEmitter(emitter));
         }
@@ -163,6 +264,7 @@ impl GpuSimulation {
             adapter,
             substeps: substeps.max(1),
             rollback: setup.rollback,
+            colliders,
         })
     }
 
@@ -190,6 +292,18 @@ impl Simulation for GpuSimulation {
         while done < steps {
             let k = self.substeps.min(steps - done);
             let before = headless::steps_taken(&self.app);
+            // The frame's k steps see the lifted colliders at their mid-frame pose.
+            let dt = self.app.world().resource::<SphParams>().time_step as f64;
+            let t = self.time() + 0.5 * k as f64 * dt;
+            for (c, entity) in &self.colliders {
+                if c.lift.is_some() {
+                    let at = c.at(t);
+                    if let Some(mut transform) = self.app.world_mut().get_mut::<Transform>(*entity)
+                    {
+                        transform.translation = at.pose.translation;
+                    }
+                }
+            }
             self.app.insert_resource(SphControl {
                 running: true,
                 substeps: k,
@@ -266,5 +380,17 @@ impl Simulation for GpuSimulation {
 
     fn adapter(&self) -> String {
         self.adapter.clone()
+    }
+
+    fn boundary_corrections(&self) -> u64 {
+        self.stats().boundary_corrections
+    }
+
+    fn spawns_inside_colliders(&self) -> u64 {
+        self.stats().spawns_inside_colliders
+    }
+
+    fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)> {
+        None
     }
 }
