@@ -131,6 +131,8 @@ pub struct SphStats {
     /// Particles the last-resort guard moved out of a solid or back into the box since the last
     /// reset (GPU: read back with the clock). 0 while the boundary model holds.
     pub boundary_corrections: u64,
+    /// Of those, the particles clamped back into the container's box.
+    pub wall_corrections: u64,
     /// Boundary samples (Akinci 2012) of the container's walls and the colliders.
     pub boundary_samples: u32,
     /// Colliders refused this frame (the simulation goes on without them).
@@ -233,6 +235,14 @@ impl std::fmt::Display for SphColliderError {
         )
     }
 }
+
+/// How the water slides along the container's walls, on the container's entity: free slip
+/// (the default without this component: pressure only) or no slip with a friction factor on the
+/// water's viscosity. A glass tank at rest is calmest with no slip; a dam break's front is
+/// closest to experiment with free slip.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Component)]
+pub struct SphWallSlip(pub sph_core::Slip);
 
 /// A block of particles spawned once when the component is added, and again on every reset.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]

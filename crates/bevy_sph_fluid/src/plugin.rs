@@ -47,6 +47,7 @@ impl Plugin for SphFluidPlugin {
             .register_type::<SphStats>()
             .register_type::<SphContainer>()
             .register_type::<SphCollider>()
+            .register_type::<SphWallSlip>()
             .register_type::<SphColliderForce>()
             .init_resource::<crate::colliders::SphColliderMap>()
             .init_resource::<SphParams>()

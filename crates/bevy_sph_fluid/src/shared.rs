@@ -84,6 +84,8 @@ pub struct SphSimulation {
     /// Bumped when the boundary is replaced without its colliders (a rebuilt CPU solver), so
     /// the collider systems add them again.
     pub boundary_epoch: u64,
+    /// The walls' slip in use.
+    pub wall_slip: sph_core::Slip,
 }
 
 impl SphSimulation {
@@ -103,6 +105,7 @@ impl SphSimulation {
             gpu_boundary: None,
             boundary_generation: 0,
             boundary_epoch: 0,
+            wall_slip: sph_core::Slip::Free,
         }
     }
 
@@ -181,10 +184,7 @@ impl SphSimulation {
         match &mut self.gpu_boundary {
             Some(b) if b.matches(container, params) => {}
             Some(b) => b.rebuild_for(container, params)?,
-            None => {
-                self.gpu_boundary =
-                    Some(Boundary::new(container, params, sph_core::Slip::default())?)
-            }
+            None => self.gpu_boundary = Some(Boundary::new(container, params, self.wall_slip)?),
         }
         Ok(())
     }

@@ -92,14 +92,32 @@ pub(crate) fn clear_frame(mut sim: ResMut<SphSimulation>) {
     frame.spawn_offset = count;
 }
 
-/// Follows the container entity; a new container rebuilds the CPU solver (keeping particles).
+/// Follows the container entity; a new container rebuilds the CPU solver (keeping particles);
+/// a changed [`SphWallSlip`] resamples the walls on either backend.
 fn sph_track_container(
-    containers: Query<&SphContainer>,
+    containers: Query<(&SphContainer, Option<&SphWallSlip>)>,
     params: Res<SphParams>,
     mut sim: ResMut<SphSimulation>,
     mut stats: ResMut<SphStats>,
 ) {
-    let container = containers.iter().next().map(|c| c.0);
+    let first = containers.iter().next();
+    let container = first.map(|(c, _)| c.0);
+    let slip = first
+        .and_then(|(_, s)| s.map(|s| s.0))
+        .unwrap_or(sph_core::Slip::Free);
+    if slip != sim.wall_slip {
+        if let Err(e) = slip.validate() {
+            stats.error = Some(e.to_string());
+        } else {
+            sim.wall_slip = slip;
+            if let Some(solver) = &mut sim.cpu {
+                solver.set_wall_boundary(Some(slip));
+            }
+            if let Some(boundary) = &mut sim.gpu_boundary {
+                boundary.set_walls(Some(slip));
+            }
+        }
+    }
     if container == sim.container {
         return;
     }
@@ -114,6 +132,7 @@ fn sph_track_container(
         }
         match CpuSolver::new(p, container, sim.capacity as usize) {
             Ok(mut solver) => {
+                solver.set_wall_boundary(Some(sim.wall_slip));
                 if let Some(old) = &sim.cpu {
                     let particles = old.particles();
                     solver.spawn_with_velocities(&particles.position, &particles.velocity);
@@ -343,6 +362,7 @@ fn sph_update_stats(
             stats.clock_steps = solver.step_count();
             stats.rollbacks = solver.rollbacks();
             stats.boundary_corrections = solver.boundary_corrections();
+            stats.wall_corrections = solver.corrections().walls;
             stats.boundary_samples = solver.boundary().len() as u32;
             stats.dispatches_per_step = 0;
             let d = solver.diagnostics();
@@ -384,6 +404,7 @@ fn sph_update_stats(
                 stats.time_step = clock.dt();
                 stats.rollbacks = clock.rollbacks as u64;
                 stats.boundary_corrections = clock.boundary_corrections as u64;
+                stats.wall_corrections = clock.wall_corrections as u64;
                 stats.clock_steps = clock.step as u64;
                 if clock.unstable_step != 0 {
                     stats.health = SphHealth::Unstable {

@@ -154,6 +154,10 @@ fn viscosity_alpha(text: &str) -> Result<f32, String> {
     number(text, |v: f32| (0.0..=10.0).contains(&v), "[0, 10]")
 }
 
+fn wall_friction(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| (0.0..=100.0).contains(&v), "[0, 100]")
+}
+
 fn sim_time(text: &str) -> Result<f32, String> {
     number(text, |v: f32| v > 0.0 && v <= 1e6, "(0, 1e6] s")
 }
@@ -232,6 +236,10 @@ pub struct RunArgs {
     /// model before the boundary; CPU backend only, for the cost study).
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub walls: bool,
+    /// No-slip walls with this friction factor (times the fluid's viscosity); 0 is free slip
+    /// [default: the scenario's: no slip (1) for the tanks at rest, free slip otherwise].
+    #[arg(long, value_name = "F", value_parser = wall_friction)]
+    pub wall_friction: Option<f32>,
     /// Run this many steps [steps] [default: the scenario's own simulated time].
     #[arg(long, value_name = "N", value_parser = steps, conflicts_with = "time")]
     pub steps: Option<u64>,
@@ -263,6 +271,7 @@ impl Default for RunArgs {
             rollback: true,
             viscosity_alpha: None,
             walls: true,
+            wall_friction: None,
             steps: None,
             time: None,
             substeps: 10,

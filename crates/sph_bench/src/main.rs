@@ -90,11 +90,12 @@ fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
         );
     }
     eprintln!(
-        "sph-bench: end speed mean {:.4} m/s, max {:.4} m/s; boundary corrections {}, inside \
-         colliders {}, left out of the spawns {}",
+        "sph-bench: end speed mean {:.4} m/s, max {:.4} m/s; boundary corrections {} ({} at \
+         the box's walls), inside colliders {}, left out of the spawns {}",
         report.speed_mean_end,
         report.speed_max_end,
         report.boundary_corrections,
+        report.wall_corrections,
         report.inside_collider_count,
         report.spawns_inside_colliders
     );

@@ -148,7 +148,11 @@ pub struct Report {
     /// Particles the last-resort guard moved out of a solid or back into the box (0 while the
     /// boundary model holds).
     pub boundary_corrections: u64,
-    /// Particles inside any collider at the end.
+    /// Of those, the particles clamped back into the container's box (the rest were inside a
+    /// collider).
+    pub wall_corrections: u64,
+    /// Particles inside any collider at the end (deeper than the guard's tolerance, a
+    /// thousandth of the spacing).
     pub inside_collider_count: usize,
     /// Particles of the scenario's blocks left out because they lay inside a collider.
     pub spawns_inside_colliders: u64,

@@ -42,6 +42,9 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
     }
     s.rollback = rollback(args.rollback);
     s.walls = args.walls;
+    if let Some(f) = args.wall_friction {
+        s.wall_friction = (f > 0.0).then_some(f);
+    }
     s
 }
 
@@ -226,10 +229,12 @@ pub fn run_setup(
         .iter()
         .map(|c| c.at(sim_time_of(&*sim)))
         .collect();
+    // Deeper than the guard's tolerance (a particle resting on an edge rounds a few ulps in).
+    let depth = sph_core::guard::tolerance(setup.scene.params.spacing());
     let inside_collider_count = state
         .positions
         .iter()
-        .filter(|&&x| colliders_now.iter().any(|c| c.signed_distance(x) < -1e-5))
+        .filter(|&&x| colliders_now.iter().any(|c| c.signed_distance(x) < -depth))
         .count();
     let unstable_step = sim.unstable_step();
     let mut report = Report {
@@ -271,7 +276,8 @@ pub fn run_setup(
         unstable_step,
         speed_mean_end: speeds.iter().sum::<f32>() / speeds.len().max(1) as f32,
         speed_max_end: speeds.iter().copied().fold(0.0, f32::max),
-        boundary_corrections: sim.boundary_corrections(),
+        boundary_corrections: sim.boundary_corrections().0,
+        wall_corrections: sim.boundary_corrections().1,
         inside_collider_count,
         spawns_inside_colliders: left_out,
         level_difference_end: setup

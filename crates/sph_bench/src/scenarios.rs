@@ -133,6 +133,8 @@ pub struct Setup {
     pub gate_x: Option<f32>,
     /// The container's walls are boundary samples (false: the box's clamp only; CPU).
     pub walls: bool,
+    /// No-slip walls with this friction factor (None: free slip; CPU).
+    pub wall_friction: Option<f32>,
 }
 
 /// Rounds `length` to whole lattice cells of `spacing`.
@@ -162,11 +164,13 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 colliders: Vec::new(),
                 gate_x: None,
                 walls: true,
+                wall_friction: None,
                 scene,
             }
         }
         Scenario::Hydrostatic => {
-            // A cube of water: width = depth = n^(1/3) spacings, 0.2 m deep.
+            // A cube of water: width = depth = n^(1/3) spacings, 0.2 m deep, in a glass tank
+            // (no-slip walls: free-slip walls cannot damp the column's vertical sound mode).
             let depth = 0.2;
             let spacing = depth / n.cbrt();
             let depth = cells(depth, spacing);
@@ -182,6 +186,7 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 colliders: Vec::new(),
                 gate_x: None,
                 walls: true,
+                wall_friction: Some(1.0),
                 scene,
             }
         }
@@ -225,6 +230,7 @@ fn pipe_fill(particles: usize) -> Setup {
         colliders: Vec::new(),
         gate_x: None,
         walls: true,
+        wall_friction: None,
     }
 }
 
@@ -256,6 +262,7 @@ fn dam_break_32k() -> Setup {
         colliders: Vec::new(),
         gate_x: None,
         walls: true,
+        wall_friction: None,
         scene,
     }
 }
@@ -363,6 +370,7 @@ fn gate() -> Setup {
         }],
         gate_x: Some(gate_x),
         walls: true,
+        wall_friction: None,
         scene,
     }
 }

@@ -43,8 +43,8 @@ pub trait Simulation {
     fn gpu_bytes_per_particle(&self) -> u32;
     /// Adapter name.
     fn adapter(&self) -> String;
-    /// Particles the last-resort guard corrected so far.
-    fn boundary_corrections(&self) -> u64;
+    /// Particles the last-resort guard corrected so far: in all, and clamped into the box.
+    fn boundary_corrections(&self) -> (u64, u64);
     /// Particles left out of the spawns because they lay inside a collider.
     fn spawns_inside_colliders(&self) -> u64;
     /// The water's force on each of the setup's colliders averaged since the last call, with
@@ -72,6 +72,8 @@ impl CpuSimulation {
             .map_err(|e| e.to_string())?;
         if !setup.walls {
             solver.set_wall_boundary(None);
+        } else if let Some(friction) = setup.wall_friction {
+            solver.set_wall_boundary(Some(sph_core::Slip::NoSlip { friction }));
         }
         let mut colliders = Vec::new();
         for c in &setup.colliders {
@@ -173,8 +175,9 @@ impl Simulation for CpuSimulation {
         "cpu".into()
     }
 
-    fn boundary_corrections(&self) -> u64 {
-        self.solver.boundary_corrections()
+    fn boundary_corrections(&self) -> (u64, u64) {
+        let c = self.solver.corrections();
+        (c.total(), c.walls)
     }
 
     fn spawns_inside_colliders(&self) -> u64 {
@@ -213,7 +216,9 @@ impl GpuSimulation {
     /// Builds the app, spawns the scenario and takes no step yet (shaders compile on the first).
     pub fn new(setup: &Setup, substeps: u32) -> Result<Self, String> {
         if !setup.walls {
-            return Err("--walls off: the GPU backend always samples the walls (CPU only)".into());
+            return Err(
+                "--walls off is CPU only (the GPU backend always samples the walls)".into(),
+            );
         }
         let adapter = headless::vulkan_adapter()?;
         let s = &setup.scene;
@@ -224,7 +229,12 @@ impl GpuSimulation {
             true,
         );
         app.insert_resource(SphParams(s.params));
-        app.world_mut().spawn(SphContainer(s.container));
+        let container = app.world_mut().spawn(SphContainer(s.container)).id();
+        if let Some(friction) = setup.wall_friction {
+            app.world_mut()
+                .entity_mut(container)
+                .insert(SphWallSlip(sph_core::Slip::NoSlip { friction }));
+        }
         app.update();
         let colliders = setup
             .colliders
@@ -382,8 +392,9 @@ impl Simulation for GpuSimulation {
         self.adapter.clone()
     }
 
-    fn boundary_corrections(&self) -> u64 {
-        self.stats().boundary_corrections
+    fn boundary_corrections(&self) -> (u64, u64) {
+        let s = self.stats();
+        (s.boundary_corrections, s.wall_corrections)
     }
 
     fn spawns_inside_colliders(&self) -> u64 {

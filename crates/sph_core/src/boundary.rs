@@ -130,6 +130,25 @@ impl Boundary {
         Ok(boundary)
     }
 
+    /// The volumes V_b of a shape's samples: the lattice cell of each sample where the sampling
+    /// is a lattice (cuboids: exact at faces, edges and corners, as for the walls), otherwise
+    /// Akinci's γ / Σ W; both scaled to the fluid particle's volume.
+    fn volumes(&self, samples: &crate::sampling::ShapeSamples) -> Vec<f32> {
+        if samples.cell_volume.len() == samples.len() {
+            samples
+                .cell_volume
+                .iter()
+                .map(|v| v * self.volume_scale)
+                .collect()
+        } else {
+            boundary_volumes(
+                &samples.position,
+                &self.kernels,
+                self.gamma * self.volume_scale,
+            )
+        }
+    }
+
     /// m / (ρ0 Δx³) of `params`.
     pub fn volume_scale(params: &SphParams) -> f32 {
         params.particle_mass / (params.rest_density * params.spacing().powi(3))
@@ -185,8 +204,9 @@ impl Boundary {
                 allowed: "at most twice the container's diagonal",
             });
         }
-        let local = sample_shape(&collider.shape, self.spacing).position;
-        let volume = boundary_volumes(&local, &self.kernels, self.gamma * self.volume_scale);
+        let samples = sample_shape(&collider.shape, self.spacing);
+        let volume = self.volumes(&samples);
+        let local = samples.position;
         let body = Body {
             collider,
             samples: SampleSet { local, volume },
@@ -294,10 +314,12 @@ impl Boundary {
         let mut fresh = Self::new(container, params, Slip::Free)?;
         fresh.set_walls(self.wall_slip());
         for body in self.slots.iter_mut().flatten() {
-            let c = body.collider;
-            let local = sample_shape(&c.shape, fresh.spacing).position;
-            let volume = boundary_volumes(&local, &fresh.kernels, fresh.gamma * fresh.volume_scale);
-            body.samples = SampleSet { local, volume };
+            let samples = sample_shape(&body.collider.shape, fresh.spacing);
+            let volume = fresh.volumes(&samples);
+            body.samples = SampleSet {
+                local: samples.position,
+                volume,
+            };
         }
         fresh.slots = std::mem::take(&mut self.slots);
         fresh.sorted = false;

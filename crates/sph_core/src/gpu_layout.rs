@@ -101,10 +101,13 @@ pub struct GpuClock {
     pub rule_dt_bits: u32,
     /// The rule's dt at the checkpoint [s], f32 bits (a retry takes half of it).
     pub checkpoint_rule_dt_bits: u32,
-    /// Particles the guard moved back into the box since the reset (see [`crate::guard`]).
+    /// Particles the guard moved out of a collider or back into the box since the reset (see
+    /// [`crate::guard`]).
     pub boundary_corrections: u32,
+    /// Of those, the particles clamped back into the box.
+    pub wall_corrections: u32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 impl GpuClock {

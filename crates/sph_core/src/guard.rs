@@ -9,6 +9,49 @@ use crate::collider::Collider;
 use crate::container::Walls;
 use glam::Vec3;
 
+/// Particles the guard corrected: moved out of a collider, or clamped back into the box.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Corrections {
+    /// Particles found inside a collider.
+    pub colliders: u64,
+    /// Particles found beyond the box's walls.
+    pub walls: u64,
+}
+
+impl Corrections {
+    /// Whether anything was corrected.
+    pub fn any(&self) -> bool {
+        self.colliders + self.walls > 0
+    }
+
+    /// All corrections.
+    pub fn total(&self) -> u64 {
+        self.colliders + self.walls
+    }
+}
+
+impl std::ops::Add for Corrections {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        Self {
+            colliders: self.colliders + o.colliders,
+            walls: self.walls + o.walls,
+        }
+    }
+}
+
+impl std::ops::AddAssign for Corrections {
+    fn add_assign(&mut self, o: Self) {
+        *self = *self + o;
+    }
+}
+
+impl std::iter::Sum for Corrections {
+    fn sum<I: Iterator<Item = Self>>(iter: I) -> Self {
+        iter.fold(Self::default(), |a, b| a + b)
+    }
+}
+
 /// What a drift phase checks after moving a particle.
 #[derive(Clone, Copy, Debug)]
 pub struct Guard<'a> {
@@ -16,6 +59,14 @@ pub struct Guard<'a> {
     pub walls: Walls,
     /// The colliders, in the world.
     pub colliders: &'a [Collider],
+    /// How deep inside a collider a particle must be to count as inside [m]: a particle resting
+    /// on a collider's edge sits at φ ≈ 0, and rounding puts it a few ulps inside.
+    pub tolerance: f32,
+}
+
+/// The guard's tolerance for particle spacing `spacing`: a thousandth of it.
+pub fn tolerance(spacing: f32) -> f32 {
+    1e-3 * spacing
 }
 
 impl<'a> Guard<'a> {
@@ -24,13 +75,14 @@ impl<'a> Guard<'a> {
         Self {
             walls,
             colliders: &[],
+            tolerance: 0.0,
         }
     }
 
     /// Moves a particle at `x` found inside a collider onto its surface and removes its velocity
-    /// into the solid; clamps it into the box. Returns whether anything was corrected.
+    /// into the solid; clamps it into the box. Returns what was corrected.
     #[inline]
-    pub fn apply(&self, x: &mut Vec3, v: &mut Vec3) -> bool {
+    pub fn apply(&self, x: &mut Vec3, v: &mut Vec3) -> Corrections {
         let mut corrected = false;
         for c in self.colliders {
             let local = c.pose.to_local(*x);
@@ -38,7 +90,7 @@ impl<'a> Guard<'a> {
                 continue;
             }
             let phi = c.shape.signed_distance(local);
-            if phi >= 0.0 {
+            if phi >= -self.tolerance {
                 continue;
             }
             let eps = 1e-4 * c.bounding_radius().max(1e-3);
@@ -52,7 +104,10 @@ impl<'a> Guard<'a> {
         }
         let outside = x.cmplt(self.walls.min).any() || x.cmpgt(self.walls.max).any();
         self.walls.collide(x, v);
-        corrected || outside
+        Corrections {
+            colliders: corrected as u64,
+            walls: outside as u64,
+        }
     }
 
     /// Whether `x` lies inside any collider (signed distance below `-tolerance`).

@@ -2,19 +2,19 @@
 //! translations of these loops. The phases that move particles run the [`Guard`] and return how
 //! many particles it corrected; the closing kicks only reflect velocities at the box's walls.
 
-use crate::guard::Guard;
+use crate::guard::{Corrections, Guard};
 use glam::Vec3;
 use rayon::prelude::*;
 
 /// Symplectic Euler: v += a dt; x += v dt; guard. Returns the corrections.
-pub fn euler(x: &mut [Vec3], v: &mut [Vec3], a: &[Vec3], dt: f32, guard: &Guard) -> u64 {
+pub fn euler(x: &mut [Vec3], v: &mut [Vec3], a: &[Vec3], dt: f32, guard: &Guard) -> Corrections {
     x.par_iter_mut()
         .zip(v.par_iter_mut())
         .zip(a.par_iter())
         .map(|((x, v), &a)| {
             *v += a * dt;
             *x += *v * dt;
-            guard.apply(x, v) as u64
+            guard.apply(x, v)
         })
         .sum()
 }
@@ -28,7 +28,7 @@ pub fn kick_drift(
     a: &[Vec3],
     dt: f32,
     guard: &Guard,
-) -> u64 {
+) -> Corrections {
     x.par_iter_mut()
         .zip(v.par_iter_mut())
         .zip(v_predicted.par_iter_mut())
@@ -38,7 +38,7 @@ pub fn kick_drift(
             *x += *v * dt;
             let corrected = guard.apply(x, v);
             *v_pred = *v + a * (0.5 * dt);
-            corrected as u64
+            corrected
         })
         .sum()
 }
@@ -63,7 +63,7 @@ pub fn leapfrog_drift(
     a0: &[Vec3],
     dt: f32,
     guard: &Guard,
-) -> u64 {
+) -> Corrections {
     x.par_iter_mut()
         .zip(v.par_iter())
         .zip(v_predicted.par_iter_mut())
@@ -71,7 +71,7 @@ pub fn leapfrog_drift(
         .map(|(((x, &v), v_pred), &a0)| {
             *x += v * dt + a0 * (0.5 * dt * dt);
             *v_pred = v + a0 * dt;
-            guard.apply(x, v_pred) as u64
+            guard.apply(x, v_pred)
         })
         .sum()
 }

@@ -17,6 +17,10 @@ pub struct ShapeSamples {
     pub position: Vec<Vec3>,
     /// Outward unit normals of the surface each sample lies under.
     pub normal: Vec<Vec3>,
+    /// For lattice samplings (cuboids): the volume of the lattice cell each sample stands for
+    /// [m³], the exact boundary volume where the layers continue the fluid's lattice. Empty for
+    /// curved shapes, whose volumes come from Akinci's Σ W.
+    pub cell_volume: Vec<f32>,
 }
 
 impl ShapeSamples {
@@ -101,6 +105,11 @@ fn cuboid(a: Vec3, s: f32, out: &mut ShapeSamples) {
         }
     };
     let (dx, dy, dz) = (step(0), step(1), step(2));
+    // A collapsed axis (a plate) stands for one spacing of thickness.
+    let cell = [dx, dy, dz]
+        .iter()
+        .map(|&d| if d > 0.0 { d } else { s })
+        .product::<f32>();
     for i in 0..=n.x {
         for j in 0..=n.y {
             for k in 0..=n.z {
@@ -136,6 +145,7 @@ fn cuboid(a: Vec3, s: f32, out: &mut ShapeSamples) {
                         normal
                     },
                 );
+                out.cell_volume.push(cell);
             }
         }
     }

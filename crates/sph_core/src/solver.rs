@@ -9,7 +9,7 @@ use crate::container::BoxContainer;
 use crate::density::compute_density_pressure;
 use crate::diagnostics::{Diagnostics, DiagnosticsInput};
 use crate::forces::{compute_accelerations, ForceInputs};
-use crate::guard::Guard;
+use crate::guard::{Corrections, Guard};
 use crate::integrate;
 use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
@@ -167,7 +167,7 @@ pub struct CpuSolver {
     /// The walls' and colliders' samples.
     boundary: Boundary,
     /// Particles the guard moved out of a solid or back into the box since the last clear.
-    boundary_corrections: u64,
+    boundary_corrections: Corrections,
     /// The fluid's force on each boundary body, summed over the evaluations since the last
     /// [`CpuSolver::take_collider_forces`], and the number of those evaluations.
     body_force_sums: (Vec<BodyForceSum>, u64),
@@ -206,7 +206,7 @@ impl CpuSolver {
         )?;
         Ok(Self {
             boundary: Boundary::new(&container, &params, Slip::default())?,
-            boundary_corrections: 0,
+            boundary_corrections: Corrections::default(),
             body_force_sums: (Vec::new(), 0),
             last_body_forces: Vec::new(),
             params,
@@ -390,20 +390,26 @@ impl CpuSolver {
     /// Particles the guard moved out of a solid or back into the box since the last clear (0
     /// while the boundary model holds).
     pub fn boundary_corrections(&self) -> u64 {
+        self.boundary_corrections.total()
+    }
+
+    /// The corrections by kind: out of colliders, back into the box.
+    pub fn corrections(&self) -> Corrections {
         self.boundary_corrections
     }
 
-    /// Particles inside any collider now (deeper than 1e-5 m).
+    /// Particles inside any collider now (deeper than the guard's tolerance).
     pub fn inside_collider_count(&self) -> usize {
         let colliders: Vec<Collider> = self.colliders().map(|(_, c)| *c).collect();
         let guard = Guard {
             walls: self.container.walls(self.params.wall_damping),
             colliders: &colliders,
+            tolerance: crate::guard::tolerance(self.params.spacing()),
         };
         self.particles
             .position
             .par_iter()
-            .filter(|&&x| guard.inside_any(x, 1e-5))
+            .filter(|&&x| guard.inside_any(x, guard.tolerance))
             .count()
     }
 
@@ -429,6 +435,7 @@ impl CpuSolver {
         let guard = Guard {
             walls: self.container.walls(self.params.wall_damping),
             colliders: &colliders,
+            tolerance: crate::guard::tolerance(self.params.spacing()),
         };
         // A particle closer than half a spacing to a solid would start inside its boundary.
         let clearance = 0.45 * self.params.spacing();
@@ -471,7 +478,7 @@ impl CpuSolver {
         self.step_count = 0;
         self.time = 0.0;
         self.unstable_step = None;
-        self.boundary_corrections = 0;
+        self.boundary_corrections = Corrections::default();
         self.body_force_sums = (Vec::new(), 0);
     }
 
@@ -636,8 +643,9 @@ impl CpuSolver {
         let guard = Guard {
             walls: self.container.walls(self.params.wall_damping),
             colliders: &colliders,
+            tolerance: crate::guard::tolerance(self.params.spacing()),
         };
-        let mut corrections = 0;
+        let mut corrections = Corrections::default();
         match self.params.integrator {
             Integrator::SymplecticEuler => {
                 self.evaluate(&ctx, true);

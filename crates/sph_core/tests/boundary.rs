@@ -114,10 +114,11 @@ fn the_guard_projects_particles_out_of_colliders_and_counts_them() {
     let guard = Guard {
         walls: container.walls(params.wall_damping),
         colliders: &colliders,
+        tolerance: 0.0,
     };
     let mut inside = Vec3::new(0.2, 0.115, 0.2);
     let mut v = Vec3::new(0.0, -1.0, 0.0);
-    assert!(guard.apply(&mut inside, &mut v));
+    assert_eq!(guard.apply(&mut inside, &mut v).colliders, 1);
     assert!(
         box_collider.signed_distance(inside).abs() < 1e-4,
         "{inside}"
@@ -125,13 +126,13 @@ fn the_guard_projects_particles_out_of_colliders_and_counts_them() {
     assert!(v.y >= 0.0, "velocity into the box kept: {v}");
     let mut outside = Vec3::new(0.3, 0.3, 0.3);
     let mut w = Vec3::new(0.0, -1.0, 0.0);
-    assert!(!guard.apply(&mut outside, &mut w));
+    assert!(!guard.apply(&mut outside, &mut w).any());
     assert_eq!(
         (outside, w),
         (Vec3::new(0.3, 0.3, 0.3), Vec3::new(0.0, -1.0, 0.0))
     );
     let mut beyond = Vec3::new(-0.01, 0.1, 0.1);
-    assert!(guard.apply(&mut beyond, &mut w));
+    assert_eq!(guard.apply(&mut beyond, &mut w).walls, 1);
     assert_eq!(beyond.x, 0.0);
 }
 

@@ -24,7 +24,10 @@ fn record_acceleration(a: vec3<f32>) {
     atomicMax(&clock.max_acceleration_bits, bitcast<u32>(length(a)));
 }
 
-// Count a particle the guard moved back into the box.
-fn record_correction() {
+// Count a particle the guard moved out of a collider or (`wall`) back into the box.
+fn record_correction(wall: bool) {
     atomicAdd(&clock.boundary_corrections, 1u);
+    if wall {
+        atomicAdd(&clock.wall_corrections, 1u);
+    }
 }

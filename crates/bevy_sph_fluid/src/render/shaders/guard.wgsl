@@ -50,7 +50,8 @@ fn guard(x_in: vec3<f32>, v_in: vec3<f32>) -> PositionVelocity {
         }
         let kind = u32(c.translation.w);
         let phi = shape_distance(kind, c.size.xyz, local);
-        if phi >= 0.0 {
+        // A thousandth of the spacing (h / 2) deep before it counts (sph_core::guard::tolerance).
+        if phi >= -5e-4 * params.kernel_a.x {
             continue;
         }
         let e = 1e-4 * max(c.size.w, 1e-3);
@@ -72,8 +73,9 @@ fn guard(x_in: vec3<f32>, v_in: vec3<f32>) -> PositionVelocity {
         }
         corrected = true;
     }
-    if corrected || outside_box(x) {
-        record_correction();
+    let outside = outside_box(x);
+    if corrected || outside {
+        record_correction(outside);
     }
     return collide(x, v);
 }

@@ -63,9 +63,10 @@ struct SphClock {
     // The time-step rule's dt before the rollback scale, now and at the checkpoint.
     rule_dt: f32,
     checkpoint_rule_dt: f32,
-    // Particles the guard moved back into the box since the reset (sph_core::guard).
+    // Particles the guard moved out of a collider or back into the box since the reset, and of
+    // those the ones clamped back into the box (sph_core::guard).
     boundary_corrections: atomic<u32>,
-    pad_b: u32,
+    wall_corrections: atomic<u32>,
     pad_c: u32,
 }
 
