@@ -47,6 +47,12 @@ pub struct SandboxConfig {
     pub search: NeighborSearch,
     /// Surface tension on.
     pub surface_tension: bool,
+    /// A ball in the water's path.
+    pub sphere_obstacle: bool,
+    /// A box turned 30° in the water's path.
+    pub box_obstacle: bool,
+    /// A gate holding the block back, lifted from the runtime panel.
+    pub gate: bool,
 }
 
 impl Default for SandboxConfig {
@@ -60,6 +66,9 @@ impl Default for SandboxConfig {
             adaptive_time_step: false,
             search: NeighborSearch::Grid,
             surface_tension: false,
+            sphere_obstacle: false,
+            box_obstacle: false,
+            gate: false,
         };
         config.apply_preset_defaults();
         config

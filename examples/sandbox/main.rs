@@ -2,7 +2,7 @@
 //! particles drawn straight from the GPU buffers, a runtime panel and an orbit camera.
 //!
 //! `cargo run --release --example sandbox -- [--particles N] [--start] [--paused]
-//!     [--hide-particles] [--no-gpu-timings] [--debug] [--screenshot FILE --frames N]`
+//!     [--hide-particles] [--no-gpu-timings] [--debug] [--obstacles] [--screenshot FILE --frames N]`
 //! `--screenshot` starts the scene at once, renders N frames, saves a PNG, prints the median
 //! frame time and exits; `--paused` and `--hide-particles` isolate the simulation's and the
 //! particle drawing's share of the frame.
@@ -10,6 +10,7 @@
 mod config;
 mod debug;
 mod flat_material;
+mod obstacles;
 mod particles;
 mod ranges;
 mod scene;
@@ -46,6 +47,7 @@ struct Cli {
     no_gpu_timings: bool,
     debug: bool,
     adaptive: bool,
+    obstacles: bool,
 }
 
 fn parse_cli() -> Result<Cli, String> {
@@ -87,6 +89,7 @@ fn parse_cli() -> Result<Cli, String> {
             "--no-gpu-timings" => cli.no_gpu_timings = true,
             "--debug" => cli.debug = true,
             "--adaptive" => cli.adaptive = true,
+            "--obstacles" => cli.obstacles = true,
             other => return Err(format!("unknown option {other:?}")),
         }
         k += 1;
@@ -101,7 +104,7 @@ fn main() {
             eprintln!(
                 "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
                  [--hide-particles] [--no-gpu-timings] [--debug] [--adaptive] \
-                 [--screenshot FILE --frames N]"
+                 [--obstacles] [--screenshot FILE --frames N]"
             );
             std::process::exit(2);
         }
@@ -113,6 +116,11 @@ fn main() {
         config.apply_preset_defaults();
     }
     config.adaptive_time_step = cli.adaptive;
+    if cli.obstacles {
+        config.sphere_obstacle = true;
+        config.box_obstacle = true;
+        config.gate = true;
+    }
     let mut app = App::new();
     app.add_plugins(
         DefaultPlugins
@@ -167,6 +175,7 @@ fn main() {
             debug::draw_debug,
             take_screenshot,
             apply_cli_toggles,
+            obstacles::lift_gate,
         )
             .run_if(in_state(AppState::Running)),
     )

@@ -106,6 +106,15 @@ pub fn enter_running(
         emitter.total = Some(pipe_budget as u64);
         commands.spawn((SphEmitter(emitter), SceneEntity));
     }
+    for entity in crate::obstacles::spawn_obstacles(
+        &mut commands,
+        &config,
+        &container,
+        &mut meshes,
+        &mut materials,
+    ) {
+        commands.entity(entity).insert(SceneEntity);
+    }
     // The pipe itself, a cylinder ending at the mouth.
     let length = 0.3;
     commands.spawn((

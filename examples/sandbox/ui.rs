@@ -2,6 +2,7 @@
 //! values cannot be entered; the plugin's validation errors are shown in red.
 
 use crate::config::{Preset, SandboxConfig, SpawnMode, BUDGET_RANGE};
+use crate::obstacles::{Gate, GateLift};
 use crate::particles::{ColorMode, ParticleDrawing};
 use crate::ranges;
 use crate::AppState;
@@ -133,6 +134,12 @@ pub fn setup_panel(
                 );
             });
             ui.checkbox(&mut config.surface_tension, "surface tension (Akinci 2013)");
+            ui.horizontal(|ui| {
+                ui.label("obstacles");
+                ui.checkbox(&mut config.sphere_obstacle, "ball");
+                ui.checkbox(&mut config.box_obstacle, "box");
+                ui.checkbox(&mut config.gate, "gate");
+            });
             if let Err(e) = config.params().validate() {
                 ui.colored_label(Color32::RED, e.to_string());
             } else if ui.button("Start").clicked() {
@@ -209,11 +216,23 @@ pub fn runtime_panel(
     mut debug: ResMut<DebugView>,
     drawing: Option<ResMut<ParticleDrawing>>,
     mut next: ResMut<NextState<AppState>>,
+    gate: Option<ResMut<GateLift>>,
+    gates: Query<(), With<Gate>>,
 ) -> Result {
     egui::Window::new("Simulation")
         .anchor(egui::Align2::LEFT_TOP, [8.0, 8.0])
         .default_width(300.0)
         .show(contexts.ctx_mut()?, |ui| {
+            if let (Some(mut gate), false) = (gate, gates.is_empty()) {
+                let label = if gate.lifting {
+                    "stop the gate"
+                } else {
+                    "lift the gate"
+                };
+                if ui.button(label).clicked() {
+                    gate.lifting = !gate.lifting;
+                }
+            }
             let mut p = params.0;
             viscosity_alpha_slider(ui, &mut p);
             ui.add(slider(&mut p.stiffness, ranges::STIFFNESS, "stiffness k").logarithmic(true));

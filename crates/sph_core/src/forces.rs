@@ -32,13 +32,20 @@ pub struct ForceInputs<'a> {
 /// a_i = -Σ_j m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky (Monaghan 1992 eq. 3.3)
 ///       + (μ/ρ_i) Σ_j m (v_j - v_i) / ρ_j ∇²W_visc (Müller 2003 eq. 14) + Σ_j F_ij^st / m + g.
 /// The pairwise forces m_i a_ij are antisymmetric, so internal forces conserve momentum.
+///
+/// Also returns the pressure the boundary samples near i mirror (see
+/// [`boundary_acceleration_at`]): max(p_i, p̄_i), with p̄_i = Σ_j V_j p_j W_ij / Σ_j V_j W_ij the
+/// Shepard average of the fluid's pressure around i (V_j = m/ρ_j, i included). Next to a wall at
+/// a free surface p_i is zero while the water beside it pushes it on: the wall answers with the
+/// pressure of the water around it (a pressure extrapolated onto the wall, after Adami et al.
+/// 2012, evaluated at the particle).
 #[inline]
 pub fn acceleration_at(
     ctx: &StageContext,
     neighbors: &Neighbors,
     input: &ForceInputs,
     i: usize,
-) -> Vec3 {
+) -> (Vec3, f32) {
     let x_i = input.position[i];
     let v_i = input.velocity[i];
     let rho_i = input.density[i];
@@ -49,12 +56,16 @@ pub fn acceleration_at(
     let mut pressure = Vec3::ZERO;
     let mut viscosity = Vec3::ZERO;
     let mut surface_tension = Vec3::ZERO;
+    let (mut shepard_p, mut shepard) = (0.0, 0.0);
     neighbors.for_each_neighbor(input.position, x_i, |j, r, r2| {
+        let rho_j = input.density[j];
+        let w = ctx.kernels.poly6(r2) / rho_j;
+        shepard_p += w * input.pressure[j];
+        shepard += w;
         if j == i {
             return;
         }
         let r_len = r2.sqrt();
-        let rho_j = input.density[j];
         // Monaghan 1992 eq. 3.3: a_i^p = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky(r_ij).
         pressure -= ctx.kernels.spiky_grad(r, r_len) * (p_i + input.pressure[j] / (rho_j * rho_j));
         if with_viscosity {
@@ -67,15 +78,22 @@ pub fn acceleration_at(
                 surface_tension_pair(ctx, r, r_len, rho_i, rho_j, n_i, input.normal[j]);
         }
     });
-    pressure * (ctx.mass * ctx.pressure_gradient_scale)
+    let acceleration = pressure * (ctx.mass * ctx.pressure_gradient_scale)
         + viscosity * (ctx.viscosity * ctx.mass / rho_i)
         + surface_tension
-        + ctx.gravity
+        + ctx.gravity;
+    let around = if shepard > 0.0 {
+        shepard_p / shepard
+    } else {
+        0.0
+    };
+    (acceleration, input.pressure[i].max(around))
 }
 
-/// The boundary's acceleration of particle i, with the pressure mirrored onto each sample
-/// (p_b = p_i, ρ_b = ρ0) and the pseudo-mass Ψ_b = ρ0 V_b (Akinci 2012 eq. 10 in Monaghan's form):
-/// a_i^p = -Σ_b ρ0 V_b (p_i/ρ_i² + p_i/ρ0²) ∇W_spiky(x_i - x_b),
+/// The boundary's acceleration of particle i, with the pressure `p_wall` (max(p_i, p̄_i) of
+/// [`acceleration_at`]) mirrored onto each sample (p_b = p_wall, ρ_b = ρ0) and the pseudo-mass
+/// Ψ_b = ρ0 V_b (Akinci 2012 eq. 10 in Monaghan's form):
+/// a_i^p = -Σ_b ρ0 V_b (p_wall/ρ_i² + p_wall/ρ0²) ∇W_spiky(x_i - x_b),
 /// and on no-slip bodies the fluid's viscosity against the sample's velocity, times the body's
 /// friction f (Akinci 2012 §3.2 with Müller's Laplacian):
 /// a_i^v = (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc.
@@ -86,12 +104,13 @@ pub fn boundary_acceleration_at(
     boundary: &Boundary,
     input: &ForceInputs,
     i: usize,
+    p_wall: f32,
     mut reaction: impl FnMut(u32, Vec3, Vec3),
 ) -> Vec3 {
     let x_i = input.position[i];
     let v_i = input.velocity[i];
     let rho_i = input.density[i];
-    let p_i = input.pressure[i];
+    let p_i = p_wall;
     let rho0 = ctx.rest_density;
     let mirrored = p_i / (rho_i * rho_i) + p_i / (rho0 * rho0);
     let viscous = ctx.viscosity / rho_i;
@@ -127,7 +146,7 @@ pub fn compute_accelerations(
         acceleration
             .par_iter_mut()
             .enumerate()
-            .for_each(|(i, a)| *a = acceleration_at(ctx, neighbors, input, i));
+            .for_each(|(i, a)| *a = acceleration_at(ctx, neighbors, input, i).0);
         return Vec::new();
     };
     let bodies = boundary.body_count();
@@ -137,10 +156,12 @@ pub fn compute_accelerations(
         .fold(
             || vec![BodyForceSum::default(); bodies],
             |mut sums, (i, a)| {
-                let wall = boundary_acceleration_at(ctx, boundary, input, i, |body, f, at| {
-                    sums[body as usize].add(f, at, boundary.origin[body as usize])
-                });
-                *a = acceleration_at(ctx, neighbors, input, i) + wall;
+                let (fluid, p_wall) = acceleration_at(ctx, neighbors, input, i);
+                let wall =
+                    boundary_acceleration_at(ctx, boundary, input, i, p_wall, |body, f, at| {
+                        sums[body as usize].add(f, at, boundary.origin[body as usize])
+                    });
+                *a = fluid + wall;
                 sums
             },
         )

@@ -1,7 +1,8 @@
 // a_i = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky                (Monaghan 1992 eq. 3.3)
 //     + (μ/ρ_i) Σ m (v_j - v_i)/ρ_j ∇²W_visc             (design eq. 10, VISCOSITY)
 //     - γ Σ K_ij (m C(r) r/|r| + n_i - n_j)               (Akinci 2013, SURFACE_TENSION)
-//     - Σ_b ρ0 V_b (p_i/ρ_i² + p_i/ρ0²) ∇W_spiky          (Akinci 2012 eq. 10, pressure mirrored)
+//     - Σ_b ρ0 V_b (p_w/ρ_i² + p_w/ρ0²) ∇W_spiky          (Akinci 2012 eq. 10, pressure mirrored:
+//       p_w = max(p_i, Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j), the pressure of the water around i)
 //     + (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc            (no-slip bodies, friction f)
 //     + g
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
@@ -15,7 +16,7 @@
 // integrated or recorded while the clock is frozen.
 // Rust twin: sph_core::forces.
 #import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal, boundary_position, boundary_velocity}
-#import sph::kernels::{spiky_grad, viscosity_laplacian, cohesion, collide}
+#import sph::kernels::{poly6, spiky_grad, viscosity_laplacian, cohesion, collide}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
 
@@ -44,22 +45,27 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var surface = vec3<f32>(0.0);
 #endif
     var pressure_sum = vec3<f32>(0.0);
+    var shepard_p = 0.0;
+    var shepard = 0.0;
     var viscosity_sum = vec3<f32>(0.0);
     let c = home_cell(x_i);
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
         for (var j = range.x; j < range.y; j++) {
-            if j == i {
-                continue;
-            }
             let x_j = position[j].xyz;
             let r = x_i - x_j;
             let r2 = dot(r, r);
             if r2 >= h2 || !accepts(c, q, x_j) {
                 continue;
             }
-            let r_len = sqrt(r2);
             let rho_j = density[j];
+            let w = poly6(r2) / rho_j;
+            shepard_p += w * pressure[j];
+            shepard += w;
+            if j == i {
+                continue;
+            }
+            let r_len = sqrt(r2);
             pressure_sum -= spiky_grad(r, r_len) * (p_i + pressure[j] / (rho_j * rho_j));
 #ifdef VISCOSITY
             viscosity_sum += (viscosity_velocity(j) - v_i) * (viscosity_laplacian(r_len) / rho_j);
@@ -76,7 +82,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     // The boundary samples (Rust twin: sph_core::forces::boundary_acceleration_at).
     let rho0 = params.material.x;
-    let mirrored = p_i + pressure[i] / (rho0 * rho0);
+    // The wall mirrors max(p_i, the Shepard average of the pressure around i).
+    var p_wall = pressure[i];
+    if shepard > 0.0 {
+        p_wall = max(p_wall, shepard_p / shepard);
+    }
+    let mirrored = p_wall / (rho_i * rho_i) + p_wall / (rho0 * rho0);
     let viscous = params.material.z / rho_i;
     var wall = vec3<f32>(0.0);
     let g = grid_cell(x_i);
