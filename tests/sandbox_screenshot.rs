@@ -1,5 +1,6 @@
 //! Runs the sandbox under Xvfb on the software Vulkan driver, lets it render, saves a screenshot
-//! and looks at it: blue particle pixels inside the box and the runtime panel present.
+//! and looks at it: blue particle pixels inside the box, the obstacles (`--obstacles`: a ball and
+//! a box in orange, and the gate) and the runtime panel present.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -44,7 +45,14 @@ fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
     let output = Command::new("timeout")
         .args(["600", "xvfb-run", "-a", "-s", "-screen 0 1280x720x24"])
         .arg(&binary)
-        .args(["--particles", "8192", "--frames", "30", "--screenshot"])
+        .args([
+            "--particles",
+            "8192",
+            "--frames",
+            "30",
+            "--obstacles",
+            "--screenshot",
+        ])
         .arg(&shot)
         .output()
         .expect("run the sandbox");
@@ -72,6 +80,21 @@ fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
         }
     }
     assert!(blue >= 5_000, "only {blue} blue particle pixels in the box");
+    // The obstacles (`--obstacles`): the ball and the box in flat orange, seen through the glass
+    // wall as salmon, about (190, 133, 118).
+    let mut orange = 0;
+    for y in 100..620 {
+        for x in 330..1000 {
+            let (r, g, b) = pixel(x, y);
+            if r >= 160 && r - b >= 50 && r - g >= 35 {
+                orange += 1;
+            }
+        }
+    }
+    assert!(
+        orange >= 300,
+        "only {orange} orange obstacle pixels in the box"
+    );
     // The runtime panel: egui's dark window fill over the top-left corner.
     let mut dark = 0;
     let mut total = 0;

@@ -34,11 +34,11 @@ pub struct ForceInputs<'a> {
 /// The pairwise forces m_i a_ij are antisymmetric, so internal forces conserve momentum.
 ///
 /// Also returns the pressure the boundary samples near i mirror (see
-/// [`boundary_acceleration_at`]): max(p_i, p̄_i), with p̄_i = Σ_j V_j p_j W_ij / Σ_j V_j W_ij the
-/// Shepard average of the fluid's pressure around i (V_j = m/ρ_j, i included). Next to a wall at
-/// a free surface p_i is zero while the water beside it pushes it on: the wall answers with the
-/// pressure of the water around it (a pressure extrapolated onto the wall, after Adami et al.
-/// 2012, evaluated at the particle).
+/// [`boundary_acceleration_at`]): p_i, or where the clamp made p_i zero, p̄_i = Σ_j V_j p_j W_ij /
+/// Σ_j V_j W_ij, the Shepard average of the fluid's pressure around i (V_j = m/ρ_j, i included).
+/// Next to a wall at a free surface p_i is zero while the water beside it pushes it on: the wall
+/// answers with the pressure of the water around it (a pressure extrapolated onto the wall, after
+/// Adami et al. 2012, evaluated at the particle).
 #[inline]
 pub fn acceleration_at(
     ctx: &StageContext,
@@ -87,11 +87,12 @@ pub fn acceleration_at(
     } else {
         0.0
     };
-    (acceleration, input.pressure[i].max(around))
+    let p_i = input.pressure[i];
+    (acceleration, if p_i > 0.0 { p_i } else { around })
 }
 
-/// The boundary's acceleration of particle i, with the pressure `p_wall` (max(p_i, p̄_i) of
-/// [`acceleration_at`]) mirrored onto each sample (p_b = p_wall, ρ_b = ρ0) and the pseudo-mass
+/// The boundary's acceleration of particle i, with the pressure `p_wall` (p_i, or p̄_i where
+/// p_i is zero, of [`acceleration_at`]) mirrored onto each sample (p_b = p_wall, ρ_b = ρ0) and the pseudo-mass
 /// Ψ_b = ρ0 V_b (Akinci 2012 eq. 10 in Monaghan's form):
 /// a_i^p = -Σ_b ρ0 V_b (p_wall/ρ_i² + p_wall/ρ0²) ∇W_spiky(x_i - x_b),
 /// and on no-slip bodies the fluid's viscosity against the sample's velocity, times the body's

@@ -2,7 +2,8 @@
 //     + (μ/ρ_i) Σ m (v_j - v_i)/ρ_j ∇²W_visc             (design eq. 10, VISCOSITY)
 //     - γ Σ K_ij (m C(r) r/|r| + n_i - n_j)               (Akinci 2013, SURFACE_TENSION)
 //     - Σ_b ρ0 V_b (p_w/ρ_i² + p_w/ρ0²) ∇W_spiky          (Akinci 2012 eq. 10, pressure mirrored:
-//       p_w = max(p_i, Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j), the pressure of the water around i)
+//       p_w = p_i, or where p_i = 0 the pressure of the water around i,
+//       Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j)
 //     + (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc            (no-slip bodies, friction f)
 //     + g
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
@@ -82,10 +83,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     // The boundary samples (Rust twin: sph_core::forces::boundary_acceleration_at).
     let rho0 = params.material.x;
-    // The wall mirrors max(p_i, the Shepard average of the pressure around i).
+    // The wall mirrors p_i, or where the clamp made it zero the Shepard average of the pressure
+    // around i.
     var p_wall = pressure[i];
-    if shepard > 0.0 {
-        p_wall = max(p_wall, shepard_p / shepard);
+    if p_wall <= 0.0 && shepard > 0.0 {
+        p_wall = shepard_p / shepard;
     }
     let mirrored = p_wall / (rho_i * rho_i) + p_wall / (rho0 * rho0);
     let viscous = params.material.z / rho_i;
