@@ -32,20 +32,13 @@ pub struct ForceInputs<'a> {
 /// a_i = -Σ_j m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky (Monaghan 1992 eq. 3.3)
 ///       + (μ/ρ_i) Σ_j m (v_j - v_i) / ρ_j ∇²W_visc (Müller 2003 eq. 14) + Σ_j F_ij^st / m + g.
 /// The pairwise forces m_i a_ij are antisymmetric, so internal forces conserve momentum.
-///
-/// Also returns the pressure the boundary samples near i mirror (see
-/// [`boundary_acceleration_at`]): p_i, or where the clamp made p_i zero, p̄_i = Σ_j V_j p_j W_ij /
-/// Σ_j V_j W_ij, the Shepard average of the fluid's pressure around i (V_j = m/ρ_j, i included).
-/// Next to a wall at a free surface p_i is zero while the water beside it pushes it on: the wall
-/// answers with the pressure of the water around it (a pressure extrapolated onto the wall, after
-/// Adami et al. 2012, evaluated at the particle).
 #[inline]
 pub fn acceleration_at(
     ctx: &StageContext,
     neighbors: &Neighbors,
     input: &ForceInputs,
     i: usize,
-) -> (Vec3, f32) {
+) -> Vec3 {
     let x_i = input.position[i];
     let v_i = input.velocity[i];
     let rho_i = input.density[i];
@@ -56,16 +49,12 @@ pub fn acceleration_at(
     let mut pressure = Vec3::ZERO;
     let mut viscosity = Vec3::ZERO;
     let mut surface_tension = Vec3::ZERO;
-    let (mut shepard_p, mut shepard) = (0.0, 0.0);
     neighbors.for_each_neighbor(input.position, x_i, |j, r, r2| {
-        let rho_j = input.density[j];
-        let w = ctx.kernels.poly6(r2) / rho_j;
-        shepard_p += w * input.pressure[j];
-        shepard += w;
         if j == i {
             return;
         }
         let r_len = r2.sqrt();
+        let rho_j = input.density[j];
         // Monaghan 1992 eq. 3.3: a_i^p = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky(r_ij).
         pressure -= ctx.kernels.spiky_grad(r, r_len) * (p_i + input.pressure[j] / (rho_j * rho_j));
         if with_viscosity {
@@ -78,23 +67,40 @@ pub fn acceleration_at(
                 surface_tension_pair(ctx, r, r_len, rho_i, rho_j, n_i, input.normal[j]);
         }
     });
-    let acceleration = pressure * (ctx.mass * ctx.pressure_gradient_scale)
+    pressure * (ctx.mass * ctx.pressure_gradient_scale)
         + viscosity * (ctx.viscosity * ctx.mass / rho_i)
         + surface_tension
-        + ctx.gravity;
-    let around = if shepard > 0.0 {
-        shepard_p / shepard
-    } else {
-        0.0
-    };
-    let p_i = input.pressure[i];
-    (acceleration, if p_i > 0.0 { p_i } else { around })
+        + ctx.gravity
 }
 
-/// The boundary's acceleration of particle i, with the pressure `p_wall` (p_i, or p̄_i where
-/// p_i is zero, of [`acceleration_at`]) mirrored onto each sample (p_b = p_wall, ρ_b = ρ0) and the pseudo-mass
-/// Ψ_b = ρ0 V_b (Akinci 2012 eq. 10 in Monaghan's form):
-/// a_i^p = -Σ_b ρ0 V_b (p_wall/ρ_i² + p_wall/ρ0²) ∇W_spiky(x_i - x_b),
+/// p̄_i = Σ_j V_j p_j W_ij / Σ_j V_j W_ij (V_j = m/ρ_j, i included): the Shepard average of the
+/// fluid's pressure around particle i.
+pub fn pressure_around(
+    ctx: &StageContext,
+    neighbors: &Neighbors,
+    input: &ForceInputs,
+    i: usize,
+) -> f32 {
+    let (mut weighted, mut weights) = (0.0, 0.0);
+    neighbors.for_each_neighbor(input.position, input.position[i], |j, _, r2| {
+        let w = ctx.kernels.poly6(r2) / input.density[j];
+        weighted += w * input.pressure[j];
+        weights += w;
+    });
+    if weights > 0.0 {
+        weighted / weights
+    } else {
+        0.0
+    }
+}
+
+/// The boundary's acceleration of particle i, with the pressure p_w mirrored onto each sample
+/// (p_b = p_w, ρ_b = ρ0) and the pseudo-mass Ψ_b = ρ0 V_b (Akinci 2012 eq. 10 in Monaghan's
+/// form). p_w = p_i, or where the clamp made p_i zero, `p_around()` ([`pressure_around`], called
+/// only then and only if a sample is within h): next to a wall at a free surface p_i is zero while
+/// the water beside it pushes it on, and the wall answers with the pressure of the water around
+/// it (a pressure extrapolated onto the wall, after Adami et al. 2012, evaluated at the particle):
+/// a_i^p = -Σ_b ρ0 V_b (p_w/ρ_i² + p_w/ρ0²) ∇W_spiky(x_i - x_b),
 /// and on no-slip bodies the fluid's viscosity against the sample's velocity, times the body's
 /// friction f (Akinci 2012 §3.2 with Müller's Laplacian):
 /// a_i^v = (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc.
@@ -105,15 +111,15 @@ pub fn boundary_acceleration_at(
     boundary: &Boundary,
     input: &ForceInputs,
     i: usize,
-    p_wall: f32,
+    p_around: impl FnOnce() -> f32,
     mut reaction: impl FnMut(u32, Vec3, Vec3),
 ) -> Vec3 {
     let x_i = input.position[i];
     let v_i = input.velocity[i];
     let rho_i = input.density[i];
-    let p_i = p_wall;
     let rho0 = ctx.rest_density;
-    let mirrored = p_i / (rho_i * rho_i) + p_i / (rho0 * rho0);
+    let mut p_around = Some(p_around);
+    let mut mirrored = None;
     let viscous = ctx.viscosity / rho_i;
     let mut total = Vec3::ZERO;
     boundary
@@ -121,6 +127,14 @@ pub fn boundary_acceleration_at(
         .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
             let r_len = r2.sqrt();
             let volume = boundary.volume[b];
+            let mirrored = *mirrored.get_or_insert_with(|| {
+                let p_i = input.pressure[i];
+                let p_w = match p_around.take() {
+                    Some(around) if p_i <= 0.0 => around(),
+                    _ => p_i,
+                };
+                p_w / (rho_i * rho_i) + p_w / (rho0 * rho0)
+            });
             let mut a = ctx.kernels.spiky_grad(r, r_len)
                 * (-rho0 * volume * mirrored * ctx.pressure_gradient_scale);
             let body = boundary.body[b];
@@ -147,7 +161,7 @@ pub fn compute_accelerations(
         acceleration
             .par_iter_mut()
             .enumerate()
-            .for_each(|(i, a)| *a = acceleration_at(ctx, neighbors, input, i).0);
+            .for_each(|(i, a)| *a = acceleration_at(ctx, neighbors, input, i));
         return Vec::new();
     };
     let bodies = boundary.body_count();
@@ -157,12 +171,12 @@ pub fn compute_accelerations(
         .fold(
             || vec![BodyForceSum::default(); bodies],
             |mut sums, (i, a)| {
-                let (fluid, p_wall) = acceleration_at(ctx, neighbors, input, i);
+                let around = || pressure_around(ctx, neighbors, input, i);
                 let wall =
-                    boundary_acceleration_at(ctx, boundary, input, i, p_wall, |body, f, at| {
+                    boundary_acceleration_at(ctx, boundary, input, i, around, |body, f, at| {
                         sums[body as usize].add(f, at, boundary.origin[body as usize])
                     });
-                *a = fluid + wall;
+                *a = acceleration_at(ctx, neighbors, input, i) + wall;
                 sums
             },
         )

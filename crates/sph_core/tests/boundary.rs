@@ -84,10 +84,17 @@ fn the_fluid_force_on_a_collider_balances_the_particles_reaction() {
         boundary: Some(&boundary),
     };
     let mut on_body = BodyForceSum::default();
-    let a = boundary_acceleration_at(&ctx, &boundary, &input, 0, 1000.0, |body, f, at| {
-        assert_eq!(body, id.0 + 1);
-        on_body.add(f, at, centre);
-    });
+    let a = boundary_acceleration_at(
+        &ctx,
+        &boundary,
+        &input,
+        0,
+        || 0.0,
+        |body, f, at| {
+            assert_eq!(body, id.0 + 1);
+            on_body.add(f, at, centre);
+        },
+    );
     // Newton's third law: the sphere's force is exactly the particle's reaction.
     let particle = a * params.particle_mass;
     assert!(particle.length() > 0.0);

@@ -29,6 +29,31 @@ fn viscosity_velocity(j: u32) -> vec3<f32> {
 #endif
 }
 
+// p̄_i = Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j, i included (sph_core::forces::pressure_around).
+fn pressure_around(x_i: vec3<f32>, c: vec3<i32>) -> f32 {
+    let h2 = params.kernel_a.y;
+    var weighted = 0.0;
+    var weights = 0.0;
+    for (var q = 0u; q < neighbor_range_count(); q++) {
+        let range = neighbor_range(c, q);
+        for (var j = range.x; j < range.y; j++) {
+            let x_j = position[j].xyz;
+            let r = x_i - x_j;
+            let r2 = dot(r, r);
+            if r2 >= h2 || !accepts(c, q, x_j) {
+                continue;
+            }
+            let w = poly6(r2) / density[j];
+            weighted += w * pressure[j];
+            weights += w;
+        }
+    }
+    if weights > 0.0 {
+        return weighted / weights;
+    }
+    return 0.0;
+}
+
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
@@ -46,8 +71,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var surface = vec3<f32>(0.0);
 #endif
     var pressure_sum = vec3<f32>(0.0);
-    var shepard_p = 0.0;
-    var shepard = 0.0;
     var viscosity_sum = vec3<f32>(0.0);
     let c = home_cell(x_i);
     for (var q = 0u; q < neighbor_range_count(); q++) {
@@ -59,13 +82,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if r2 >= h2 || !accepts(c, q, x_j) {
                 continue;
             }
-            let rho_j = density[j];
-            let w = poly6(r2) / rho_j;
-            shepard_p += w * pressure[j];
-            shepard += w;
             if j == i {
                 continue;
             }
+            let rho_j = density[j];
             let r_len = sqrt(r2);
             pressure_sum -= spiky_grad(r, r_len) * (p_i + pressure[j] / (rho_j * rho_j));
 #ifdef VISCOSITY
@@ -84,12 +104,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // The boundary samples (Rust twin: sph_core::forces::boundary_acceleration_at).
     let rho0 = params.material.x;
     // The wall mirrors p_i, or where the clamp made it zero the Shepard average of the pressure
-    // around i.
-    var p_wall = pressure[i];
-    if p_wall <= 0.0 && shepard > 0.0 {
-        p_wall = shepard_p / shepard;
-    }
-    let mirrored = p_wall / (rho_i * rho_i) + p_wall / (rho0 * rho0);
+    // around i (computed only then, at the first sample within h).
+    var mirrored = -1.0;
     let viscous = params.material.z / rho_i;
     var wall = vec3<f32>(0.0);
     let g = grid_cell(x_i);
@@ -103,6 +119,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 continue;
             }
             let r_len = sqrt(r2);
+            if mirrored < 0.0 {
+                var p_wall = pressure[i];
+                if p_wall <= 0.0 {
+                    p_wall = pressure_around(x_i, c);
+                }
+                mirrored = p_wall / (rho_i * rho_i) + p_wall / (rho0 * rho0);
+            }
             wall += spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
             let u = boundary_velocity[b];
             if u.w > 0.0 {
