@@ -353,7 +353,10 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
             for alpha in [0.02f32, 0.03] {
                 plan.push(Planned::new(
                     "viscosity α",
-                    format!("α = {alpha} (default 0.05)"),
+                    format!(
+                        "α = {alpha} (default {})",
+                        sph_core::params::DEFAULT_VISCOSITY_ALPHA
+                    ),
                     RunArgs {
                         viscosity_alpha: Some(alpha),
                         ..at_largest.clone()
