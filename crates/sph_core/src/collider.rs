@@ -209,15 +209,15 @@ pub enum ColliderMotion {
     #[default]
     Static,
     /// Moved by the game: its pose and velocity are set every step or frame, the fluid sees the
-    /// velocity (Akinci 2012 §4: v_b = v + ω × (x_b − x_c)), and it does not feel the fluid.
+    /// velocity (Akinci 2012: v_b = v + ω × (x_b − x_c)), and it does not feel the fluid.
     Kinematic,
     /// Moved by the game or a physics engine that applies the fluid's force and torque on it
-    /// (two-way coupling, Akinci 2012 §4); the fluid sees its pose and velocity like a kinematic
+    /// (two-way coupling, Akinci 2012); the fluid sees its pose and velocity like a kinematic
     /// collider's.
     Dynamic,
 }
 
-/// How the fluid slides along a collider (Akinci 2012 §3.2).
+/// How the fluid slides along a collider (Akinci 2012).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
 pub enum Slip {

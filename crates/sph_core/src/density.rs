@@ -1,5 +1,5 @@
 //! Density and pressure pass: ρ_i = Σ_j m W_poly6(x_i - x_j, h) (Müller 2003 eq. 3, self
-//! included) plus the boundary samples' ρ0 Σ_b V_b W_poly6(x_i - x_b) (Akinci 2012 eq. 6), then
+//! included) plus the boundary samples' ρ0 Σ_b V_b W_poly6(x_i - x_b) (Akinci 2012), then
 //! p_i from the equation of state.
 
 use crate::boundary::Boundary;
@@ -8,8 +8,8 @@ use crate::stage::StageContext;
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// The boundary's share of the density at `x_i`: ρ0 Σ_b V_b W_poly6(x_i - x_b) (Akinci 2012
-/// eq. 6, the pseudo-mass Ψ_b = ρ0 V_b).
+/// The boundary's share of the density at `x_i`: ρ0 Σ_b V_b W_poly6(x_i - x_b) (Akinci 2012,
+/// the pseudo-mass Ψ_b = ρ0 V_b).
 #[inline]
 pub fn boundary_density_at(ctx: &StageContext, boundary: &Boundary, x_i: Vec3) -> f32 {
     ctx.rest_density

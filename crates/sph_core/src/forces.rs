@@ -1,6 +1,6 @@
-//! Forces pass: Monaghan's symmetric pressure force (Monaghan 1992 eq. 3.3, p_i/ρ_i² + p_j/ρ_j²),
+//! Forces pass: Monaghan's symmetric pressure force (Monaghan 1992, the symmetric form, p_i/ρ_i² + p_j/ρ_j²),
 //! viscosity (design eq. 10, Müller 2003 eq. 14), gravity, Akinci 2013 surface tension when
-//! γ > 0, and the boundary samples' pressure and friction (Akinci 2012 eqs. 10 and 11, the
+//! γ > 0, and the boundary samples' pressure and friction (Akinci 2012, the
 //! pressure mirrored onto the sample). Writes accelerations a_i and the fluid's reaction on every
 //! boundary body.
 
@@ -29,7 +29,7 @@ pub struct ForceInputs<'a> {
 }
 
 /// The fluid's acceleration of particle i:
-/// a_i = -Σ_j m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky (Monaghan 1992 eq. 3.3)
+/// a_i = -Σ_j m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky (Monaghan 1992, the symmetric form)
 ///       + (μ/ρ_i) Σ_j m (v_j - v_i) / ρ_j ∇²W_visc (Müller 2003 eq. 14) + Σ_j F_ij^st / m + g.
 /// The pairwise forces m_i a_ij are antisymmetric, so internal forces conserve momentum.
 #[inline]
@@ -55,7 +55,7 @@ pub fn acceleration_at(
         }
         let r_len = r2.sqrt();
         let rho_j = input.density[j];
-        // Monaghan 1992 eq. 3.3: a_i^p = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky(r_ij).
+        // Monaghan 1992, the symmetric form: a_i^p = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky(r_ij).
         pressure -= ctx.kernels.spiky_grad(r, r_len) * (p_i + input.pressure[j] / (rho_j * rho_j));
         if with_viscosity {
             // Design eq. 10: f_i^v = μ Σ m (v_j - v_i) / ρ_j ∇²W_visc(r_ij).
@@ -95,16 +95,16 @@ pub fn pressure_around(
 }
 
 /// The boundary's acceleration of particle i, with the pressure p_w mirrored onto each sample
-/// (p_b = p_w, ρ_b = ρ0) and the pseudo-mass Ψ_b = ρ0 V_b (Akinci 2012 eq. 10 in Monaghan's
+/// (p_b = p_w, ρ_b = ρ0) and the pseudo-mass Ψ_b = ρ0 V_b (Akinci 2012, in Monaghan's
 /// form). p_w = p_i, or where the clamp made p_i zero, `p_around()` ([`pressure_around`], called
 /// only then and only if a sample is within h): next to a wall at a free surface p_i is zero while
 /// the water beside it pushes it on, and the wall answers with the pressure of the water around
 /// it (a pressure extrapolated onto the wall, after Adami et al. 2012, evaluated at the particle):
 /// a_i^p = -Σ_b ρ0 V_b (p_w/ρ_i² + p_w/ρ0²) ∇W_spiky(x_i - x_b),
 /// and on no-slip bodies the fluid's viscosity against the sample's velocity, times the body's
-/// friction f (Akinci 2012 §3.2 with Müller's Laplacian):
+/// friction f (Akinci 2012 with Müller's Laplacian):
 /// a_i^v = (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc.
-/// `reaction(body, force, at)` receives the force on the sample's body, -m a_ib (Akinci 2012 §4).
+/// `reaction(body, force, at)` receives the force on the sample's body, -m a_ib (Akinci 2012's two-way coupling).
 #[inline]
 pub fn boundary_acceleration_at(
     ctx: &StageContext,

@@ -1,5 +1,5 @@
 // ρ_i = m Σ_j W_poly6(x_i - x_j) (Müller 2003 eq. 3, self included)
-//     + ρ0 Σ_b V_b W_poly6(x_i - x_b) (Akinci 2012 eq. 6, the walls' and colliders' samples),
+//     + ρ0 Σ_b V_b W_poly6(x_i - x_b) (Akinci 2012, the walls' and colliders' samples),
 // then p_i from the EOS. Rust twin: sph_core::density. NEIGHBOR_COUNT (debug) also records each particle's neighbours.
 #import sph::bindings::{params, position, density, pressure, neighbor_count, boundary_position}
 #import sph::kernels::{poly6, eos_pressure}

@@ -1,7 +1,7 @@
-// a_i = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky                (Monaghan 1992 eq. 3.3)
+// a_i = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky                (Monaghan 1992, the symmetric form)
 //     + (μ/ρ_i) Σ m (v_j - v_i)/ρ_j ∇²W_visc             (design eq. 10, VISCOSITY)
 //     - γ Σ K_ij (m C(r) r/|r| + n_i - n_j)               (Akinci 2013, SURFACE_TENSION)
-//     - Σ_b ρ0 V_b (p_w/ρ_i² + p_w/ρ0²) ∇W_spiky          (Akinci 2012 eq. 10, pressure mirrored:
+//     - Σ_b ρ0 V_b (p_w/ρ_i² + p_w/ρ0²) ∇W_spiky          (Akinci 2012, pressure mirrored:
 //       p_w = p_i, or where p_i = 0 the pressure of the water around i,
 //       Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j)
 //     + (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc            (no-slip bodies, friction f)
