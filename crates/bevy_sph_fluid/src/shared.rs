@@ -115,12 +115,10 @@ impl SphSimulation {
         let admitted: Vec<Vec3>;
         let positions = match self.boundary() {
             Some(b) if b.colliders().next().is_some() => {
-                // Closer than half a spacing to a solid, a particle would start in its boundary.
-                let clearance = 0.45 * b.spacing();
                 admitted = positions
                     .iter()
                     .copied()
-                    .filter(|&x| b.admits(x, clearance))
+                    .filter(|&x| b.admits_spawn(x))
                     .collect();
                 self.inside_colliders += (positions.len() - admitted.len()) as u64;
                 &admitted[..]

@@ -154,11 +154,6 @@ impl Boundary {
         params.particle_mass / (params.rest_density * params.spacing().powi(3))
     }
 
-    /// Whether the walls are sampled (false: they are only the clamp of [`crate::Walls`]).
-    pub fn has_walls(&self) -> bool {
-        self.walls.is_some()
-    }
-
     /// Removes the walls' samples (the container is then only the last-resort clamp), or puts
     /// them back with slip `slip`.
     pub fn set_walls(&mut self, slip: Option<Slip>) {
@@ -279,10 +274,17 @@ impl Boundary {
         Ok(())
     }
 
-    /// Whether a particle may be spawned at `x`: at least `clearance` outside every collider.
-    pub fn admits(&self, x: Vec3, clearance: f32) -> bool {
+    /// Whether a particle may be spawned at `x`: at least 0.45 Δx outside every collider (closer
+    /// than half a spacing to a solid, it would start inside the solid's boundary layer).
+    pub fn admits_spawn(&self, x: Vec3) -> bool {
+        let clearance = 0.45 * self.spacing;
         self.colliders()
             .all(|(_, c)| c.signed_distance(x) >= clearance)
+    }
+
+    /// The colliders, in slot order.
+    pub fn collider_list(&self) -> Vec<Collider> {
+        self.colliders().map(|(_, c)| *c).collect()
     }
 
     /// Number of sorted samples (inside the grid's reach).

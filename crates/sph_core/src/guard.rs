@@ -70,15 +70,6 @@ pub fn tolerance(spacing: f32) -> f32 {
 }
 
 impl<'a> Guard<'a> {
-    /// A guard of the box only.
-    pub fn walls_only(walls: Walls) -> Self {
-        Self {
-            walls,
-            colliders: &[],
-            tolerance: 0.0,
-        }
-    }
-
     /// Moves a particle at `x` found inside a collider onto its surface and removes its velocity
     /// into the solid; clamps it into the box. Returns what was corrected.
     #[inline]

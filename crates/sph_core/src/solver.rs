@@ -398,14 +398,19 @@ impl CpuSolver {
         self.boundary_corrections
     }
 
+    /// The last-resort guard of this solver's box and `colliders` (its own, in the world).
+    fn guard<'a>(&self, colliders: &'a [Collider]) -> Guard<'a> {
+        Guard {
+            walls: self.container.walls(self.params.wall_damping),
+            colliders,
+            tolerance: crate::guard::tolerance(self.params.spacing()),
+        }
+    }
+
     /// Particles inside any collider now (deeper than the guard's tolerance).
     pub fn inside_collider_count(&self) -> usize {
-        let colliders: Vec<Collider> = self.colliders().map(|(_, c)| *c).collect();
-        let guard = Guard {
-            walls: self.container.walls(self.params.wall_damping),
-            colliders: &colliders,
-            tolerance: crate::guard::tolerance(self.params.spacing()),
-        };
+        let colliders = self.boundary.collider_list();
+        let guard = self.guard(&colliders);
         self.particles
             .position
             .par_iter()
@@ -431,16 +436,8 @@ impl CpuSolver {
     }
 
     fn spawn_each(&mut self, positions: &[Vec3], velocity: impl Fn(usize) -> Vec3) -> SpawnReport {
-        let colliders: Vec<Collider> = self.boundary.colliders().map(|(_, c)| *c).collect();
-        let guard = Guard {
-            walls: self.container.walls(self.params.wall_damping),
-            colliders: &colliders,
-            tolerance: crate::guard::tolerance(self.params.spacing()),
-        };
-        // A particle closer than half a spacing to a solid would start inside its boundary.
-        let clearance = 0.45 * self.params.spacing();
         let outside: Vec<usize> = (0..positions.len())
-            .filter(|&k| !guard.inside_any(positions[k], -clearance))
+            .filter(|&k| self.boundary.admits_spawn(positions[k]))
             .collect();
         let free = self.capacity - self.particles.len();
         let take = outside.len().min(free);
@@ -639,12 +636,8 @@ impl CpuSolver {
     fn advance(&mut self, dt_scale: f32) -> f32 {
         let ctx = StageContext::new(&self.params);
         let dt;
-        let colliders: Vec<Collider> = self.boundary.colliders().map(|(_, c)| *c).collect();
-        let guard = Guard {
-            walls: self.container.walls(self.params.wall_damping),
-            colliders: &colliders,
-            tolerance: crate::guard::tolerance(self.params.spacing()),
-        };
+        let colliders = self.boundary.collider_list();
+        let guard = self.guard(&colliders);
         let mut corrections = Corrections::default();
         match self.params.integrator {
             Integrator::SymplecticEuler => {

@@ -113,14 +113,6 @@ impl Buf {
         Buf::Colliders,
     ];
 
-    /// The boundary's buffers, sized by the samples and written by [`upload_boundary`].
-    pub const BOUNDARY: [Buf; 4] = [
-        Buf::BoundaryPosition,
-        Buf::BoundaryVelocity,
-        Buf::BoundaryCellStart,
-        Buf::Colliders,
-    ];
-
     /// The WGSL binding in group 0 (the uniform block is binding 0).
     pub fn binding(self) -> u32 {
         self as u32

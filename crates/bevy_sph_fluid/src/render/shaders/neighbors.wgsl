@@ -59,16 +59,26 @@ fn neighbor_range(c: vec3<i32>, q: u32) -> vec2<u32> {
     }
     return vec2<u32>(s - 1u, bucket_end[b]);
 #else
+    let cells = grid_row_cells(c, q);
+    if cells.x > cells.y {
+        return vec2<u32>(0u, 0u);
+    }
+    return vec2<u32>(cell_start[cells.x], cell_start[cells.y + 1u]);
+#endif
+}
+
+// The first and last cell of grid row q (dy, dz) spanning x-1..x+1 around the cell c, or (1, 0)
+// when the row lies outside the grid.
+fn grid_row_cells(c: vec3<i32>, q: u32) -> vec2<u32> {
     let dims = vec3<i32>(params.grid_dims.xyz);
     let y = c.y + i32(q % 3u) - 1;
     let z = c.z + i32(q / 3u) - 1;
     if y < 0 || y >= dims.y || z < 0 || z >= dims.z {
-        return vec2<u32>(0u, 0u);
+        return vec2<u32>(1u, 0u);
     }
     let x0 = max(c.x - 1, 0);
     let x1 = min(c.x + 1, dims.x - 1);
-    return vec2<u32>(cell_start[grid_index(vec3<i32>(x0, y, z))], cell_start[grid_index(vec3<i32>(x1, y, z)) + 1u]);
-#endif
+    return vec2<u32>(grid_index(vec3<i32>(x0, y, z)), grid_index(vec3<i32>(x1, y, z)));
 }
 
 // Whether a candidate at x_j in range q really belongs to it (hash collisions never count).
@@ -83,13 +93,9 @@ fn accepts(c: vec3<i32>, q: u32, x_j: vec3<f32>) -> bool {
 // The q-th (of 9) range of sorted boundary samples around the grid cell c: the boundary samples
 // are sorted over the dense grid in both search modes (Rust twin: sph_core::boundary).
 fn boundary_range(c: vec3<i32>, q: u32) -> vec2<u32> {
-    let dims = vec3<i32>(params.grid_dims.xyz);
-    let y = c.y + i32(q % 3u) - 1;
-    let z = c.z + i32(q / 3u) - 1;
-    if y < 0 || y >= dims.y || z < 0 || z >= dims.z {
+    let cells = grid_row_cells(c, q);
+    if cells.x > cells.y {
         return vec2<u32>(0u, 0u);
     }
-    let x0 = max(c.x - 1, 0);
-    let x1 = min(c.x + 1, dims.x - 1);
-    return vec2<u32>(boundary_cell_start[grid_index(vec3<i32>(x0, y, z))], boundary_cell_start[grid_index(vec3<i32>(x1, y, z)) + 1u]);
+    return vec2<u32>(boundary_cell_start[cells.x], boundary_cell_start[cells.y + 1u]);
 }
