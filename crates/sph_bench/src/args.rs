@@ -5,7 +5,7 @@
 use crate::scenarios::Scenario;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{ArgAction, Args, Parser, Subcommand, ValueEnum};
-use sph_core::{Integrator, NeighborSearch};
+use sph_core::{Integrator, NeighborSearch, Solver};
 use std::fmt::Display;
 use std::path::PathBuf;
 use std::str::FromStr;
@@ -111,6 +111,32 @@ fn named<T: Copy + Send + Sync + 'static>(
     })
 }
 
+/// The pressure solvers by command-line name, with their help.
+pub const SOLVERS: [(&str, &str, Solver); 2] = [
+    (
+        "wcsph",
+        "weakly compressible SPH, dt from the speed of sound",
+        Solver::Wcsph,
+    ),
+    (
+        "dfsph",
+        "divergence-free SPH (Bender & Koschier 2017), dt from the flow speed",
+        Solver::Dfsph,
+    ),
+];
+
+fn solver() -> impl TypedValueParser<Value = Solver> {
+    named(&SOLVERS)
+}
+
+fn percent(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| v > 0.0 && v <= 10.0, "(0, 10] %")
+}
+
+fn percent_per_second(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| v > 0.0 && v <= 1000.0, "(0, 1000] %/s")
+}
+
 fn integrator() -> impl TypedValueParser<Value = Integrator> {
     named(&INTEGRATORS)
 }
@@ -200,6 +226,20 @@ pub struct RunArgs {
     /// Which solver runs the scenario.
     #[arg(long, value_enum, default_value = "cpu")]
     pub backend: Backend,
+    /// The pressure solver. DFSPH uses its own time-step rule (λ Δx / v_max, at most 5 ms)
+    /// unless --dt is given.
+    #[arg(long, value_name = "NAME", value_parser = solver(), default_value = "wcsph")]
+    pub solver: Solver,
+    /// DFSPH: the largest mean density error of the constant-density solve [%] [default: 0.01].
+    #[arg(long, value_name = "PERCENT", value_parser = percent)]
+    pub density_error: Option<f32>,
+    /// DFSPH: the largest mean divergence error of the divergence-free solve [%/s]
+    /// [default: 0.1].
+    #[arg(long, value_name = "PERCENT_PER_S", value_parser = percent_per_second)]
+    pub divergence_error: Option<f32>,
+    /// DFSPH: warm-start each solve from the previous step's stiffness.
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
+    pub warm_start: bool,
     /// About how many particles (dambreak32k has its own 31,250) [particles].
     #[arg(long, value_name = "N", value_parser = particles, default_value = "8192")]
     pub particles: usize,
@@ -260,6 +300,10 @@ impl Default for RunArgs {
         Self {
             scenario: Scenario::DamBreak,
             backend: Backend::Cpu,
+            solver: Solver::Wcsph,
+            density_error: None,
+            divergence_error: None,
+            warm_start: true,
             particles: 8_192,
             a: 0.146,
             integrator: Integrator::KickDriftKick,

@@ -88,6 +88,14 @@ pub struct Report {
     pub integrator: String,
     /// Neighbour search.
     pub search: String,
+    /// Pressure solver: "wcsph" or "dfsph".
+    pub solver: String,
+    /// DFSPH: constant-density iterations per step, mean over the run (0 with WCSPH).
+    pub pressure_iterations_mean: f64,
+    /// DFSPH: the most constant-density iterations of any step.
+    pub pressure_iterations_max: u32,
+    /// DFSPH: divergence-free iterations per step, mean over the run.
+    pub divergence_iterations_mean: f64,
     /// Surface tension on.
     pub surface_tension: bool,
     /// dt chosen every step by the CFL rule.
@@ -119,6 +127,9 @@ pub struct Report {
     /// The largest mean compression error seen over the run [%] (sampled every 0.01 s in the
     /// dam-break and hydrostatic scenarios; the end value otherwise).
     pub density_error_mean_max_pct: f32,
+    /// The mean compression error [%] averaged over the run's samples (every 0.01 s; the end
+    /// value where the run takes no samples: GPU runs other than the dam break and the tank).
+    pub density_error_mean_run_pct: f32,
     /// Particles with NaN/infinite state at the end.
     pub nan_count: usize,
     /// Particles outside the container at the end.

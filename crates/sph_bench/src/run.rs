@@ -10,7 +10,7 @@ use crate::scenarios::{setup, Setup, G};
 use crate::sim::{CpuSimulation, GpuSimulation, Simulation, State};
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
-use sph_core::{Diagnostics, Integrator, NeighborSearch, Rollback};
+use sph_core::{Diagnostics, Integrator, NeighborSearch, Rollback, Solver};
 
 /// Interval between samples of the state [s].
 pub const SAMPLE_INTERVAL: f64 = 0.01;
@@ -29,15 +29,38 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
         // ν = α h c0 / 10, as in the derivation.
         p.set_artificial_viscosity_alpha(alpha);
     }
-    if let Some(dt) = args.dt {
-        p.time_step = dt;
-    }
-    p.adaptive_time_step = args.adaptive;
-    if let Some(lambda) = args.cfl {
-        p.cfl_factor = lambda;
-        if !args.adaptive && args.dt.is_none() {
-            // A fixed step from the CFL factor: dt = λ h / (c0 + v_peak), v_peak = c0 / 10.
-            p.time_step = lambda * p.smoothing_radius / (1.1 * p.speed_of_sound());
+    match args.solver {
+        Solver::Wcsph => {
+            if let Some(dt) = args.dt {
+                p.time_step = dt;
+            }
+            p.adaptive_time_step = args.adaptive;
+            if let Some(lambda) = args.cfl {
+                p.cfl_factor = lambda;
+                if !args.adaptive && args.dt.is_none() {
+                    // A fixed step from the CFL factor: dt = λ h / (c0 + v_peak), v_peak = c0 / 10.
+                    p.time_step = lambda * p.smoothing_radius / (1.1 * p.speed_of_sound());
+                }
+            }
+        }
+        Solver::Dfsph => {
+            if let Some(lambda) = args.cfl {
+                p.cfl_factor = lambda;
+            }
+            // The solver's own rule, unless a dt is given (then fixed, or the largest with
+            // --adaptive on).
+            p.use_solver(Solver::Dfsph);
+            if let Some(dt) = args.dt {
+                p.time_step = dt;
+                p.adaptive_time_step = args.adaptive;
+            }
+            if let Some(pct) = args.density_error {
+                p.dfsph.max_density_error = pct / 100.0;
+            }
+            if let Some(pct) = args.divergence_error {
+                p.dfsph.max_divergence_error = pct / 100.0;
+            }
+            p.dfsph.warm_start = args.warm_start;
         }
     }
     s.rollback = rollback(args.rollback);
@@ -77,11 +100,19 @@ struct Samples {
     hydrostatic: Option<HydrostaticSampler>,
     /// The largest mean compression error seen [%].
     density_error_peak: f32,
+    /// Σ and count of the sampled mean compression errors [%].
+    density_error_sum: f64,
+    density_error_samples: u64,
+    /// Sample the density even without a dam break or a tank (cheap on the CPU).
+    track_density: bool,
 }
 
 impl Samples {
-    fn for_setup(setup: &Setup) -> Self {
+    fn for_setup(setup: &Setup, backend: Backend) -> Self {
         Self {
+            track_density: backend == Backend::Cpu,
+            density_error_sum: 0.0,
+            density_error_samples: 0,
             dam_break: setup.column_width_a.map(|a| DamBreakFigures {
                 column_width_a: a,
                 ..Default::default()
@@ -92,12 +123,23 @@ impl Samples {
     }
 
     fn wanted(&self) -> bool {
-        self.dam_break.is_some() || self.hydrostatic.is_some()
+        self.track_density || self.dam_break.is_some() || self.hydrostatic.is_some()
+    }
+
+    /// The mean of the sampled mean compression errors, or `end` without samples.
+    fn density_error_run(&self, end: f32) -> f32 {
+        if self.density_error_samples == 0 {
+            end
+        } else {
+            (self.density_error_sum / self.density_error_samples as f64) as f32
+        }
     }
 
     fn record(&mut self, setup: &Setup, time: f64, state: &State) {
         let d = diagnostics(setup, state);
         self.density_error_peak = self.density_error_peak.max(d.density_error_mean_pct);
+        self.density_error_sum += d.density_error_mean_pct as f64;
+        self.density_error_samples += 1;
         if let Some(d) = &mut self.dam_break {
             let a = d.column_width_a as f64;
             let link = setup.scene.params.smoothing_radius;
@@ -163,7 +205,7 @@ pub fn run_setup(
 ) -> Result<Report, String> {
     let mut sim = simulation(setup, backend, substeps, bars)?;
     let params = setup.scene.params;
-    let mut samples = Samples::for_setup(setup);
+    let mut samples = Samples::for_setup(setup, backend);
     let mut times = Vec::new();
     let mut next_sample = 0.0;
     let mut progress = bars.run(setup.scenario.name(), progress_units(duration, 0, 0.0).1);
@@ -244,6 +286,11 @@ pub fn run_setup(
         particles,
         integrator: integrator.into(),
         search: search.into(),
+        solver: params.solver.name().into(),
+        pressure_iterations_mean: sim.iterations().means().0,
+        pressure_iterations_max: sim.iterations().means().1,
+        divergence_iterations_mean: sim.iterations().means().2,
+        density_error_mean_run_pct: samples.density_error_run(d.density_error_mean_pct),
         surface_tension: params.has_surface_tension(),
         adaptive_time_step: params.adaptive_time_step,
         cfl_factor: params.cfl_factor,
@@ -401,6 +448,12 @@ fn buoyancy(setup: &Setup, forces: &[ColliderForceReport]) -> Option<BuoyancyFig
 
 /// `sph-bench run`.
 pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
+    if args.backend == Backend::Gpu && args.solver != Solver::Wcsph {
+        return Err(format!(
+            "--solver {} runs on the CPU backend only (--backend cpu): its GPU passes are not built yet",
+            args.solver.name()
+        ));
+    }
     let setup = configured_setup(args);
     let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
     run_setup(&setup, args.backend, args.substeps, duration, bars)

@@ -19,6 +19,39 @@ pub struct State {
     pub densities: Vec<f32>,
 }
 
+/// Pressure-solver iterations summed over steps (DFSPH; zeros with WCSPH).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct IterationTotals {
+    /// Steps counted.
+    pub steps: u64,
+    /// Σ constant-density iterations.
+    pub density: u64,
+    /// The most constant-density iterations of one step.
+    pub density_max: u32,
+    /// Σ divergence-free iterations.
+    pub divergence: u64,
+}
+
+impl IterationTotals {
+    /// Adds one step's iterations.
+    pub fn add(&mut self, density: u32, divergence: u32) {
+        self.steps += 1;
+        self.density += density as u64;
+        self.density_max = self.density_max.max(density);
+        self.divergence += divergence as u64;
+    }
+
+    /// (mean constant-density, largest, mean divergence-free) iterations per step.
+    pub fn means(&self) -> (f64, u32, f64) {
+        let n = self.steps.max(1) as f64;
+        (
+            self.density as f64 / n,
+            self.density_max,
+            self.divergence as f64 / n,
+        )
+    }
+}
+
 /// A running simulation on either backend.
 pub trait Simulation {
     /// Takes up to `steps` steps; returns how many were taken and the wall-clock time [ms].
@@ -50,6 +83,8 @@ pub trait Simulation {
     /// The water's force on each of the setup's colliders averaged since the last call, with
     /// the number of force evaluations averaged (CPU; the GPU has no collider forces yet).
     fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)>;
+    /// The pressure solver's iterations so far.
+    fn iterations(&self) -> IterationTotals;
 }
 
 /// The CPU reference solver, with the scenario's emitter fed every step and its kinematic
@@ -59,6 +94,7 @@ pub struct CpuSimulation {
     emitter: Option<PipeEmitter>,
     colliders: Vec<(ScenarioCollider, ColliderId)>,
     spawns_inside_colliders: u64,
+    iterations: IterationTotals,
 }
 
 impl CpuSimulation {
@@ -88,6 +124,7 @@ impl CpuSimulation {
             emitter: setup.emitter.clone(),
             colliders,
             spawns_inside_colliders: report.inside_colliders as u64,
+            iterations: IterationTotals::default(),
         })
     }
 
@@ -119,7 +156,13 @@ impl Simulation for CpuSimulation {
                 self.solver.spawn(&emission.positions, emission.velocity);
             }
             self.move_colliders();
+            let before = self.solver.step_count();
             self.solver.step();
+            if self.solver.step_count() > before {
+                let stats = self.solver.solver_stats();
+                self.iterations
+                    .add(stats.density_iterations, stats.divergence_iterations);
+            }
         }
         Ok((steps, t.elapsed().as_secs_f64() * 1e3))
     }
@@ -199,6 +242,10 @@ impl Simulation for CpuSimulation {
             })
             .collect();
         Some((by_id, n))
+    }
+
+    fn iterations(&self) -> IterationTotals {
+        self.iterations
     }
 }
 
@@ -403,5 +450,9 @@ impl Simulation for GpuSimulation {
 
     fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)> {
         None
+    }
+
+    fn iterations(&self) -> IterationTotals {
+        IterationTotals::default()
     }
 }

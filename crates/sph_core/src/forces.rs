@@ -26,6 +26,9 @@ pub struct ForceInputs<'a> {
     pub normal: &'a [Vec3],
     /// The boundary samples, if the walls or any collider are sampled.
     pub boundary: Option<&'a Boundary>,
+    /// Include the pressure terms; false gives the non-pressure accelerations alone (viscosity,
+    /// surface tension, gravity, boundary friction), what DFSPH's solves start from.
+    pub with_pressure: bool,
 }
 
 /// The fluid's acceleration of particle i:
@@ -55,8 +58,11 @@ pub fn acceleration_at(
         }
         let r_len = r2.sqrt();
         let rho_j = input.density[j];
-        // Monaghan 1992, the symmetric form: a_i^p = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky(r_ij).
-        pressure -= ctx.kernels.spiky_grad(r, r_len) * (p_i + input.pressure[j] / (rho_j * rho_j));
+        if input.with_pressure {
+            // Monaghan 1992, the symmetric form: a_i^p = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky(r_ij).
+            pressure -=
+                ctx.kernels.spiky_grad(r, r_len) * (p_i + input.pressure[j] / (rho_j * rho_j));
+        }
         if with_viscosity {
             // Design eq. 10: f_i^v = μ Σ m (v_j - v_i) / ρ_j ∇²W_visc(r_ij).
             viscosity +=
@@ -127,18 +133,24 @@ pub fn boundary_acceleration_at(
         .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
             let r_len = r2.sqrt();
             let volume = boundary.volume[b];
-            let mirrored = *mirrored.get_or_insert_with(|| {
-                let p_i = input.pressure[i];
-                let p_w = match p_around.take() {
-                    Some(around) if p_i <= 0.0 => around(),
-                    _ => p_i,
-                };
-                p_w / (rho_i * rho_i) + p_w / (rho0 * rho0)
-            });
-            let mut a = ctx.kernels.spiky_grad(r, r_len)
-                * (-rho0 * volume * mirrored * ctx.pressure_gradient_scale);
             let body = boundary.body[b];
             let friction = boundary.friction[body as usize];
+            if !input.with_pressure && friction == 0.0 {
+                return;
+            }
+            let mut a = Vec3::ZERO;
+            if input.with_pressure {
+                let mirrored = *mirrored.get_or_insert_with(|| {
+                    let p_i = input.pressure[i];
+                    let p_w = match p_around.take() {
+                        Some(around) if p_i <= 0.0 => around(),
+                        _ => p_i,
+                    };
+                    p_w / (rho_i * rho_i) + p_w / (rho0 * rho0)
+                });
+                a = ctx.kernels.spiky_grad(r, r_len)
+                    * (-rho0 * volume * mirrored * ctx.pressure_gradient_scale);
+            }
             if friction > 0.0 {
                 a += (boundary.velocity[b] - v_i)
                     * (friction * viscous * volume * ctx.kernels.viscosity_laplacian(r_len));

@@ -2,6 +2,7 @@
 //! calculation" from a particle spacing, and validation with errors that name the field.
 
 use crate::kernel::Kernels;
+use crate::solvers::{DfsphSettings, Solver, DFSPH_MAX_TIME_STEP};
 use glam::Vec3;
 use std::fmt;
 
@@ -79,6 +80,10 @@ pub struct SphParams {
     pub integrator: Integrator,
     /// Neighbour-search structure.
     pub neighbor_search: NeighborSearch,
+    /// The pressure solver ([`Self::use_solver`] also sets its own time-step rule).
+    pub solver: Solver,
+    /// Settings of [`Solver::Dfsph`].
+    pub dfsph: DfsphSettings,
 }
 
 /// A parameter outside its allowed range: names the field, the value and the range.
@@ -194,6 +199,8 @@ impl SphParams {
             cfl_factor: DEFAULT_CFL_FACTOR,
             integrator: Integrator::Leapfrog,
             neighbor_search: NeighborSearch::Grid,
+            solver: Solver::Wcsph,
+            dfsph: DfsphSettings::default(),
         }
     }
 
@@ -228,6 +235,26 @@ impl SphParams {
             cfl_factor: d.cfl,
             integrator: Integrator::KickDriftKick,
             neighbor_search: NeighborSearch::Grid,
+            solver: Solver::Wcsph,
+            dfsph: DfsphSettings::default(),
+        }
+    }
+
+    /// Switches to `solver` with its own time-step rule: for WCSPH the fixed dt of
+    /// [`Self::from_spacing`] (λ h / (c0 + v_peak) with v_peak = c0 / 10), for DFSPH the adaptive
+    /// rule λ Δx / v_max clamped to [`DFSPH_MAX_TIME_STEP`]. Other fields stay.
+    pub fn use_solver(&mut self, solver: Solver) {
+        self.solver = solver;
+        match solver {
+            Solver::Wcsph => {
+                let c0 = self.speed_of_sound();
+                self.time_step = self.cfl_factor * self.smoothing_radius / (1.1 * c0);
+                self.adaptive_time_step = false;
+            }
+            Solver::Dfsph => {
+                self.time_step = DFSPH_MAX_TIME_STEP;
+                self.adaptive_time_step = true;
+            }
         }
     }
 
@@ -335,7 +362,7 @@ impl SphParams {
         check_range("wall_damping", self.wall_damping, 0.0, true, 1.0, "[0, 1]")?;
         check_range("time_step", self.time_step, 0.0, false, 1.0, "(0, 1] s")?;
         check_range("cfl_factor", self.cfl_factor, 0.0, false, 1.0, "(0, 1]")?;
-        Ok(())
+        self.dfsph.validate()
     }
 
     /// Whether the surface-tension stage (normals pass and cohesion/curvature terms) is needed.

@@ -82,6 +82,7 @@ fn the_fluid_force_on_a_collider_balances_the_particles_reaction() {
         pressure: &[1000.0],
         normal: &[],
         boundary: Some(&boundary),
+        with_pressure: true,
     };
     let mut on_body = BodyForceSum::default();
     let a = boundary_acceleration_at(

@@ -4,9 +4,11 @@
 
 pub mod grid;
 pub mod hash;
+pub mod lists;
 
 pub use grid::DenseGrid;
 pub use hash::SpatialHash;
+pub use lists::NeighborLists;
 
 use crate::container::BoxContainer;
 use crate::params::{NeighborSearch, ParamError};

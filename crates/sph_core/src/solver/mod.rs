@@ -14,12 +14,15 @@ use crate::integrate;
 use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
 use crate::rollback::{Rollback, RollbackState, Verdict};
+use crate::solvers::{Solver, SolverStats};
 use crate::stability::{adaptive_time_step, StepExtremes};
 use crate::stage::{evaluation_stages, CpuStage, StageContext};
 use crate::surface_tension_akinci2013::compute_normals;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
+
+mod dfsph;
 
 /// Structure-of-arrays particle state, kept in the neighbour-sort order of the last evaluation.
 #[derive(Clone, Debug, Default)]
@@ -42,6 +45,11 @@ pub struct ParticleData {
     pub normal: Vec<Vec3>,
     /// Stable particle identifiers (spawn order), so sorted states can be compared.
     pub id: Vec<u32>,
+    /// DFSPH: the constant-density solve's stiffness κ of the last step [m⁵/(kg s²)], its warm
+    /// start (see [`crate::dfsph_bender2017`]); zero with WCSPH.
+    pub stiffness_density: Vec<f32>,
+    /// DFSPH: the divergence-free solve's stiffness of the last step, likewise.
+    pub stiffness_divergence: Vec<f32>,
 }
 
 impl ParticleData {
@@ -68,6 +76,9 @@ impl ParticleData {
         self.pressure.clone_from(&other.pressure);
         self.normal.clone_from(&other.normal);
         self.id.clone_from(&other.id);
+        self.stiffness_density.clone_from(&other.stiffness_density);
+        self.stiffness_divergence
+            .clone_from(&other.stiffness_divergence);
     }
 
     /// Gathers every per-particle array by `order` (sorted slot k takes particle order[k]).
@@ -85,6 +96,10 @@ impl ParticleData {
         }
         let id: Vec<u32> = order.iter().map(|&i| self.id[i as usize]).collect();
         self.id = id;
+        for field in [&mut self.stiffness_density, &mut self.stiffness_divergence] {
+            let sorted: Vec<f32> = order.iter().map(|&i| field[i as usize]).collect();
+            *field = sorted;
+        }
     }
 }
 
@@ -113,16 +128,19 @@ pub struct StageTimings {
     pub forces: Duration,
     /// Integration and wall collisions.
     pub integrate: Duration,
+    /// DFSPH: neighbour lists, factors and the two pressure solves.
+    pub pressure_solve: Duration,
 }
 
 impl StageTimings {
     /// (stage name, time) pairs in pipeline order.
-    pub fn stages(&self) -> [(&'static str, Duration); 5] {
+    pub fn stages(&self) -> [(&'static str, Duration); 6] {
         [
             ("sort", self.sort),
             ("density", self.density),
             ("normals", self.normals),
             ("forces", self.forces),
+            ("pressure solve", self.pressure_solve),
             ("integrate", self.integrate),
         ]
     }
@@ -173,6 +191,10 @@ pub struct CpuSolver {
     body_force_sums: (Vec<BodyForceSum>, u64),
     /// The fluid's force on each boundary body in the last evaluation.
     last_body_forces: Vec<BodyForceSum>,
+    /// DFSPH's per-step scratch (neighbour lists, factors, sources).
+    dfsph: dfsph::DfsphScratch,
+    /// What the pressure solves of the last step did.
+    solver_stats: SolverStats,
 }
 
 /// Checks a particle capacity (1 ..= 2^26).
@@ -209,6 +231,8 @@ impl CpuSolver {
             boundary_corrections: Corrections::default(),
             body_force_sums: (Vec::new(), 0),
             last_body_forces: Vec::new(),
+            dfsph: dfsph::DfsphScratch::default(),
+            solver_stats: SolverStats::default(),
             params,
             container,
             capacity,
@@ -453,6 +477,8 @@ impl CpuSolver {
             p.density.push(rho0);
             p.pressure.push(0.0);
             p.normal.push(Vec3::ZERO);
+            p.stiffness_density.push(0.0);
+            p.stiffness_divergence.push(0.0);
             p.id.push(self.next_id);
             self.next_id += 1;
         }
@@ -518,6 +544,9 @@ impl CpuSolver {
     /// (symplectic Euler, the design's leapfrog) or with the previous step's closing
     /// acceleration (kick-drift-kick).
     pub fn next_time_step(&self) -> f32 {
+        if self.params.solver == Solver::Dfsph {
+            return self.dfsph_next_time_step();
+        }
         if !self.params.adaptive_time_step {
             return self.params.time_step;
         }
@@ -529,6 +558,9 @@ impl CpuSolver {
     /// Force evaluations the next step takes: two for the design's leapfrog, one otherwise, plus
     /// one for kick-drift-kick right after a spawn or parameter change.
     pub fn evaluations_per_step(&self) -> u32 {
+        if self.params.solver == Solver::Dfsph {
+            return 1;
+        }
         match self.params.integrator {
             Integrator::Leapfrog => 2,
             Integrator::SymplecticEuler => 1,
@@ -574,6 +606,7 @@ impl CpuSolver {
                         pressure: &p.pressure,
                         normal: &p.normal,
                         boundary: Some(boundary),
+                        with_pressure: true,
                     };
                     let forces = timed(&mut t.forces, || {
                         compute_accelerations(ctx, neighbors, &input, &mut p.acceleration)
@@ -634,6 +667,10 @@ impl CpuSolver {
 
     /// One step with the selected integrator at `dt_scale` times the rule's dt; returns its dt.
     fn advance(&mut self, dt_scale: f32) -> f32 {
+        if self.params.solver == Solver::Dfsph {
+            return self.advance_dfsph(dt_scale);
+        }
+        self.solver_stats = SolverStats::default();
         let ctx = StageContext::new(&self.params);
         let dt;
         let colliders = self.boundary.collider_list();
@@ -715,6 +752,11 @@ impl CpuSolver {
         self.forces_stale = false;
         self.boundary_corrections += corrections;
         dt
+    }
+
+    /// What the pressure solves of the last step did (zeros with WCSPH).
+    pub fn solver_stats(&self) -> SolverStats {
+        self.solver_stats
     }
 
     /// Wall-clock time per stage accumulated since creation or [`Self::reset_timings`].

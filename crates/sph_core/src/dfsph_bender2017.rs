@@ -1,0 +1,227 @@
+//! Divergence-free SPH (Bender & Koschier 2015, "Divergence-free smoothed particle
+//! hydrodynamics"; 2017, IEEE TVCG): the stages of the two pressure solves, written over
+//! [`NeighborLists`] so that one step's dozen passes over the same pairs read lists instead of
+//! walking cells. The step that strings them together is `CpuSolver`'s (`solver/dfsph.rs`).
+//!
+//! DFSPH measures density with its own kernel, the cubic spline ([`crate::kernel::CubicSpline`],
+//! normalised on the rest lattice), and every gradient below is of that same kernel, so that the
+//! solve predicts the density it will measure after the move. Poly6, the WCSPH density kernel,
+//! was tried first: its gradient peaks at 0.45 h, so close to the rest spacing h/2 that
+//! compressed pairs stop repelling, and a tank at rest sank into its floor (docs/dfsph.md).
+//!
+//! Notation:
+//! - g_ij = m ∇W(x_i - x_j) for fluid neighbours, g_ib = Ψ_b ∇W(x_i - x_b) with Ψ_b = ρ0 V_b for
+//!   boundary samples (Akinci 2012);
+//! - the stiffness κ_i [m⁵/(kg s²)] is a pressure over density squared, p_i/ρ_i², so it does not
+//!   depend on dt and warm-starts across steps whose dt differ;
+//! - the pressure acceleration is a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib (the symmetric
+//!   form, the boundary answering with the particle's own stiffness);
+//! - the rate of density change is Dρ_i/Dt = Σ_j (v_i - v_j)·g_ij + Σ_b (v_i - v_b)·g_ib.
+//!
+//! Assuming κ_j ≈ κ_i around i, a velocity change of dt a_i changes Dρ_i/Dt by -dt κ_i D_i with
+//! D_i = |Σ_j g_ij + Σ_b g_ib|² + Σ_j |g_ij|² (the DFSPH factor is α_i = ρ_i / D_i in the
+//! paper's κ; ours is 1 / D_i). Hence the stiffness that removes a predicted density excess
+//! s_i = ρ*_i - ρ0 in one step is κ_i = s_i / (dt² D_i), and the one that removes a compression
+//! rate d_i = Dρ_i/Dt is κ_i = d_i / (dt D_i).
+
+use crate::boundary::{BodyForceSum, Boundary};
+use crate::neighbor::lists::{NeighborLists, PairsOf};
+use crate::params::SphParams;
+use crate::stability::viscous_limit;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// A particle with fewer neighbours (fluid and boundary) than this lies at a free surface, and
+/// the divergence-free solve leaves it alone: the missing neighbours make any motion look like
+/// expansion or compression, and correcting it makes the surface sticky.
+pub const INTERIOR_NEIGHBORS: usize = 20;
+
+/// The quantities of particle i that stay constant through a step's solves.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ParticleFactor {
+    /// 1 / D_i (0 when D_i is too small: an isolated particle is not corrected).
+    pub inverse_factor: f32,
+    /// Σ_b g_ib, the boundary's share of the pressure acceleration per unit κ_i.
+    pub boundary_grad: Vec3,
+    /// Σ_b v_b·g_ib, the moving boundary's share of Dρ_i/Dt.
+    pub boundary_flux: f32,
+    /// Fluid and boundary neighbours.
+    pub neighbor_count: u32,
+}
+
+/// D_i below this fraction of the rest lattice's D gets no correction.
+const FACTOR_EPSILON: f32 = 1.0e-6;
+
+/// Fills `factors` from the lists: 1/D_i, Σ_b g_ib, Σ_b v_b·g_ib, neighbour counts.
+/// `reference` is a typical D (the rest lattice's) that scales the cut-off for isolated particles.
+pub fn compute_factors(
+    lists: &NeighborLists,
+    boundary: Option<&Boundary>,
+    reference: f32,
+    factors: &mut [ParticleFactor],
+) {
+    lists.update(factors, |_, pairs, out| {
+        let mut sum = Vec3::ZERO;
+        let mut squares = 0.0;
+        for pair in pairs.fluid {
+            sum += pair.grad;
+            squares += pair.grad.length_squared();
+        }
+        let mut boundary_grad = Vec3::ZERO;
+        let mut boundary_flux = 0.0;
+        if let Some(b) = boundary {
+            for pair in pairs.boundary {
+                boundary_grad += pair.grad;
+                boundary_flux += b.velocity[pair.index as usize].dot(pair.grad);
+            }
+        }
+        let d = (sum + boundary_grad).length_squared() + squares;
+        *out = ParticleFactor {
+            inverse_factor: if d > FACTOR_EPSILON * reference {
+                1.0 / d
+            } else {
+                0.0
+            },
+            boundary_grad,
+            boundary_flux,
+            neighbor_count: (pairs.fluid.len() + pairs.boundary.len()) as u32,
+        };
+    });
+}
+
+/// Dρ_i/Dt at the velocities `v`.
+#[inline]
+pub fn density_rate(i: usize, pairs: PairsOf, v: &[Vec3], factor: &ParticleFactor) -> f32 {
+    let v_i = v[i];
+    let fluid: f32 = pairs
+        .fluid
+        .iter()
+        .map(|p| (v_i - v[p.index as usize]).dot(p.grad))
+        .sum();
+    fluid + v_i.dot(factor.boundary_grad) - factor.boundary_flux
+}
+
+/// The constant-density solve's source: the predicted density's excess
+/// s_i = max(ρ_i + dt Dρ_i/Dt - ρ0, 0) [kg/m³] (a deficit is the missing air of a free surface,
+/// not a tension). Returns Σ_i s_i.
+pub fn density_source(
+    lists: &NeighborLists,
+    v: &[Vec3],
+    density: &[f32],
+    factors: &[ParticleFactor],
+    rest_density: f32,
+    dt: f32,
+    source: &mut [f32],
+) -> f64 {
+    lists.update(source, |i, pairs, s| {
+        let predicted = density[i] + dt * density_rate(i, pairs, v, &factors[i]);
+        *s = (predicted - rest_density).max(0.0);
+    });
+    source.par_iter().map(|&s| s as f64).sum()
+}
+
+/// The divergence-free solve's source: the compression rate d_i = max(Dρ_i/Dt, 0)
+/// [kg/(m³ s)], zero for particles with fewer than [`INTERIOR_NEIGHBORS`]. Returns Σ_i d_i.
+pub fn divergence_source(
+    lists: &NeighborLists,
+    v: &[Vec3],
+    factors: &[ParticleFactor],
+    source: &mut [f32],
+) -> f64 {
+    lists.update(source, |i, pairs, d| {
+        let factor = &factors[i];
+        *d = if factor.neighbor_count as usize >= INTERIOR_NEIGHBORS {
+            density_rate(i, pairs, v, factor).max(0.0)
+        } else {
+            0.0
+        };
+    });
+    source.par_iter().map(|&d| d as f64).sum()
+}
+
+/// One Jacobi update of the stiffness: κ_i = scale · source_i / D_i (scale 1/dt² for the
+/// density solve, 1/dt for the divergence solve), added to the step's running `total`.
+pub fn stiffness_from_source(
+    source: &[f32],
+    factors: &[ParticleFactor],
+    scale: f32,
+    stiffness: &mut [f32],
+    total: &mut [f32],
+) {
+    stiffness
+        .par_iter_mut()
+        .zip(total.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (k, sum))| {
+            *k = scale * source[i] * factors[i].inverse_factor;
+            *sum += *k;
+        });
+}
+
+/// v_i += dt a_i with the pressure acceleration a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib.
+pub fn apply_stiffness(
+    lists: &NeighborLists,
+    stiffness: &[f32],
+    factors: &[ParticleFactor],
+    dt: f32,
+    v: &mut [Vec3],
+) {
+    lists.update(v, |i, pairs, v_i| {
+        let k_i = stiffness[i];
+        let mut a = -k_i * factors[i].boundary_grad;
+        for p in pairs.fluid {
+            a -= (k_i + stiffness[p.index as usize]) * p.grad;
+        }
+        *v_i += a * dt;
+    });
+}
+
+/// The fluid's force on each boundary body from the stiffness `total` of a solve: the reaction
+/// -m a_ib = m κ_i g_ib of every pair, at the sample, with its torque about the body's origin
+/// (Akinci 2012's two-way coupling). Indexed like [`Boundary::friction`].
+pub fn boundary_reactions(
+    lists: &NeighborLists,
+    boundary: &Boundary,
+    total: &[f32],
+    mass: f32,
+) -> Vec<BodyForceSum> {
+    let bodies = boundary.body_count();
+    lists.fold(
+        || vec![BodyForceSum::default(); bodies],
+        |mut sums, i, pairs| {
+            let k = total[i] * mass;
+            if k != 0.0 {
+                for p in pairs.boundary {
+                    let b = p.index as usize;
+                    let body = boundary.body[b] as usize;
+                    sums[body].add(p.grad * k, boundary.position[b], boundary.origin[body]);
+                }
+            }
+            sums
+        },
+        |mut a, b| {
+            a.iter_mut().zip(&b).for_each(|(a, b)| a.merge(b));
+            a
+        },
+    )
+}
+
+/// DFSPH's time step: `params.time_step` when fixed; with `params.adaptive_time_step`,
+/// min(time_step, λ Δx / v_max, 0.125 h² / ν): the CFL rule of the flow speed (Bender & Koschier
+/// 2017, λ = `cfl_factor`, Δx the particle spacing), with no speed of sound.
+pub fn dfsph_time_step(params: &SphParams, max_speed: f32) -> f32 {
+    if !params.adaptive_time_step {
+        return params.time_step;
+    }
+    let cfl = if max_speed > 0.0 {
+        params.cfl_factor * params.spacing() / max_speed
+    } else {
+        f32::INFINITY
+    };
+    let dt = params.time_step.min(cfl).min(viscous_limit(params));
+    if dt.is_finite() && dt > 0.0 {
+        dt
+    } else {
+        params.time_step
+    }
+}

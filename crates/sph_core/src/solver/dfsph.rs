@@ -1,0 +1,306 @@
+//! [`CpuSolver`]'s DFSPH step, the simulation loop of Bender & Koschier 2017 over the stages of
+//! [`crate::dfsph_bender2017`]:
+//!
+//! 1. non-pressure accelerations a_np (viscosity, surface tension, gravity, boundary friction)
+//!    at the step's start, where densities, factors and lists are already known;
+//! 2. dt from the flow speed ([`dfsph_time_step`]);
+//! 3. predicted velocities v* = v + dt a_np;
+//! 4. the constant-density solve corrects v* until the predicted density error is small;
+//! 5. x += dt v*, the guard;
+//! 6. neighbour sort, densities, lists and factors at the new positions;
+//! 7. the divergence-free solve corrects v until Dρ/Dt is small.
+//!
+//! Each solve warm-starts from its stiffness of the previous step and runs iterations of two
+//! passes (apply the stiffness, predict the error): the GPU's two dispatches per iteration.
+
+use super::{timed, CpuSolver};
+use crate::boundary::BodyForceSum;
+use crate::dfsph_bender2017::{
+    apply_stiffness, boundary_reactions, compute_factors, density_source, dfsph_time_step,
+    divergence_source, stiffness_from_source, ParticleFactor,
+};
+use crate::forces::{compute_accelerations, ForceInputs};
+use crate::guard::Corrections;
+use crate::kernel::CubicSpline;
+use crate::neighbor::lists::NeighborLists;
+use crate::solvers::SolverStats;
+use crate::stage::StageContext;
+use crate::surface_tension_akinci2013::compute_normals;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// The fraction of the previous step's stiffness a solve starts from (Bender & Koschier 2017
+/// warm-start from the previous stiffness). Measured on the hydrostatic tank and dambreak32k
+/// (docs/dfsph.md): all of it overshoots (a solve only adds pressure, so an excess from the
+/// last step cannot be taken back) and sets the tank and the dam break flying; half of it is
+/// stable.
+pub const WARM_START_FRACTION: f32 = 0.5;
+
+/// DFSPH's per-step scratch arrays.
+#[derive(Clone, Debug)]
+pub(super) struct DfsphScratch {
+    lists: NeighborLists,
+    factors: Vec<ParticleFactor>,
+    source: Vec<f32>,
+    stiffness: Vec<f32>,
+    /// The kernel of DFSPH's densities and gradients.
+    kernel: CubicSpline,
+    /// D_i of the rest lattice for `kernel`.
+    rest_factor: f32,
+}
+
+impl Default for DfsphScratch {
+    fn default() -> Self {
+        Self {
+            lists: NeighborLists::default(),
+            factors: Vec::new(),
+            source: Vec::new(),
+            stiffness: Vec::new(),
+            kernel: CubicSpline::new(1.0, 0.5),
+            rest_factor: 0.0,
+        }
+    }
+}
+
+/// Which of the two solves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Solve {
+    Density,
+    Divergence,
+}
+
+/// What one solve did.
+struct SolveOutcome {
+    iterations: u32,
+    error: f32,
+    reactions: Vec<BodyForceSum>,
+}
+
+/// D_i of a particle in the rest lattice: Σ_j |m ∇W|² over the lattice neighbours (the sum of
+/// the gradients vanishes there); the scale of [`compute_factors`]'s cut-off.
+fn rest_factor(params: &crate::SphParams, kernel: &CubicSpline) -> f32 {
+    let dx = params.spacing();
+    let mut sum = 0.0;
+    for i in -2i32..=2 {
+        for j in -2i32..=2 {
+            for k in -2i32..=2 {
+                let r = Vec3::new(i as f32, j as f32, k as f32) * dx;
+                sum += kernel.gradient(r, r.length()).length_squared();
+            }
+        }
+    }
+    sum * params.particle_mass * params.particle_mass
+}
+
+impl CpuSolver {
+    /// The time step DFSPH's rule gives now: [`dfsph_time_step`] of the largest speed the
+    /// non-pressure accelerations would give over the largest step, max |v + a_np dt_max|, and
+    /// of the boundary's samples.
+    pub(super) fn dfsph_next_time_step(&self) -> f32 {
+        let p = &self.particles;
+        let horizon = self.params.time_step;
+        let fluid = p
+            .velocity
+            .par_iter()
+            .zip(p.acceleration.par_iter())
+            .map(|(&v, &a)| {
+                let s = (v + a * horizon).length();
+                if s.is_finite() {
+                    s
+                } else {
+                    f32::INFINITY
+                }
+            })
+            .reduce(|| 0.0, f32::max);
+        dfsph_time_step(&self.params, fluid.max(self.boundary.max_speed()))
+    }
+
+    /// Sort, densities, neighbour lists and factors at the current positions.
+    fn dfsph_neighborhood(&mut self, ctx: &StageContext) {
+        let kernel = CubicSpline::new(self.params.smoothing_radius, self.params.spacing());
+        if self.dfsph.kernel != kernel {
+            self.dfsph.kernel = kernel;
+            self.dfsph.rest_factor = rest_factor(&self.params, &kernel);
+        }
+        let (neighbors, p, t) = (&mut self.neighbors, &mut self.particles, &mut self.timings);
+        let boundary = &mut self.boundary;
+        timed(&mut t.sort, || {
+            let _ = boundary.sort();
+            let order = neighbors.sort(&p.position);
+            p.reorder(order, &mut self.scratch);
+        });
+        let s = &mut self.dfsph;
+        timed(&mut t.density, || {
+            let n = p.len();
+            p.density.resize(n, 0.0);
+            s.factors.resize(n, ParticleFactor::default());
+            s.source.resize(n, 0.0);
+            s.stiffness.resize(n, 0.0);
+            let kernel = s.kernel;
+            s.lists.rebuild(
+                neighbors,
+                &p.position,
+                Some(boundary),
+                ctx.mass,
+                ctx.rest_density,
+                |r, r2| {
+                    let r_len = r2.sqrt();
+                    (kernel.value(r_len), kernel.gradient(r, r_len))
+                },
+                &mut p.density,
+            );
+            compute_factors(&s.lists, Some(boundary), s.rest_factor, &mut s.factors);
+        });
+    }
+
+    /// One of the two solves on the current velocities (Bender & Koschier 2017: the
+    /// constant-density solve on v*, the divergence-free solve on v).
+    fn dfsph_solve(&mut self, solve: Solve, dt: f32) -> SolveOutcome {
+        let settings = self.params.dfsph;
+        let rho0 = self.params.rest_density;
+        let (p, s) = (&mut self.particles, &mut self.dfsph);
+        let n = p.len();
+        let (total, scale, min, max, eta) = match solve {
+            Solve::Density => (
+                &mut p.stiffness_density,
+                1.0 / (dt * dt),
+                settings.min_density_iterations,
+                settings.max_density_iterations,
+                settings.max_density_error,
+            ),
+            Solve::Divergence => (
+                &mut p.stiffness_divergence,
+                1.0 / dt,
+                settings.min_divergence_iterations,
+                settings.max_divergence_iterations,
+                settings.max_divergence_error,
+            ),
+        };
+        if settings.warm_start {
+            s.stiffness
+                .par_iter_mut()
+                .zip(total.par_iter_mut())
+                .for_each(|(k, sum)| {
+                    *k = *sum * WARM_START_FRACTION;
+                    *sum = *k;
+                });
+            apply_stiffness(&s.lists, &s.stiffness, &s.factors, dt, &mut p.velocity);
+        } else {
+            total.fill(0.0);
+        }
+        let mean_error = |s: &mut DfsphScratch, v: &[Vec3], density: &[f32]| {
+            let sum = match solve {
+                Solve::Density => {
+                    density_source(&s.lists, v, density, &s.factors, rho0, dt, &mut s.source)
+                }
+                Solve::Divergence => divergence_source(&s.lists, v, &s.factors, &mut s.source),
+            };
+            (sum / (n.max(1) as f64 * rho0 as f64)) as f32
+        };
+        let mut error = mean_error(s, &p.velocity, &p.density);
+        let mut iterations = 0;
+        while (iterations < min || error > eta) && iterations < max {
+            stiffness_from_source(&s.source, &s.factors, scale, &mut s.stiffness, total);
+            apply_stiffness(&s.lists, &s.stiffness, &s.factors, dt, &mut p.velocity);
+            error = mean_error(s, &p.velocity, &p.density);
+            iterations += 1;
+        }
+        let reactions =
+            boundary_reactions(&s.lists, &self.boundary, total, self.params.particle_mass);
+        SolveOutcome {
+            iterations,
+            error,
+            reactions,
+        }
+    }
+
+    /// One DFSPH step at `dt_scale` times the rule's dt; returns its dt.
+    pub(super) fn advance_dfsph(&mut self, dt_scale: f32) -> f32 {
+        let ctx = StageContext::new(&self.params);
+        let boundary_moved = self.boundary.sort();
+        if self.forces_stale || boundary_moved {
+            self.dfsph_neighborhood(&ctx);
+        }
+        // 1. Non-pressure accelerations at the step's start.
+        let (neighbors, p, t) = (&self.neighbors, &mut self.particles, &mut self.timings);
+        if self.params.has_surface_tension() {
+            timed(&mut t.normals, || {
+                compute_normals(&ctx, neighbors, &p.position, &p.density, &mut p.normal)
+            });
+        }
+        let input = ForceInputs {
+            position: &p.position,
+            velocity: &p.velocity,
+            density: &p.density,
+            pressure: &p.pressure,
+            normal: &p.normal,
+            boundary: Some(&self.boundary),
+            with_pressure: false,
+        };
+        let mut forces = timed(&mut t.forces, || {
+            compute_accelerations(&ctx, neighbors, &input, &mut p.acceleration)
+        });
+        // 2.-3. The time step and the predicted velocities.
+        let dt = self.dfsph_next_time_step() * dt_scale;
+        let p = &mut self.particles;
+        p.velocity
+            .par_iter_mut()
+            .zip(p.acceleration.par_iter())
+            .for_each(|(v, &a)| *v += a * dt);
+        // 4. Constant density.
+        let density = timed_solve(self, Solve::Density, dt);
+        // 5. Move.
+        let colliders = self.boundary.collider_list();
+        let guard = self.guard(&colliders);
+        let p = &mut self.particles;
+        let corrections: Corrections = timed(&mut self.timings.integrate, || {
+            p.position
+                .par_iter_mut()
+                .zip(p.velocity.par_iter_mut())
+                .map(|(x, v)| {
+                    *x += *v * dt;
+                    guard.apply(x, v)
+                })
+                .sum()
+        });
+        // 6.-7. The new neighbourhood, divergence-free velocities.
+        self.dfsph_neighborhood(&ctx);
+        let divergence = timed_solve(self, Solve::Divergence, dt);
+        let p = &mut self.particles;
+        p.pressure
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, pressure)| {
+                let rho = p.density[i];
+                *pressure = (p.stiffness_density[i] + p.stiffness_divergence[i]) * rho * rho;
+            });
+        for reactions in [&density.reactions, &divergence.reactions] {
+            forces
+                .iter_mut()
+                .zip(reactions)
+                .for_each(|(sum, r)| sum.merge(r));
+        }
+        let (sums, evaluations) = &mut self.body_force_sums;
+        sums.resize(forces.len(), BodyForceSum::default());
+        sums.iter_mut().zip(&forces).for_each(|(s, f)| s.merge(f));
+        *evaluations += 1;
+        self.last_body_forces = forces;
+        self.solver_stats = SolverStats {
+            density_iterations: density.iterations,
+            divergence_iterations: divergence.iterations,
+            density_error: density.error,
+            divergence_error: divergence.error,
+        };
+        self.forces_stale = false;
+        self.boundary_corrections += corrections;
+        dt
+    }
+}
+
+/// A solve, its time added to the pressure-solve timing.
+fn timed_solve(solver: &mut CpuSolver, solve: Solve, dt: f32) -> SolveOutcome {
+    let start = std::time::Instant::now();
+    let outcome = solver.dfsph_solve(solve, dt);
+    solver.timings.pressure_solve += start.elapsed();
+    outcome
+}

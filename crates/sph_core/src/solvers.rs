@@ -1,0 +1,143 @@
+//! The pressure solvers a scene chooses between ([`Solver`]) and their settings, validated like
+//! every other parameter (the error names the field, the value and the range).
+
+use crate::params::{check_range, ParamError};
+
+/// How the fluid's pressure is found each step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
+pub enum Solver {
+    /// Weakly compressible SPH: pressure from the equation of state, explicit integration with
+    /// the chosen integrator; dt bound by the speed of sound.
+    #[default]
+    Wcsph,
+    /// Divergence-free SPH (Bender & Koschier 2015, 2017): two implicit solves per step, one
+    /// for constant density, one for a divergence-free velocity; dt bound by the flow speed
+    /// ([`DfsphSettings`]).
+    Dfsph,
+}
+
+impl Solver {
+    /// Every solver, in the order of the user interfaces.
+    pub const ALL: [Solver; 2] = [Solver::Wcsph, Solver::Dfsph];
+
+    /// The short name used by the command line and the panels.
+    pub fn name(self) -> &'static str {
+        match self {
+            Solver::Wcsph => "wcsph",
+            Solver::Dfsph => "dfsph",
+        }
+    }
+}
+
+/// The largest time step of DFSPH's own rule [s] (the rule: dt = λ Δx / v_max, clamped to it).
+pub const DFSPH_MAX_TIME_STEP: f32 = 0.005;
+
+/// Settings of [`Solver::Dfsph`] (Bender & Koschier 2017, Algorithms 2 and 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
+pub struct DfsphSettings {
+    /// The constant-density solve stops once the mean predicted compression
+    /// mean(max(ρ*_i/ρ0 - 1, 0)) is at most this (a fraction: 1e-4 is 0.01 %).
+    pub max_density_error: f32,
+    /// The divergence-free solve stops once the mean compression rate
+    /// mean(max(Dρ_i/Dt, 0)) / ρ0 is at most this [1/s] (1e-3 is 0.1 % per second).
+    pub max_divergence_error: f32,
+    /// Iterations the constant-density solve always runs.
+    pub min_density_iterations: u32,
+    /// Iterations after which the constant-density solve stops even if not converged.
+    pub max_density_iterations: u32,
+    /// Iterations the divergence-free solve always runs.
+    pub min_divergence_iterations: u32,
+    /// Iterations after which the divergence-free solve stops even if not converged.
+    pub max_divergence_iterations: u32,
+    /// Start each solve from the previous step's stiffness (Bender & Koschier 2017, §4.3).
+    pub warm_start: bool,
+}
+
+impl Default for DfsphSettings {
+    /// 0.01 % density error, 0.1 %/s divergence error, 2..=100 and 1..=100 iterations, warm
+    /// starts on.
+    fn default() -> Self {
+        Self {
+            max_density_error: 1.0e-4,
+            max_divergence_error: 1.0e-3,
+            min_density_iterations: 2,
+            max_density_iterations: 100,
+            min_divergence_iterations: 1,
+            max_divergence_iterations: 100,
+            warm_start: true,
+        }
+    }
+}
+
+/// Checks `min <= max` of an iteration range and `max` in [1, 1000].
+fn check_iterations(
+    min_field: &'static str,
+    max_field: &'static str,
+    min: u32,
+    max: u32,
+) -> Result<(), ParamError> {
+    if !(1..=1000).contains(&max) {
+        return Err(ParamError {
+            field: max_field,
+            value: max.to_string(),
+            allowed: "[1, 1000] iterations",
+        });
+    }
+    if min > max {
+        return Err(ParamError {
+            field: min_field,
+            value: min.to_string(),
+            allowed: "[0, the largest iteration count]",
+        });
+    }
+    Ok(())
+}
+
+impl DfsphSettings {
+    /// Checks every field; the error names the first field out of range.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check_range(
+            "dfsph.max_density_error",
+            self.max_density_error,
+            0.0,
+            false,
+            0.1,
+            "(0, 0.1] (a fraction of ρ0)",
+        )?;
+        check_range(
+            "dfsph.max_divergence_error",
+            self.max_divergence_error,
+            0.0,
+            false,
+            10.0,
+            "(0, 10] 1/s",
+        )?;
+        check_iterations(
+            "dfsph.min_density_iterations",
+            "dfsph.max_density_iterations",
+            self.min_density_iterations,
+            self.max_density_iterations,
+        )?;
+        check_iterations(
+            "dfsph.min_divergence_iterations",
+            "dfsph.max_divergence_iterations",
+            self.min_divergence_iterations,
+            self.max_divergence_iterations,
+        )
+    }
+}
+
+/// What the pressure solves of the last step did (zero for WCSPH).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SolverStats {
+    /// Iterations of the constant-density solve.
+    pub density_iterations: u32,
+    /// Iterations of the divergence-free solve.
+    pub divergence_iterations: u32,
+    /// The constant-density solve's last mean predicted compression (fraction of ρ0).
+    pub density_error: f32,
+    /// The divergence-free solve's last mean compression rate [1/s].
+    pub divergence_error: f32,
+}
