@@ -75,3 +75,27 @@ fn gpu_request_without_a_render_device_falls_back_to_the_cpu() {
     app.update();
     assert_eq!(app.world().resource::<SphStats>().backend, SphBackend::Cpu);
 }
+
+#[test]
+fn dfsph_runs_on_the_cpu_backend_and_reports_its_iterations() {
+    let mut app = water_app(SphBackend::Cpu);
+    let mut params = *app.world().resource::<SphParams>();
+    params.use_solver(sph_core::Solver::Dfsph);
+    app.insert_resource(params);
+    app.update();
+    step_to(&mut app, 5);
+    let stats = app.world().resource::<SphStats>().clone();
+    assert_eq!(stats.error, None);
+    assert_eq!(stats.health, SphHealth::Ok);
+    assert_eq!(stats.particle_count, 500);
+    assert!(
+        stats.pressure_iterations_mean >= params.dfsph.min_density_iterations as f32,
+        "{}",
+        stats.pressure_iterations_mean
+    );
+    assert!(stats.pressure_iterations_max >= params.dfsph.min_density_iterations);
+    assert!(
+        stats.time_step > sph_core::SphParams::water().time_step,
+        "DFSPH's own dt rule"
+    );
+}

@@ -168,6 +168,103 @@ fn every_sandbox_parameter_at_both_ends_stays_stable_with_the_adaptive_step() {
     }
 }
 
+/// DFSPH's settings at both ends of their ranges (and warm starts off).
+fn dfsph_setting_ends() -> Vec<(&'static str, sph_core::DfsphSettings)> {
+    let d = sph_core::DfsphSettings::default();
+    vec![
+        ("defaults", d),
+        (
+            "max_density_error 1e-6",
+            sph_core::DfsphSettings {
+                max_density_error: 1e-6,
+                ..d
+            },
+        ),
+        (
+            "max_density_error 0.1",
+            sph_core::DfsphSettings {
+                max_density_error: 0.1,
+                ..d
+            },
+        ),
+        (
+            "max_divergence_error 1e-6",
+            sph_core::DfsphSettings {
+                max_divergence_error: 1e-6,
+                ..d
+            },
+        ),
+        (
+            "max_divergence_error 10",
+            sph_core::DfsphSettings {
+                max_divergence_error: 10.0,
+                ..d
+            },
+        ),
+        (
+            "1 iteration each, none at least",
+            sph_core::DfsphSettings {
+                min_density_iterations: 0,
+                max_density_iterations: 1,
+                min_divergence_iterations: 0,
+                max_divergence_iterations: 1,
+                ..d
+            },
+        ),
+        (
+            "1000 iterations each, all at least",
+            sph_core::DfsphSettings {
+                min_density_iterations: 1000,
+                max_density_iterations: 1000,
+                min_divergence_iterations: 1000,
+                max_divergence_iterations: 1000,
+                ..d
+            },
+        ),
+        (
+            "warm starts off",
+            sph_core::DfsphSettings {
+                warm_start: false,
+                ..d
+            },
+        ),
+    ]
+}
+
+#[test]
+fn dfsph_at_both_ends_of_every_slider_and_setting_stays_stable() {
+    for (preset, base) in preset_scenes() {
+        let mut runs: Vec<(String, sph_core::SphParams)> = Vec::new();
+        for (field, range, set) in sandbox_sliders() {
+            for end in [*range.start(), *range.end()] {
+                let mut p = base.params;
+                p.use_solver(sph_core::Solver::Dfsph);
+                set(&mut p, end);
+                runs.push((format!("{field} = {end}"), p));
+            }
+        }
+        for (name, settings) in dfsph_setting_ends() {
+            let mut p = base.params;
+            p.use_solver(sph_core::Solver::Dfsph);
+            p.dfsph = settings;
+            runs.push((name.to_string(), p));
+        }
+        for (what, params) in runs {
+            let scene = Scene {
+                params,
+                ..base.clone()
+            };
+            let mut solver = solver_of(&scene);
+            for _ in 0..60 {
+                solver.step();
+            }
+            let what = format!("DFSPH, {preset}, {what}");
+            assert_eq!(solver.unstable_step(), None, "{what}");
+            assert_sane(&solver.diagnostics(), scene.particle_count(), &what);
+        }
+    }
+}
+
 /// `positions` in a 0.3 m box of SI water, stepped 100 times by every integrator and search,
 /// with the adaptive step on and off. With a fixed step, a squeezed start may go unstable (it is
 /// then rolled back and frozen); with the adaptive step it must not.
@@ -192,6 +289,19 @@ fn run_degenerate(positions: &[Vec3], what: &str) {
                 assert_sane(&solver.diagnostics(), positions.len(), &what);
             }
         }
+    }
+    for search in [NeighborSearch::Grid, NeighborSearch::Hash] {
+        let mut params = sph_core::SphParams::water();
+        params.use_solver(sph_core::Solver::Dfsph);
+        params.neighbor_search = search;
+        let mut solver = CpuSolver::new(params, container, positions.len().max(1)).unwrap();
+        solver.spawn(positions, Vec3::ZERO);
+        for _ in 0..100 {
+            solver.step();
+        }
+        let what = format!("{what}, DFSPH, {search:?}");
+        assert_eq!(solver.unstable_step(), None, "{what}");
+        assert_sane(&solver.diagnostics(), positions.len(), &what);
     }
 }
 
@@ -230,6 +340,16 @@ fn a_quarter_million_particles_take_one_cpu_step() {
         "262,144-particle dam break",
     );
     assert!(scene.particle_count() >= 250_000);
+    let mut dfsph = scene.clone();
+    dfsph.params.use_solver(sph_core::Solver::Dfsph);
+    let mut solver = solver_of(&dfsph);
+    solver.step();
+    assert_eq!(solver.unstable_step(), None);
+    assert_sane(
+        &solver.diagnostics(),
+        scene.particle_count(),
+        "262,144-particle dam break, DFSPH",
+    );
 }
 
 fn gpu_app(scene: &Scene) -> App {

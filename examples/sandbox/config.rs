@@ -1,7 +1,7 @@
 //! The start screen's choices and how they become simulation parameters.
 
 use bevy::prelude::*;
-use sph_core::{Integrator, NeighborSearch, SpacingDerivation, SphParams};
+use sph_core::{Integrator, NeighborSearch, Solver, SpacingDerivation, SphParams};
 
 /// How particles enter the box.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -37,7 +37,9 @@ pub struct SandboxConfig {
     pub spawn: SpawnMode,
     /// Parameter table.
     pub preset: Preset,
-    /// Integrator.
+    /// Pressure solver (DFSPH brings its own time-step rule).
+    pub solver: Solver,
+    /// Integrator (WCSPH).
     pub integrator: Integrator,
     /// Time step [s] (the largest step with the adaptive rule).
     pub time_step: f32,
@@ -61,6 +63,7 @@ impl Default for SandboxConfig {
             budget: 32_768,
             spawn: SpawnMode::Block,
             preset: Preset::Water,
+            solver: Solver::Wcsph,
             integrator: Integrator::KickDriftKick,
             time_step: 0.0,
             adaptive_time_step: false,
@@ -127,6 +130,9 @@ impl SandboxConfig {
             (true, Preset::Water) => sph_core::params::WATER_SURFACE_TENSION,
             (true, Preset::Design) => SphParams::seed().surface_tension,
         };
+        if self.solver != Solver::Wcsph {
+            p.use_solver(self.solver);
+        }
         p
     }
 }

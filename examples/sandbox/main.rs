@@ -48,6 +48,8 @@ struct Cli {
     debug: bool,
     adaptive: bool,
     obstacles: bool,
+    /// `--solver dfsph`: DFSPH on the CPU backend (its GPU passes are not built yet).
+    dfsph: bool,
 }
 
 fn parse_cli() -> Result<Cli, String> {
@@ -90,6 +92,14 @@ fn parse_cli() -> Result<Cli, String> {
             "--debug" => cli.debug = true,
             "--adaptive" => cli.adaptive = true,
             "--obstacles" => cli.obstacles = true,
+            "--solver" => {
+                cli.dfsph = match value()?.as_str() {
+                    "wcsph" => false,
+                    "dfsph" => true,
+                    v => return Err(format!("--solver = {v:?}: allowed wcsph, dfsph")),
+                };
+                k += 1;
+            }
             other => return Err(format!("unknown option {other:?}")),
         }
         k += 1;
@@ -104,7 +114,7 @@ fn main() {
             eprintln!(
                 "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
                  [--hide-particles] [--no-gpu-timings] [--debug] [--adaptive] \
-                 [--obstacles] [--screenshot FILE --frames N]"
+                 [--obstacles] [--solver wcsph|dfsph] [--screenshot FILE --frames N]"
             );
             std::process::exit(2);
         }
@@ -116,6 +126,13 @@ fn main() {
         config.apply_preset_defaults();
     }
     config.adaptive_time_step = cli.adaptive;
+    // DFSPH runs on the CPU backend until its GPU passes exist.
+    let backend = if cli.dfsph {
+        config.solver = sph_core::Solver::Dfsph;
+        SphBackend::Cpu
+    } else {
+        SphBackend::Gpu
+    };
     if cli.obstacles {
         config.sphere_obstacle = true;
         config.box_obstacle = true;
@@ -148,7 +165,7 @@ fn main() {
         PanOrbitCameraPlugin,
         MaterialPlugin::<particles::ParticleMaterial>::default(),
         MaterialPlugin::<flat_material::FlatMaterial>::default(),
-        SphFluidPlugin::new(config.budget, SphBackend::Gpu),
+        SphFluidPlugin::new(config.budget, backend),
     ))
     .init_state::<AppState>()
     .insert_resource(config)

@@ -113,6 +113,15 @@ pub fn setup_panel(
                     config.apply_preset_defaults();
                 }
             });
+            ui.horizontal(|ui| {
+                ui.label("pressure solver");
+                ui.radio_value(&mut config.solver, sph_core::Solver::Wcsph, "WCSPH");
+                ui.radio_value(&mut config.solver, sph_core::Solver::Dfsph, "DFSPH")
+                    .on_hover_text(
+                        "Divergence-free SPH (Bender & Koschier 2017), its own time step; \
+                         CPU backend only for now: start the sandbox with --solver dfsph",
+                    );
+            });
             let mut integrator = config.integrator;
             integrator_combo(ui, "setup", &mut integrator);
             config.integrator = integrator;
@@ -331,6 +340,14 @@ pub fn runtime_panel(
                 stats.time_step,
                 stats.rollbacks
             ));
+            if stats.pressure_iterations_mean > 0.0 {
+                ui.label(format!(
+                    "DFSPH iterations per step: density {:.1} (max {}), divergence {:.1}",
+                    stats.pressure_iterations_mean,
+                    stats.pressure_iterations_max,
+                    stats.divergence_iterations_mean
+                ));
+            }
             if let SphHealth::Unstable { step } = stats.health {
                 ui.colored_label(
                     Color32::RED,

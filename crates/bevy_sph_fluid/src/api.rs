@@ -139,6 +139,13 @@ pub struct SphStats {
     pub collider_errors: Vec<SphColliderError>,
     /// Compute dispatches in the last step (GPU backend).
     pub dispatches_per_step: u32,
+    /// DFSPH: constant-density iterations per step, mean over the last frame's steps (0 with
+    /// WCSPH; CPU backend).
+    pub pressure_iterations_mean: f32,
+    /// DFSPH: the most constant-density iterations of one step in the last frame.
+    pub pressure_iterations_max: u32,
+    /// DFSPH: divergence-free iterations per step, mean over the last frame's steps.
+    pub divergence_iterations_mean: f32,
     /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports
     /// them and `RenderDiagnosticsPlugin` is added (GPU backend), wall clock (CPU backend).
     pub stage_ms: Vec<(String, f64)>,

@@ -316,13 +316,31 @@ fn sph_plan_step(
                 }
             }
             solver.reset_timings();
+            let (mut density, mut most, mut divergence) = (0u64, 0u32, 0u64);
             for _ in 0..steps {
                 solver.step();
+                let s = solver.solver_stats();
+                density += s.density_iterations as u64;
+                most = most.max(s.density_iterations);
+                divergence += s.divergence_iterations as u64;
+            }
+            if steps > 0 {
+                stats.pressure_iterations_mean = density as f32 / steps as f32;
+                stats.pressure_iterations_max = most;
+                stats.divergence_iterations_mean = divergence as f32 / steps as f32;
             }
             // A refused collider stays reported while it is refused.
             stats.error = stats.collider_errors.first().map(ToString::to_string);
         }
         SphBackend::Gpu => {
+            if params.solver != sph_core::Solver::Wcsph {
+                stats.error = Some(format!(
+                    "SphParams::solver = {:?} runs on the CPU backend only (SphBackend::Cpu): its GPU passes are not built yet; the GPU keeps its last state",
+                    params.solver
+                ));
+                sim.frame.steps = 0;
+                return;
+            }
             if let Err(e) = sim.prepare_gpu_boundary(&container, &params.0) {
                 stats.error = Some(e.to_string());
                 sim.frame.steps = 0;

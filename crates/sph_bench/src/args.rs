@@ -226,7 +226,7 @@ pub struct RunArgs {
     /// Which solver runs the scenario.
     #[arg(long, value_enum, default_value = "cpu")]
     pub backend: Backend,
-    /// The pressure solver. DFSPH uses its own time-step rule (λ Δx / v_max, at most 5 ms)
+    /// The pressure solver. DFSPH uses its own time-step rule (λ Δx / v_max, at most √(0.005 Δx / g))
     /// unless --dt is given.
     #[arg(long, value_name = "NAME", value_parser = solver(), default_value = "wcsph")]
     pub solver: Solver,

@@ -46,7 +46,7 @@ impl HydrostaticSampler {
         let (lo, hi) = (setup.scene.container.min(), setup.scene.container.max());
         let surface = self.surface;
         let mut error = 0.0;
-        for (x, &rho) in state.positions.iter().zip(&state.densities) {
+        for (k, (x, &rho)) in state.positions.iter().zip(&state.densities).enumerate() {
             error += ((rho / params.rest_density - 1.0).max(0.0) * 100.0) as f64;
             let interior = x.x - lo.x >= self.margin
                 && hi.x - x.x >= self.margin
@@ -62,7 +62,11 @@ impl HydrostaticSampler {
             }
             let s = &mut self.sums[layer];
             s.0 += depth as f64;
-            s.1 += eos.pressure(rho) as f64;
+            let pressure = match &state.pressures {
+                Some(p) => p[k],
+                None => eos.pressure(rho),
+            };
+            s.1 += pressure as f64;
             s.2 += 1;
         }
         self.density_error_sum += error / state.positions.len() as f64;

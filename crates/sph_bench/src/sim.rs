@@ -17,6 +17,10 @@ pub struct State {
     pub velocities: Vec<Vec3>,
     /// Densities [kg/m³].
     pub densities: Vec<f32>,
+    /// Pressures [Pa] where the backend keeps them (the CPU; a DFSPH pressure is the solves'
+    /// stiffness times ρ², not a function of the density). `None`: the equation of state of
+    /// the densities (WCSPH on the GPU).
+    pub pressures: Option<Vec<f32>>,
 }
 
 /// Pressure-solver iterations summed over steps (DFSPH; zeros with WCSPH).
@@ -193,6 +197,7 @@ impl Simulation for CpuSimulation {
             positions: p.position.clone(),
             velocities: p.velocity.clone(),
             densities: p.density.clone(),
+            pressures: Some(p.pressure.clone()),
         })
     }
 
@@ -420,6 +425,7 @@ impl Simulation for GpuSimulation {
             positions: s.positions,
             velocities: s.velocities,
             densities: s.densities,
+            pressures: None,
         })
     }
 

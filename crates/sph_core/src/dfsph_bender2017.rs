@@ -101,9 +101,16 @@ pub fn density_rate(i: usize, pairs: PairsOf, v: &[Vec3], factor: &ParticleFacto
     fluid + v_i.dot(factor.boundary_grad) - factor.boundary_flux
 }
 
+/// The most compression the constant-density solve removes in one step, as a fraction of ρ0.
+/// Water never gets near it (its errors are hundredths of a percent); a spawn that squeezes 64
+/// particles into one cell (8 ρ0) would otherwise be pushed apart in a single step by more than
+/// a support radius, which the stability check rejects at any dt (the solve's displacement does
+/// not shrink with dt). Capped, it spreads over a few dozen steps.
+pub const MAX_CORRECTION: f32 = 0.05;
+
 /// The constant-density solve's source: the predicted density's excess
-/// s_i = max(ρ_i + dt Dρ_i/Dt - ρ0, 0) [kg/m³] (a deficit is the missing air of a free surface,
-/// not a tension). Returns Σ_i s_i.
+/// s_i = min(max(ρ_i + dt Dρ_i/Dt - ρ0, 0), [`MAX_CORRECTION`] ρ0) [kg/m³] (a deficit is the
+/// missing air of a free surface, not a tension). Returns Σ_i s_i.
 pub fn density_source(
     lists: &NeighborLists,
     v: &[Vec3],
@@ -115,7 +122,7 @@ pub fn density_source(
 ) -> f64 {
     lists.update(source, |i, pairs, s| {
         let predicted = density[i] + dt * density_rate(i, pairs, v, &factors[i]);
-        *s = (predicted - rest_density).max(0.0);
+        *s = (predicted - rest_density).clamp(0.0, MAX_CORRECTION * rest_density);
     });
     source.par_iter().map(|&s| s as f64).sum()
 }

@@ -2,7 +2,7 @@
 //! calculation" from a particle spacing, and validation with errors that name the field.
 
 use crate::kernel::Kernels;
-use crate::solvers::{DfsphSettings, Solver, DFSPH_MAX_TIME_STEP};
+use crate::solvers::{dfsph_max_time_step, DfsphSettings, Solver};
 use glam::Vec3;
 use std::fmt;
 
@@ -242,7 +242,7 @@ impl SphParams {
 
     /// Switches to `solver` with its own time-step rule: for WCSPH the fixed dt of
     /// [`Self::from_spacing`] (λ h / (c0 + v_peak) with v_peak = c0 / 10), for DFSPH the adaptive
-    /// rule λ Δx / v_max clamped to [`DFSPH_MAX_TIME_STEP`]. Other fields stay.
+    /// rule λ Δx / v_max clamped to [`dfsph_max_time_step`]. Other fields stay.
     pub fn use_solver(&mut self, solver: Solver) {
         self.solver = solver;
         match solver {
@@ -252,7 +252,7 @@ impl SphParams {
                 self.adaptive_time_step = false;
             }
             Solver::Dfsph => {
-                self.time_step = DFSPH_MAX_TIME_STEP;
+                self.time_step = dfsph_max_time_step(self.spacing(), self.gravity.length());
                 self.adaptive_time_step = true;
             }
         }

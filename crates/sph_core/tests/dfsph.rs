@@ -137,7 +137,12 @@ fn use_solver_switches_the_time_step_rule() {
     p.use_solver(Solver::Dfsph);
     assert_eq!(p.solver, Solver::Dfsph);
     assert!(p.adaptive_time_step);
-    assert!(p.time_step > 10.0 * wcsph_dt);
+    let expected = sph_core::solvers::dfsph_max_time_step(p.spacing(), 9.81);
+    assert!((p.time_step / expected - 1.0).abs() < 1e-3);
+    // g dt² = Δx / 200.
+    let moved = 9.81 * p.time_step * p.time_step / p.spacing();
+    assert!((moved - 0.005).abs() < 1e-4, "{moved}");
+    assert!(p.time_step > 5.0 * wcsph_dt);
     p.use_solver(Solver::Wcsph);
     assert!(!p.adaptive_time_step);
     assert!((p.time_step / wcsph_dt - 1.0).abs() < 1e-3);
