@@ -341,6 +341,9 @@ pub struct ValidateArgs {
     /// Which solver runs the scenario.
     #[arg(long, value_enum, default_value = "cpu")]
     pub backend: Backend,
+    /// The pressure solver (DFSPH with its own time-step rule).
+    #[arg(long, value_name = "NAME", value_parser = solver(), default_value = "wcsph")]
+    pub solver: Solver,
     /// About how many particles in the dam break [particles].
     #[arg(long, value_name = "N", value_parser = particles, default_value = "8000")]
     pub particles: usize,
@@ -370,6 +373,7 @@ impl ValidateArgs {
     pub fn base(&self) -> RunArgs {
         RunArgs {
             backend: self.backend,
+            solver: self.solver,
             particles: self.particles,
             a: self.a,
             viscosity_alpha: self.viscosity_alpha,

@@ -10,7 +10,7 @@ use crate::progress::Bars;
 use crate::report::Report;
 use crate::run::{configured_setup, names, run_setup};
 use crate::scenarios::Scenario;
-use sph_core::{Integrator, NeighborSearch};
+use sph_core::{Integrator, NeighborSearch, Solver};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -131,8 +131,8 @@ fn fmt_opt(v: f64) -> String {
 
 fn table(rows: &[Row]) -> String {
     let mut s = String::from(
-        "| group | run | backend | particles | integrator | search | surface tension | dt | mean dt [s] | ms/step | cost per sim s [s] | density error end [%] | peak of mean [%] | RMS Z raw | RMS Z shifted | health |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| group | run | backend | particles | solver | integrator | search | surface tension | dt | mean dt [s] | iterations (density / divergence) | ms/step | cost per sim s [s] | density error end [%] | mean over run [%] | peak of mean [%] | RMS Z raw | RMS Z shifted | health |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for row in rows {
         let r = &row.report;
@@ -154,19 +154,31 @@ fn table(rows: &[Row]) -> String {
         }
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} | {:.2} | {:.1} | {:.3} | {:.3} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} | {} | {:.2} | {:.1} | {:.4} | {:.4} | {:.3} | {} | {} | {} |",
             row.group,
             row.label,
             r.backend,
             r.particles,
-            r.integrator,
+            r.solver,
+            if r.solver == "wcsph" { r.integrator.as_str() } else { "–" },
             r.search,
             if r.surface_tension { "on" } else { "off" },
             dt,
             r.dt_mean,
+            if r.solver == "wcsph" {
+                "–".to_string()
+            } else {
+                format!(
+                    "{:.1} (max {}) / {:.1}",
+                    r.pressure_iterations_mean,
+                    r.pressure_iterations_max,
+                    r.divergence_iterations_mean
+                )
+            },
             r.ms_per_step_median,
             r.cost_per_sim_second_s,
             r.density_error_mean_pct,
+            r.density_error_mean_run_pct,
             r.density_error_mean_max_pct,
             fmt_opt(raw),
             fmt_opt(shifted),
@@ -181,7 +193,7 @@ fn table(rows: &[Row]) -> String {
 fn plot(rows: &[Row], dir: &Path) -> Result<(), String> {
     let mut keys: Vec<String> = Vec::new();
     for row in rows {
-        let key = format!("{} {}", row.report.backend, row.report.integrator);
+        let key = series_key(&row.report);
         if !keys.contains(&key) {
             keys.push(key);
         }
@@ -194,10 +206,7 @@ fn plot(rows: &[Row], dir: &Path) -> Result<(), String> {
                 color: PALETTE[k % PALETTE.len()],
                 points: rows
                     .iter()
-                    .filter(|r| {
-                        format!("{} {}", r.report.backend, r.report.integrator) == *key
-                            && r.report.health == "ok"
-                    })
+                    .filter(|r| series_key(&r.report) == *key && r.report.health == "ok")
                     .filter_map(|r| Some((r.report.cost_per_sim_second_s, y(&r.report)?)))
                     .collect(),
             })
@@ -218,6 +227,15 @@ fn plot(rows: &[Row], dir: &Path) -> Result<(), String> {
     let plots = [density, front];
     write_stacked_png(&plots, &dir.join("trade.png"), 1000, 640)?;
     write_stacked_svg(&plots, &dir.join("trade.svg"), 1000, 640)
+}
+
+/// The plot series of a run: backend and integrator for WCSPH, backend and solver otherwise.
+fn series_key(r: &Report) -> String {
+    if r.solver == "wcsph" {
+        format!("{} {}", r.backend, r.integrator)
+    } else {
+        format!("{} {}", r.backend, r.solver)
+    }
 }
 
 /// Milliseconds per step of the row matching `pred`.
@@ -294,6 +312,39 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
             },
         ));
     }
+    // DFSPH (CPU; its GPU passes are not built yet) on the same dam break: its own dt rule, the
+    // WCSPH derived dt, warm starts off, a looser divergence tolerance.
+    let dfsph = RunArgs {
+        solver: Solver::Dfsph,
+        ..cpu.clone()
+    };
+    let derived = configured_setup(&cpu).scene.params.time_step;
+    for (label, args) in [
+        ("DFSPH, own dt rule", dfsph.clone()),
+        (
+            "DFSPH, the WCSPH derived dt",
+            RunArgs {
+                dt: Some(derived),
+                ..dfsph.clone()
+            },
+        ),
+        (
+            "DFSPH, warm starts off",
+            RunArgs {
+                warm_start: false,
+                ..dfsph.clone()
+            },
+        ),
+        (
+            "DFSPH, divergence error 20 %/s",
+            RunArgs {
+                divergence_error: Some(20.0),
+                ..dfsph.clone()
+            },
+        ),
+    ] {
+        plan.push(Planned::new("solver", label.into(), args));
+    }
     // Particle count × backend; search, surface tension and viscosity at the largest count.
     let largest = largest_count(args);
     for &backend in &args.backends {
@@ -348,6 +399,25 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
             },
         ));
         if backend == Backend::Cpu {
+            for &n in &args.particles {
+                plan.push(Planned::new(
+                    "particles",
+                    format!("about {n} particles, DFSPH"),
+                    RunArgs {
+                        particles: n,
+                        ..dfsph.clone()
+                    },
+                ));
+            }
+            plan.push(Planned::new(
+                "hydrostatic",
+                "tank at rest, 1 s, DFSPH".into(),
+                RunArgs {
+                    scenario: Scenario::Hydrostatic,
+                    particles: largest,
+                    ..dfsph.clone()
+                },
+            ));
             // Less artificial viscosity matches the front better, but a tank at rest no
             // longer calms down (see the README's physics notes).
             for alpha in [0.02f32, 0.03] {
@@ -375,6 +445,31 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                         ..b.clone()
                     },
                 ));
+            }
+            if backend == Backend::Cpu {
+                let d32 = RunArgs {
+                    scenario: Scenario::DamBreak32k,
+                    ..dfsph.clone()
+                };
+                for (label, args) in [
+                    ("DFSPH, own dt rule", d32.clone()),
+                    (
+                        "DFSPH, dt 1e-3 as SPlisHSPlasH ran",
+                        RunArgs {
+                            dt: Some(1e-3),
+                            ..d32.clone()
+                        },
+                    ),
+                    (
+                        "DFSPH, divergence error 20 %/s",
+                        RunArgs {
+                            divergence_error: Some(20.0),
+                            ..d32.clone()
+                        },
+                    ),
+                ] {
+                    plan.push(Planned::new("dambreak32k", label.into(), args));
+                }
             }
         }
     }
@@ -489,7 +584,10 @@ mod tests {
             substeps: 10,
         };
         let plan = plan(&args);
-        assert_eq!(plan.len(), 12 + 2 * (2 + 4 + 2) + 2);
+        // 12 integrator × dt, 4 DFSPH variants; per backend 2 counts, search, surface tension,
+        // viscosity, tank, 2 dambreak32k; the CPU adds 2 α, 2 DFSPH counts, a DFSPH tank and 3
+        // DFSPH dambreak32k runs.
+        assert_eq!(plan.len(), 12 + 4 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 3);
         assert!(plan
             .iter()
             .all(|p| configured_setup(&p.args).rollback.enabled));

@@ -10,8 +10,9 @@
 //! 6. neighbour sort, densities, lists and factors at the new positions;
 //! 7. the divergence-free solve corrects v until Dρ/Dt is small.
 //!
-//! Each solve warm-starts from its stiffness of the previous step and runs iterations of two
-//! passes (apply the stiffness, predict the error): the GPU's two dispatches per iteration.
+//! Each solve warm-starts from its stiffness of the previous step where the fluid is compressed
+//! and runs iterations of two passes (apply the stiffness, predict the error), what the GPU's
+//! two dispatches per iteration will be.
 
 use super::{timed, CpuSolver};
 use crate::boundary::BodyForceSum;
@@ -33,7 +34,7 @@ use rayon::prelude::*;
 /// the fluid is compressed before it (Bender & Koschier 2017 warm-start from the previous
 /// stiffness; SPlisHSPlasH does it only where the predicted density exceeds ρ0, and so do we).
 /// The whole of it: measured on the 8,000-particle dam break (docs/dfsph.md), 2.4 iterations
-/// per step against 26 with half of it.
+/// per step against 26 with half of each solve's stiffness.
 pub const DENSITY_WARM_START: f32 = 1.0;
 
 /// The same for the divergence-free solve, where the fluid is being compressed. Half of it: with
