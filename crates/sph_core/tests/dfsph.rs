@@ -5,7 +5,7 @@
 use sph_core::dfsph_bender2017::{apply_stiffness, compute_factors, density_rate, ParticleFactor};
 use sph_core::glam::Vec3;
 use sph_core::kernel::CubicSpline;
-use sph_core::neighbor::NeighborLists;
+use sph_core::neighbor::{ListSource, NeighborLists};
 use sph_core::{BlockSpawn, BoxContainer, CpuSolver, DfsphSettings, Neighbors, Solver, SphParams};
 
 /// A lattice block with a deterministic jitter of `jitter` Δx, sorted, with its lists built.
@@ -45,11 +45,13 @@ fn block(jitter: f32) -> Block {
     let mut lists = NeighborLists::default();
     let mut density = vec![0.0; positions.len()];
     lists.rebuild(
-        &neighbors,
-        &positions,
-        None,
-        params.particle_mass,
-        params.rest_density,
+        ListSource {
+            neighbors: &neighbors,
+            positions: &positions,
+            boundary: None,
+            mass: params.particle_mass,
+            rest_density: params.rest_density,
+        },
         |r, r2| {
             let r_len = r2.sqrt();
             (kernel.value(r_len), kernel.gradient(r, r_len))

@@ -50,6 +50,22 @@ pub struct PairsOf<'a> {
     pub boundary: &'a [Pair],
 }
 
+/// What the lists are built from: the sorted particles, their search structure, the boundary
+/// samples and the weights of the gradients (m for fluid pairs, ρ0 V_b for boundary pairs).
+#[derive(Clone, Copy)]
+pub struct ListSource<'a> {
+    /// The search structure of `positions`.
+    pub neighbors: &'a Neighbors,
+    /// Sorted positions.
+    pub positions: &'a [Vec3],
+    /// The boundary samples, if any.
+    pub boundary: Option<&'a Boundary>,
+    /// Particle mass m.
+    pub mass: f32,
+    /// Rest density ρ0.
+    pub rest_density: f32,
+}
+
 /// The kernel the lists are built with: (W, ∇W) of r = x_i - x_j with |r|² = r2.
 pub trait PairKernel: Fn(Vec3, f32) -> (f32, Vec3) + Sync {}
 impl<T: Fn(Vec3, f32) -> (f32, Vec3) + Sync> PairKernel for T {}
@@ -72,20 +88,17 @@ impl NeighborLists {
         })
     }
 
-    /// Rebuilds the lists of the sorted `positions` with `kernel`'s gradient scaled by `mass`
-    /// (fluid) and by ρ0 V_b (`rest_density`, boundary), reusing the allocations; writes the
-    /// densities ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (i included) of the same kernel on the way.
-    #[allow(clippy::too_many_arguments)]
-    pub fn rebuild(
-        &mut self,
-        neighbors: &Neighbors,
-        positions: &[Vec3],
-        boundary: Option<&Boundary>,
-        mass: f32,
-        rest_density: f32,
-        kernel: impl PairKernel,
-        density: &mut [f32],
-    ) {
+    /// Rebuilds the lists of `source`'s particles with `kernel`'s gradient scaled by m (fluid)
+    /// and by ρ0 V_b (boundary), reusing the allocations; writes the densities
+    /// ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (i included) of the same kernel on the way.
+    pub fn rebuild(&mut self, source: ListSource, kernel: impl PairKernel, density: &mut [f32]) {
+        let ListSource {
+            neighbors,
+            positions,
+            boundary,
+            mass,
+            rest_density,
+        } = source;
         let n = positions.len();
         self.len = n;
         self.chunks

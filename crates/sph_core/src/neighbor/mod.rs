@@ -8,7 +8,7 @@ pub mod lists;
 
 pub use grid::DenseGrid;
 pub use hash::SpatialHash;
-pub use lists::NeighborLists;
+pub use lists::{ListSource, NeighborLists};
 
 use crate::container::BoxContainer;
 use crate::params::{NeighborSearch, ParamError};

@@ -23,7 +23,7 @@ use crate::dfsph_bender2017::{
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::guard::Corrections;
 use crate::kernel::CubicSpline;
-use crate::neighbor::lists::NeighborLists;
+use crate::neighbor::lists::{ListSource, NeighborLists};
 use crate::solvers::SolverStats;
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::compute_normals;
@@ -123,11 +123,10 @@ impl CpuSolver {
 
     /// Sort, densities, neighbour lists and factors at the current positions.
     fn dfsph_neighborhood(&mut self, ctx: &StageContext) {
+        // A few hundred kernel evaluations: cheaper to redo each step than to track h and m.
         let kernel = CubicSpline::new(self.params.smoothing_radius, self.params.spacing());
-        if self.dfsph.kernel != kernel {
-            self.dfsph.kernel = kernel;
-            self.dfsph.rest_factor = rest_factor(&self.params, &kernel);
-        }
+        self.dfsph.kernel = kernel;
+        self.dfsph.rest_factor = rest_factor(&self.params, &kernel);
         let (neighbors, p, t) = (&mut self.neighbors, &mut self.particles, &mut self.timings);
         let boundary = &mut self.boundary;
         timed(&mut t.sort, || {
@@ -144,11 +143,13 @@ impl CpuSolver {
             s.stiffness.resize(n, 0.0);
             let kernel = s.kernel;
             s.lists.rebuild(
-                neighbors,
-                &p.position,
-                Some(boundary),
-                ctx.mass,
-                ctx.rest_density,
+                ListSource {
+                    neighbors,
+                    positions: &p.position,
+                    boundary: Some(boundary),
+                    mass: ctx.mass,
+                    rest_density: ctx.rest_density,
+                },
                 |r, r2| {
                     let r_len = r2.sqrt();
                     (kernel.value(r_len), kernel.gradient(r, r_len))
