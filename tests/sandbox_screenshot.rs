@@ -27,8 +27,8 @@ fn decode(path: &PathBuf) -> (u32, u32, Vec<u8>) {
     (info.width, info.height, rgb)
 }
 
-#[test]
-fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
+/// Runs the sandbox under Xvfb with `args` and `--screenshot`; returns the decoded picture.
+fn screenshot(args: &[&str]) -> (u32, u32, Vec<u8>) {
     let binary = sandbox_binary();
     assert!(
         binary.exists(),
@@ -40,19 +40,17 @@ fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
         xvfb.is_ok(),
         "xvfb-run not found: install it with `sudo apt-get install xvfb xauth` (scripts/test.sh does this)"
     );
-    let shot = std::env::temp_dir().join(format!("sandbox-{}.png", std::process::id()));
+    let shot = std::env::temp_dir().join(format!(
+        "sandbox-{}-{}.png",
+        std::process::id(),
+        args.join("").replace('-', "")
+    ));
     let _ = std::fs::remove_file(&shot);
     let output = Command::new("timeout")
         .args(["600", "xvfb-run", "-a", "-s", "-screen 0 1280x720x24"])
         .arg(&binary)
-        .args([
-            "--particles",
-            "8192",
-            "--frames",
-            "30",
-            "--obstacles",
-            "--screenshot",
-        ])
+        .args(args)
+        .arg("--screenshot")
         .arg(&shot)
         .output()
         .expect("run the sandbox");
@@ -63,22 +61,43 @@ fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
         output.status,
         log.lines().rev().take(30).collect::<Vec<_>>().join("\n")
     );
-    let (w, h, rgb) = decode(&shot);
-    assert_eq!((w, h), (1280, 720));
-    let pixel = |x: u32, y: u32| {
-        let i = 3 * (y * w + x) as usize;
-        (rgb[i] as i32, rgb[i + 1] as i32, rgb[i + 2] as i32)
-    };
-    // Water: clearly blue pixels (blue well above red) in the box's part of the view.
+    let picture = decode(&shot);
+    let _ = std::fs::remove_file(&shot);
+    picture
+}
+
+/// Clearly blue pixels (blue well above red) in the box's part of the view.
+fn blue_pixels(w: u32, rgb: &[u8]) -> usize {
     let mut blue = 0;
     for y in 100..620 {
         for x in 330..1000 {
-            let (r, _, b) = pixel(x, y);
+            let i = 3 * (y * w + x) as usize;
+            let (r, b) = (rgb[i] as i32, rgb[i + 2] as i32);
             if b >= 100 && b - r >= 40 {
                 blue += 1;
             }
         }
     }
+    blue
+}
+
+#[test]
+fn dfsph_water_on_the_cpu_backend_is_drawn() {
+    // `--solver dfsph` runs the CPU backend; the sandbox fills its own draw buffers.
+    let (w, _, rgb) = screenshot(&["--particles", "4096", "--frames", "20", "--solver", "dfsph"]);
+    let blue = blue_pixels(w, &rgb);
+    assert!(blue >= 3_000, "only {blue} blue particle pixels in the box");
+}
+
+#[test]
+fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
+    let (w, h, rgb) = screenshot(&["--particles", "8192", "--frames", "30", "--obstacles"]);
+    assert_eq!((w, h), (1280, 720));
+    let pixel = |x: u32, y: u32| {
+        let i = 3 * (y * w + x) as usize;
+        (rgb[i] as i32, rgb[i + 1] as i32, rgb[i + 2] as i32)
+    };
+    let blue = blue_pixels(w, &rgb);
     assert!(blue >= 5_000, "only {blue} blue particle pixels in the box");
     // The obstacles (`--obstacles`): the ball and the box in flat orange, seen through the glass
     // wall as salmon, about (190, 133, 118).
@@ -117,5 +136,4 @@ fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
         r >= 36 || g >= 36 || b >= 36,
         "background looks like the panel"
     );
-    let _ = std::fs::remove_file(&shot);
 }
