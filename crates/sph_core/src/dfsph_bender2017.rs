@@ -26,7 +26,7 @@
 //! rate d_i = Dρ_i/Dt is κ_i = d_i / (dt D_i).
 
 use crate::boundary::{BodyForceSum, Boundary};
-use crate::neighbor::lists::{NeighborLists, PairsOf};
+use crate::neighbor_lists::{NeighborLists, PairsOf};
 use crate::params::SphParams;
 use crate::stability::viscous_limit;
 use glam::Vec3;

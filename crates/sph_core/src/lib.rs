@@ -34,6 +34,7 @@ pub mod guard;
 pub mod integrate;
 pub mod kernel;
 pub mod neighbor;
+pub mod neighbor_lists;
 pub mod params;
 pub mod rng;
 pub mod rollback;

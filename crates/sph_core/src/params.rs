@@ -386,3 +386,61 @@ impl Default for SphParams {
         Self::water()
     }
 }
+
+/// Checks `min <= max` of an iteration range and `max` in [1, 1000].
+fn check_iterations(
+    min_field: &'static str,
+    max_field: &'static str,
+    min: u32,
+    max: u32,
+) -> Result<(), ParamError> {
+    if !(1..=1000).contains(&max) {
+        return Err(ParamError {
+            field: max_field,
+            value: max.to_string(),
+            allowed: "[1, 1000] iterations",
+        });
+    }
+    if min > max {
+        return Err(ParamError {
+            field: min_field,
+            value: min.to_string(),
+            allowed: "[0, the largest iteration count]",
+        });
+    }
+    Ok(())
+}
+
+impl DfsphSettings {
+    /// Checks every field; the error names the first field out of range.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check_range(
+            "dfsph.max_density_error",
+            self.max_density_error,
+            0.0,
+            false,
+            0.1,
+            "(0, 0.1] (a fraction of ρ0)",
+        )?;
+        check_range(
+            "dfsph.max_divergence_error",
+            self.max_divergence_error,
+            0.0,
+            false,
+            10.0,
+            "(0, 10] 1/s",
+        )?;
+        check_iterations(
+            "dfsph.min_density_iterations",
+            "dfsph.max_density_iterations",
+            self.min_density_iterations,
+            self.max_density_iterations,
+        )?;
+        check_iterations(
+            "dfsph.min_divergence_iterations",
+            "dfsph.max_divergence_iterations",
+            self.min_divergence_iterations,
+            self.max_divergence_iterations,
+        )
+    }
+}

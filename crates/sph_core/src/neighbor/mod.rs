@@ -4,11 +4,9 @@
 
 pub mod grid;
 pub mod hash;
-pub mod lists;
 
 pub use grid::DenseGrid;
 pub use hash::SpatialHash;
-pub use lists::{ListSource, NeighborLists};
 
 use crate::container::BoxContainer;
 use crate::params::{NeighborSearch, ParamError};

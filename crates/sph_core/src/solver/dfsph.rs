@@ -1,4 +1,4 @@
-//! [`CpuSolver`]'s DFSPH step, the simulation loop of Bender & Koschier 2017 over the stages of
+//! `CpuSolver`'s DFSPH step ([`DfsphStep`]), the simulation loop of Bender & Koschier 2017 over the stages of
 //! [`crate::dfsph_bender2017`]:
 //!
 //! 1. non-pressure accelerations a_np (viscosity, surface tension, gravity, boundary friction)
@@ -14,16 +14,20 @@
 //! and runs iterations of two passes (apply the stiffness, predict the error), what the GPU's
 //! two dispatches per iteration will be.
 
-use super::{timed, CpuSolver};
+use super::state::{timed, ParticleData, StageTimings};
 use crate::boundary::BodyForceSum;
+use crate::boundary::Boundary;
 use crate::dfsph_bender2017::{
     apply_stiffness, boundary_reactions, compute_factors, density_source, dfsph_time_step,
     divergence_source, stiffness_from_source, ParticleFactor,
 };
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::guard::Corrections;
+use crate::guard::Guard;
 use crate::kernel::CubicSpline;
-use crate::neighbor::lists::{ListSource, NeighborLists};
+use crate::neighbor::Neighbors;
+use crate::neighbor_lists::{ListSource, NeighborLists};
+use crate::params::SphParams;
 use crate::solvers::SolverStats;
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::compute_normals;
@@ -84,7 +88,7 @@ struct SolveOutcome {
 
 /// D_i of a particle in the rest lattice: Σ_j |m ∇W|² over the lattice neighbours (the sum of
 /// the gradients vanishes there); the scale of [`compute_factors`]'s cut-off.
-fn rest_factor(params: &crate::SphParams, kernel: &CubicSpline) -> f32 {
+fn rest_factor(params: &SphParams, kernel: &CubicSpline) -> f32 {
     let dx = params.spacing();
     let mut sum = 0.0;
     for i in -2i32..=2 {
@@ -98,43 +102,68 @@ fn rest_factor(params: &crate::SphParams, kernel: &CubicSpline) -> f32 {
     sum * params.particle_mass * params.particle_mass
 }
 
-impl CpuSolver {
-    /// The time step DFSPH's rule gives now: [`dfsph_time_step`] of the largest speed the
-    /// non-pressure accelerations would give over the largest step, max |v + a_np dt_max|, and
-    /// of the boundary's samples.
-    pub(super) fn dfsph_next_time_step(&self) -> f32 {
-        let p = &self.particles;
-        let horizon = self.params.time_step;
-        let fluid = p
-            .velocity
-            .par_iter()
-            .zip(p.acceleration.par_iter())
-            .map(|(&v, &a)| {
-                let s = (v + a * horizon).length();
-                if s.is_finite() {
-                    s
-                } else {
-                    f32::INFINITY
-                }
-            })
-            .reduce(|| 0.0, f32::max);
-        dfsph_time_step(&self.params, fluid.max(self.boundary.max_speed()))
-    }
+/// The time step DFSPH's rule gives now: [`dfsph_time_step`] of the largest speed the
+/// non-pressure accelerations would give over the largest step, max |v + a_np dt_max|, and of
+/// the boundary's samples.
+pub(super) fn next_time_step(params: &SphParams, p: &ParticleData, boundary: &Boundary) -> f32 {
+    let horizon = params.time_step;
+    let fluid = p
+        .velocity
+        .par_iter()
+        .zip(p.acceleration.par_iter())
+        .map(|(&v, &a)| {
+            let s = (v + a * horizon).length();
+            if s.is_finite() {
+                s
+            } else {
+                f32::INFINITY
+            }
+        })
+        .reduce(|| 0.0, f32::max);
+    dfsph_time_step(params, fluid.max(boundary.max_speed()))
+}
 
+/// What the DFSPH step borrows from the solver.
+pub(super) struct DfsphStep<'a> {
+    pub params: &'a SphParams,
+    pub neighbors: &'a mut Neighbors,
+    pub particles: &'a mut ParticleData,
+    pub boundary: &'a mut Boundary,
+    pub timings: &'a mut StageTimings,
+    pub scratch: &'a mut DfsphScratch,
+    /// The reorder's scratch array.
+    pub sort_scratch: &'a mut Vec<Vec3>,
+}
+
+/// What one DFSPH step did.
+pub(super) struct DfsphOutcome {
+    pub dt: f32,
+    pub corrections: Corrections,
+    /// The fluid's force on each boundary body.
+    pub forces: Vec<BodyForceSum>,
+    pub stats: SolverStats,
+}
+
+impl DfsphStep<'_> {
     /// Sort, densities, neighbour lists and factors at the current positions.
-    fn dfsph_neighborhood(&mut self, ctx: &StageContext) {
+    fn neighborhood(&mut self, ctx: &StageContext) {
         // A few hundred kernel evaluations: cheaper to redo each step than to track h and m.
         let kernel = CubicSpline::new(self.params.smoothing_radius, self.params.spacing());
-        self.dfsph.kernel = kernel;
-        self.dfsph.rest_factor = rest_factor(&self.params, &kernel);
-        let (neighbors, p, t) = (&mut self.neighbors, &mut self.particles, &mut self.timings);
-        let boundary = &mut self.boundary;
+        self.scratch.kernel = kernel;
+        self.scratch.rest_factor = rest_factor(self.params, &kernel);
+        let (neighbors, p, t) = (
+            &mut *self.neighbors,
+            &mut *self.particles,
+            &mut *self.timings,
+        );
+        let boundary = &mut *self.boundary;
+        let sort_scratch = &mut *self.sort_scratch;
         timed(&mut t.sort, || {
             let _ = boundary.sort();
             let order = neighbors.sort(&p.position);
-            p.reorder(order, &mut self.scratch);
+            p.reorder(order, sort_scratch);
         });
-        let s = &mut self.dfsph;
+        let s = &mut *self.scratch;
         timed(&mut t.density, || {
             let n = p.len();
             p.density.resize(n, 0.0);
@@ -162,10 +191,11 @@ impl CpuSolver {
 
     /// One of the two solves on the current velocities (Bender & Koschier 2017: the
     /// constant-density solve on v*, the divergence-free solve on v).
-    fn dfsph_solve(&mut self, solve: Solve, dt: f32) -> SolveOutcome {
+    fn solve(&mut self, solve: Solve, dt: f32) -> SolveOutcome {
+        let start = std::time::Instant::now();
         let settings = self.params.dfsph;
         let rho0 = self.params.rest_density;
-        let (p, s) = (&mut self.particles, &mut self.dfsph);
+        let (p, s) = (&mut *self.particles, &mut *self.scratch);
         let n = p.len();
         let (total, scale, min, max, eta) = match solve {
             Solve::Density => (
@@ -220,7 +250,8 @@ impl CpuSolver {
             iterations += 1;
         }
         let reactions =
-            boundary_reactions(&s.lists, &self.boundary, total, self.params.particle_mass);
+            boundary_reactions(&s.lists, self.boundary, total, self.params.particle_mass);
+        self.timings.pressure_solve += start.elapsed();
         SolveOutcome {
             iterations,
             error,
@@ -228,15 +259,16 @@ impl CpuSolver {
         }
     }
 
-    /// One DFSPH step at `dt_scale` times the rule's dt; returns its dt.
-    pub(super) fn advance_dfsph(&mut self, dt_scale: f32) -> f32 {
-        let ctx = StageContext::new(&self.params);
+    /// One DFSPH step at `dt_scale` times the rule's dt. `stale`: the densities, lists and
+    /// factors do not hold for the current positions (spawns, parameter changes).
+    pub fn advance(&mut self, dt_scale: f32, stale: bool, guard: &Guard) -> DfsphOutcome {
+        let ctx = StageContext::new(self.params);
         let boundary_moved = self.boundary.sort();
-        if self.forces_stale || boundary_moved {
-            self.dfsph_neighborhood(&ctx);
+        if stale || boundary_moved {
+            self.neighborhood(&ctx);
         }
         // 1. Non-pressure accelerations at the step's start.
-        let (neighbors, p, t) = (&self.neighbors, &mut self.particles, &mut self.timings);
+        let (neighbors, p, t) = (&*self.neighbors, &mut *self.particles, &mut *self.timings);
         if self.params.has_surface_tension() {
             timed(&mut t.normals, || {
                 compute_normals(&ctx, neighbors, &p.position, &p.density, &mut p.normal)
@@ -248,25 +280,23 @@ impl CpuSolver {
             density: &p.density,
             pressure: &p.pressure,
             normal: &p.normal,
-            boundary: Some(&self.boundary),
+            boundary: Some(&*self.boundary),
             with_pressure: false,
         };
         let mut forces = timed(&mut t.forces, || {
             compute_accelerations(&ctx, neighbors, &input, &mut p.acceleration)
         });
         // 2.-3. The time step and the predicted velocities.
-        let dt = self.dfsph_next_time_step() * dt_scale;
-        let p = &mut self.particles;
+        let dt = next_time_step(self.params, self.particles, self.boundary) * dt_scale;
+        let p = &mut *self.particles;
         p.velocity
             .par_iter_mut()
             .zip(p.acceleration.par_iter())
             .for_each(|(v, &a)| *v += a * dt);
         // 4. Constant density.
-        let density = timed_solve(self, Solve::Density, dt);
+        let density = self.solve(Solve::Density, dt);
         // 5. Move.
-        let colliders = self.boundary.collider_list();
-        let guard = self.guard(&colliders);
-        let p = &mut self.particles;
+        let p = &mut *self.particles;
         let corrections: Corrections = timed(&mut self.timings.integrate, || {
             p.position
                 .par_iter_mut()
@@ -278,9 +308,9 @@ impl CpuSolver {
                 .sum()
         });
         // 6.-7. The new neighbourhood, divergence-free velocities.
-        self.dfsph_neighborhood(&ctx);
-        let divergence = timed_solve(self, Solve::Divergence, dt);
-        let p = &mut self.particles;
+        self.neighborhood(&ctx);
+        let divergence = self.solve(Solve::Divergence, dt);
+        let p = &mut *self.particles;
         p.pressure
             .par_iter_mut()
             .enumerate()
@@ -294,27 +324,16 @@ impl CpuSolver {
                 .zip(reactions)
                 .for_each(|(sum, r)| sum.merge(r));
         }
-        let (sums, evaluations) = &mut self.body_force_sums;
-        sums.resize(forces.len(), BodyForceSum::default());
-        sums.iter_mut().zip(&forces).for_each(|(s, f)| s.merge(f));
-        *evaluations += 1;
-        self.last_body_forces = forces;
-        self.solver_stats = SolverStats {
-            density_iterations: density.iterations,
-            divergence_iterations: divergence.iterations,
-            density_error: density.error,
-            divergence_error: divergence.error,
-        };
-        self.forces_stale = false;
-        self.boundary_corrections += corrections;
-        dt
+        DfsphOutcome {
+            dt,
+            corrections,
+            forces,
+            stats: SolverStats {
+                density_iterations: density.iterations,
+                divergence_iterations: divergence.iterations,
+                density_error: density.error,
+                divergence_error: divergence.error,
+            },
+        }
     }
-}
-
-/// A solve, its time added to the pressure-solve timing.
-fn timed_solve(solver: &mut CpuSolver, solve: Solve, dt: f32) -> SolveOutcome {
-    let start = std::time::Instant::now();
-    let outcome = solver.dfsph_solve(solve, dt);
-    solver.timings.pressure_solve += start.elapsed();
-    outcome
 }

@@ -20,88 +20,12 @@ use crate::stage::{evaluation_stages, CpuStage, StageContext};
 use crate::surface_tension_akinci2013::compute_normals;
 use glam::Vec3;
 use rayon::prelude::*;
-use std::time::{Duration, Instant};
 
 mod dfsph;
+mod state;
 
-/// Structure-of-arrays particle state, kept in the neighbour-sort order of the last evaluation.
-#[derive(Clone, Debug, Default)]
-pub struct ParticleData {
-    /// Positions x [m].
-    pub position: Vec<Vec3>,
-    /// Velocities v [m/s] (mid-step v½ inside a kick-drift-kick step).
-    pub velocity: Vec<Vec3>,
-    /// The velocity the viscosity term sees during a force evaluation.
-    pub velocity_predicted: Vec<Vec3>,
-    /// Accelerations a [m/s²] of the last force evaluation.
-    pub acceleration: Vec<Vec3>,
-    /// The design's leapfrog: the start-of-step acceleration a0.
-    pub acceleration_start: Vec<Vec3>,
-    /// Densities ρ [kg/m³].
-    pub density: Vec<f32>,
-    /// Pressures p [Pa].
-    pub pressure: Vec<f32>,
-    /// Akinci normals (only maintained with surface tension).
-    pub normal: Vec<Vec3>,
-    /// Stable particle identifiers (spawn order), so sorted states can be compared.
-    pub id: Vec<u32>,
-    /// DFSPH: the constant-density solve's stiffness κ of the last step [m⁵/(kg s²)], its warm
-    /// start (see [`crate::dfsph_bender2017`]); zero with WCSPH.
-    pub stiffness_density: Vec<f32>,
-    /// DFSPH: the divergence-free solve's stiffness of the last step, likewise.
-    pub stiffness_divergence: Vec<f32>,
-}
-
-impl ParticleData {
-    /// Number of particles.
-    pub fn len(&self) -> usize {
-        self.position.len()
-    }
-
-    /// Whether there are no particles.
-    pub fn is_empty(&self) -> bool {
-        self.position.is_empty()
-    }
-
-    /// Copies `other` into `self`, reusing the allocations.
-    fn copy_from(&mut self, other: &Self) {
-        self.position.clone_from(&other.position);
-        self.velocity.clone_from(&other.velocity);
-        self.velocity_predicted
-            .clone_from(&other.velocity_predicted);
-        self.acceleration.clone_from(&other.acceleration);
-        self.acceleration_start
-            .clone_from(&other.acceleration_start);
-        self.density.clone_from(&other.density);
-        self.pressure.clone_from(&other.pressure);
-        self.normal.clone_from(&other.normal);
-        self.id.clone_from(&other.id);
-        self.stiffness_density.clone_from(&other.stiffness_density);
-        self.stiffness_divergence
-            .clone_from(&other.stiffness_divergence);
-    }
-
-    /// Gathers every per-particle array by `order` (sorted slot k takes particle order[k]).
-    fn reorder(&mut self, order: &[u32], scratch: &mut Vec<Vec3>) {
-        for field in [
-            &mut self.position,
-            &mut self.velocity,
-            &mut self.velocity_predicted,
-            &mut self.acceleration,
-            &mut self.acceleration_start,
-        ] {
-            scratch.clear();
-            scratch.extend(order.iter().map(|&i| field[i as usize]));
-            std::mem::swap(field, scratch);
-        }
-        let id: Vec<u32> = order.iter().map(|&i| self.id[i as usize]).collect();
-        self.id = id;
-        for field in [&mut self.stiffness_density, &mut self.stiffness_divergence] {
-            let sorted: Vec<f32> = order.iter().map(|&i| field[i as usize]).collect();
-            *field = sorted;
-        }
-    }
-}
+use state::timed;
+pub use state::{ParticleData, StageTimings};
 
 /// What a spawn did: how many particles were added, how many were refused for capacity and how
 /// many were left out because they lay inside (or within half a spacing of) a collider.
@@ -113,45 +37,6 @@ pub struct SpawnReport {
     pub refused: usize,
     /// Particles left out because they lay inside a collider.
     pub inside_colliders: usize,
-}
-
-/// Wall-clock time spent in each stage since the solver was created (or the timings were reset).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct StageTimings {
-    /// Neighbour sort and reorder (count, prefix sum, scatter; or hash sort).
-    pub sort: Duration,
-    /// Density and pressure.
-    pub density: Duration,
-    /// Akinci normals.
-    pub normals: Duration,
-    /// Accelerations.
-    pub forces: Duration,
-    /// Integration and wall collisions.
-    pub integrate: Duration,
-    /// DFSPH: neighbour lists, factors and the two pressure solves.
-    pub pressure_solve: Duration,
-}
-
-impl StageTimings {
-    /// (stage name, time) pairs in pipeline order.
-    pub fn stages(&self) -> [(&'static str, Duration); 6] {
-        [
-            ("sort", self.sort),
-            ("density", self.density),
-            ("normals", self.normals),
-            ("forces", self.forces),
-            ("pressure solve", self.pressure_solve),
-            ("integrate", self.integrate),
-        ]
-    }
-}
-
-/// Runs `f`, adding its wall-clock time to `slot`.
-fn timed<R>(slot: &mut Duration, f: impl FnOnce() -> R) -> R {
-    let t = Instant::now();
-    let result = f();
-    *slot += t.elapsed();
-    result
 }
 
 /// The CPU SPH solver.
@@ -545,7 +430,7 @@ impl CpuSolver {
     /// acceleration (kick-drift-kick).
     pub fn next_time_step(&self) -> f32 {
         if self.params.solver == Solver::Dfsph {
-            return self.dfsph_next_time_step();
+            return dfsph::next_time_step(&self.params, &self.particles, &self.boundary);
         }
         if !self.params.adaptive_time_step {
             return self.params.time_step;
@@ -752,6 +637,33 @@ impl CpuSolver {
         self.forces_stale = false;
         self.boundary_corrections += corrections;
         dt
+    }
+
+    /// One DFSPH step ([`dfsph::DfsphStep`]) at `dt_scale` times the rule's dt; returns its dt.
+    fn advance_dfsph(&mut self, dt_scale: f32) -> f32 {
+        let colliders = self.boundary.collider_list();
+        let guard = self.guard(&colliders);
+        let outcome = dfsph::DfsphStep {
+            params: &self.params,
+            neighbors: &mut self.neighbors,
+            particles: &mut self.particles,
+            boundary: &mut self.boundary,
+            timings: &mut self.timings,
+            scratch: &mut self.dfsph,
+            sort_scratch: &mut self.scratch,
+        }
+        .advance(dt_scale, self.forces_stale, &guard);
+        let (sums, evaluations) = &mut self.body_force_sums;
+        sums.resize(outcome.forces.len(), BodyForceSum::default());
+        sums.iter_mut()
+            .zip(&outcome.forces)
+            .for_each(|(s, f)| s.merge(f));
+        *evaluations += 1;
+        self.last_body_forces = outcome.forces;
+        self.solver_stats = outcome.stats;
+        self.forces_stale = false;
+        self.boundary_corrections += outcome.corrections;
+        outcome.dt
     }
 
     /// What the pressure solves of the last step did (zeros with WCSPH).
