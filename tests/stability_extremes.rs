@@ -232,7 +232,7 @@ fn dfsph_setting_ends() -> Vec<(&'static str, sph_core::DfsphSettings)> {
 }
 
 #[test]
-fn dfsph_at_both_ends_of_every_slider_and_setting_stays_stable() {
+fn dfsph_and_pbf_at_both_ends_of_every_slider_and_setting_stay_stable() {
     for (preset, base) in preset_scenes() {
         let mut runs: Vec<(String, sph_core::SphParams)> = Vec::new();
         for (field, range, set) in sandbox_sliders() {
@@ -240,14 +240,22 @@ fn dfsph_at_both_ends_of_every_slider_and_setting_stays_stable() {
                 let mut p = base.params;
                 p.use_solver(sph_core::Solver::Dfsph);
                 set(&mut p, end);
-                runs.push((format!("{field} = {end}"), p));
+                runs.push((format!("DFSPH, {field} = {end}"), p));
+            }
+        }
+        for (field, range, set) in sandbox_sliders() {
+            for end in [*range.start(), *range.end()] {
+                let mut p = base.params;
+                p.use_solver(sph_core::Solver::Pbf);
+                set(&mut p, end);
+                runs.push((format!("PBF, {field} = {end}"), p));
             }
         }
         for (name, settings) in dfsph_setting_ends() {
             let mut p = base.params;
             p.use_solver(sph_core::Solver::Dfsph);
             p.dfsph = settings;
-            runs.push((name.to_string(), p));
+            runs.push((format!("DFSPH, {name}"), p));
         }
         for (what, params) in runs {
             let scene = Scene {
@@ -258,7 +266,7 @@ fn dfsph_at_both_ends_of_every_slider_and_setting_stays_stable() {
             for _ in 0..60 {
                 solver.step();
             }
-            let what = format!("DFSPH, {preset}, {what}");
+            let what = format!("{preset}, {what}");
             assert_eq!(solver.unstable_step(), None, "{what}");
             assert_sane(&solver.diagnostics(), scene.particle_count(), &what);
         }
@@ -290,18 +298,20 @@ fn run_degenerate(positions: &[Vec3], what: &str) {
             }
         }
     }
-    for search in [NeighborSearch::Grid, NeighborSearch::Hash] {
-        let mut params = sph_core::SphParams::water();
-        params.use_solver(sph_core::Solver::Dfsph);
-        params.neighbor_search = search;
-        let mut solver = CpuSolver::new(params, container, positions.len().max(1)).unwrap();
-        solver.spawn(positions, Vec3::ZERO);
-        for _ in 0..100 {
-            solver.step();
+    for solver_kind in [sph_core::Solver::Dfsph, sph_core::Solver::Pbf] {
+        for search in [NeighborSearch::Grid, NeighborSearch::Hash] {
+            let mut params = sph_core::SphParams::water();
+            params.use_solver(solver_kind);
+            params.neighbor_search = search;
+            let mut solver = CpuSolver::new(params, container, positions.len().max(1)).unwrap();
+            solver.spawn(positions, Vec3::ZERO);
+            for _ in 0..100 {
+                solver.step();
+            }
+            let what = format!("{what}, {solver_kind:?}, {search:?}");
+            assert_eq!(solver.unstable_step(), None, "{what}");
+            assert_sane(&solver.diagnostics(), positions.len(), &what);
         }
-        let what = format!("{what}, DFSPH, {search:?}");
-        assert_eq!(solver.unstable_step(), None, "{what}");
-        assert_sane(&solver.diagnostics(), positions.len(), &what);
     }
 }
 
@@ -340,16 +350,18 @@ fn a_quarter_million_particles_take_one_cpu_step() {
         "262,144-particle dam break",
     );
     assert!(scene.particle_count() >= 250_000);
-    let mut dfsph = scene.clone();
-    dfsph.params.use_solver(sph_core::Solver::Dfsph);
-    let mut solver = solver_of(&dfsph);
-    solver.step();
-    assert_eq!(solver.unstable_step(), None);
-    assert_sane(
-        &solver.diagnostics(),
-        scene.particle_count(),
-        "262,144-particle dam break, DFSPH",
-    );
+    for kind in [sph_core::Solver::Dfsph, sph_core::Solver::Pbf] {
+        let mut other = scene.clone();
+        other.params.use_solver(kind);
+        let mut solver = solver_of(&other);
+        solver.step();
+        assert_eq!(solver.unstable_step(), None);
+        assert_sane(
+            &solver.diagnostics(),
+            scene.particle_count(),
+            &format!("262,144-particle dam break, {kind:?}"),
+        );
+    }
 }
 
 fn gpu_app(scene: &Scene) -> App {

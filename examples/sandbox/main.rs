@@ -49,8 +49,8 @@ struct Cli {
     debug: bool,
     adaptive: bool,
     obstacles: bool,
-    /// `--solver dfsph`: DFSPH on the CPU backend (its GPU passes are not built yet).
-    dfsph: bool,
+    /// `--solver dfsph|pbf`: that solver on the CPU backend (their GPU passes are not built yet).
+    solver: Option<sph_core::Solver>,
 }
 
 fn parse_cli() -> Result<Cli, String> {
@@ -94,10 +94,11 @@ fn parse_cli() -> Result<Cli, String> {
             "--adaptive" => cli.adaptive = true,
             "--obstacles" => cli.obstacles = true,
             "--solver" => {
-                cli.dfsph = match value()?.as_str() {
-                    "wcsph" => false,
-                    "dfsph" => true,
-                    v => return Err(format!("--solver = {v:?}: allowed wcsph, dfsph")),
+                cli.solver = match value()?.as_str() {
+                    "wcsph" => None,
+                    "dfsph" => Some(sph_core::Solver::Dfsph),
+                    "pbf" => Some(sph_core::Solver::Pbf),
+                    v => return Err(format!("--solver = {v:?}: allowed wcsph, dfsph, pbf")),
                 };
                 k += 1;
             }
@@ -115,7 +116,7 @@ fn main() {
             eprintln!(
                 "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
                  [--hide-particles] [--no-gpu-timings] [--debug] [--adaptive] \
-                 [--obstacles] [--solver wcsph|dfsph] [--screenshot FILE --frames N]"
+                 [--obstacles] [--solver wcsph|dfsph|pbf] [--screenshot FILE --frames N]"
             );
             std::process::exit(2);
         }
@@ -127,12 +128,13 @@ fn main() {
         config.apply_preset_defaults();
     }
     config.adaptive_time_step = cli.adaptive;
-    // DFSPH runs on the CPU backend until its GPU passes exist.
-    let backend = if cli.dfsph {
-        config.solver = sph_core::Solver::Dfsph;
-        SphBackend::Cpu
-    } else {
-        SphBackend::Gpu
+    // DFSPH and PBF run on the CPU backend until their GPU passes exist.
+    let backend = match cli.solver {
+        Some(solver) => {
+            config.solver = solver;
+            SphBackend::Cpu
+        }
+        None => SphBackend::Gpu,
     };
     if cli.obstacles {
         config.sphere_obstacle = true;

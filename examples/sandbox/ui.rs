@@ -121,6 +121,11 @@ pub fn setup_panel(
                         "Divergence-free SPH (Bender & Koschier 2017), its own time step; \
                          CPU backend only for now: start the sandbox with --solver dfsph",
                     );
+                ui.radio_value(&mut config.solver, sph_core::Solver::Pbf, "PBF")
+                    .on_hover_text(
+                        "Position-based fluids (Macklin & Müller 2013), its own time step; \
+                         CPU backend only for now: start the sandbox with --solver pbf",
+                    );
             });
             let mut integrator = config.integrator;
             integrator_combo(ui, "setup", &mut integrator);
@@ -342,7 +347,7 @@ pub fn runtime_panel(
             ));
             if stats.pressure_iterations_mean > 0.0 {
                 ui.label(format!(
-                    "DFSPH iterations per step: density {:.1} (max {}), divergence {:.1}",
+                    "solver iterations per step: density {:.1} (max {}), divergence {:.1}",
                     stats.pressure_iterations_mean,
                     stats.pressure_iterations_max,
                     stats.divergence_iterations_mean

@@ -112,7 +112,7 @@ fn named<T: Copy + Send + Sync + 'static>(
 }
 
 /// The pressure solvers by command-line name, with their help.
-pub const SOLVERS: [(&str, &str, Solver); 2] = [
+pub const SOLVERS: [(&str, &str, Solver); 3] = [
     (
         "wcsph",
         "weakly compressible SPH, dt from the speed of sound",
@@ -123,7 +123,16 @@ pub const SOLVERS: [(&str, &str, Solver); 2] = [
         "divergence-free SPH (Bender & Koschier 2017), dt from the flow speed",
         Solver::Dfsph,
     ),
+    (
+        "pbf",
+        "position-based fluids (Macklin & Müller 2013), dt from the support radius",
+        Solver::Pbf,
+    ),
 ];
+
+fn pbf_iterations(text: &str) -> Result<u32, String> {
+    number(text, |v: u32| (1..=100).contains(&v), "1..=100 iterations")
+}
 
 fn solver() -> impl TypedValueParser<Value = Solver> {
     named(&SOLVERS)
@@ -226,8 +235,8 @@ pub struct RunArgs {
     /// Which solver runs the scenario.
     #[arg(long, value_enum, default_value = "cpu")]
     pub backend: Backend,
-    /// The pressure solver. DFSPH uses its own time-step rule (λ Δx / v_max, at most √(0.005 Δx / g))
-    /// unless --dt is given.
+    /// The pressure solver. DFSPH uses its own time-step rule (λ Δx / v_max, at most
+    /// √(0.005 Δx / g)), PBF its own (λ h / v_max, at most 1/120 s), unless --dt is given.
     #[arg(long, value_name = "NAME", value_parser = solver(), default_value = "wcsph")]
     pub solver: Solver,
     /// DFSPH: the largest mean density error of the constant-density solve [%] [default: 0.01].
@@ -237,6 +246,9 @@ pub struct RunArgs {
     /// [default: 0.1].
     #[arg(long, value_name = "PERCENT_PER_S", value_parser = percent_per_second)]
     pub divergence_error: Option<f32>,
+    /// PBF: Jacobi iterations of the density constraint per step [default: 4].
+    #[arg(long, value_name = "N", value_parser = pbf_iterations)]
+    pub pbf_iterations: Option<u32>,
     /// DFSPH: warm-start each solve from the previous step's stiffness.
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub warm_start: bool,
@@ -304,6 +316,7 @@ impl Default for RunArgs {
             density_error: None,
             divergence_error: None,
             warm_start: true,
+            pbf_iterations: None,
             particles: 8_192,
             a: 0.146,
             integrator: Integrator::KickDriftKick,

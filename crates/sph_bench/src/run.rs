@@ -62,6 +62,19 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
             }
             p.dfsph.warm_start = args.warm_start;
         }
+        Solver::Pbf => {
+            if let Some(lambda) = args.cfl {
+                p.cfl_factor = lambda;
+            }
+            p.use_solver(Solver::Pbf);
+            if let Some(dt) = args.dt {
+                p.time_step = dt;
+                p.adaptive_time_step = args.adaptive;
+            }
+            if let Some(n) = args.pbf_iterations {
+                p.pbf.iterations = n;
+            }
+        }
     }
     s.rollback = rollback(args.rollback);
     s.walls = args.walls;

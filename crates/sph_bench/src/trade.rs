@@ -342,6 +342,13 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                 ..dfsph.clone()
             },
         ),
+        (
+            "PBF, own dt rule",
+            RunArgs {
+                solver: Solver::Pbf,
+                ..cpu.clone()
+            },
+        ),
     ] {
         plan.push(Planned::new("solver", label.into(), args));
     }
@@ -467,6 +474,13 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                             ..d32.clone()
                         },
                     ),
+                    (
+                        "PBF, own dt rule",
+                        RunArgs {
+                            solver: Solver::Pbf,
+                            ..d32.clone()
+                        },
+                    ),
                 ] {
                     plan.push(Planned::new("dambreak32k", label.into(), args));
                 }
@@ -584,10 +598,10 @@ mod tests {
             substeps: 10,
         };
         let plan = plan(&args);
-        // 12 integrator × dt, 4 DFSPH variants; per backend 2 counts, search, surface tension,
-        // viscosity, tank, 2 dambreak32k; the CPU adds 2 α, 2 DFSPH counts, a DFSPH tank and 3
-        // DFSPH dambreak32k runs.
-        assert_eq!(plan.len(), 12 + 4 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 3);
+        // 12 integrator × dt, 4 DFSPH variants and PBF; per backend 2 counts, search, surface
+        // tension, viscosity, tank, 2 dambreak32k; the CPU adds 2 α, 2 DFSPH counts, a DFSPH
+        // tank and 3 DFSPH and 1 PBF dambreak32k runs.
+        assert_eq!(plan.len(), 12 + 5 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 4);
         assert!(plan
             .iter()
             .all(|p| configured_setup(&p.args).rollback.enabled));

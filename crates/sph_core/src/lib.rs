@@ -36,6 +36,7 @@ pub mod kernel;
 pub mod neighbor;
 pub mod neighbor_lists;
 pub mod params;
+pub mod pbf_macklin2013;
 pub mod rng;
 pub mod rollback;
 pub mod sampling;
@@ -59,7 +60,7 @@ pub use params::{
 };
 pub use rollback::Rollback;
 pub use solver::{CpuSolver, ParticleData, SpawnReport, StageTimings};
-pub use solvers::{DfsphSettings, Solver, SolverStats};
+pub use solvers::{DfsphSettings, PbfSettings, Solver, SolverStats};
 pub use spawn::{BlockSpawn, Emission, PipeEmitter};
 pub use stability::StepExtremes;
 pub use stage::{CpuStage, StageContext};

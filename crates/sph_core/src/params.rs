@@ -2,7 +2,7 @@
 //! calculation" from a particle spacing, and validation with errors that name the field.
 
 use crate::kernel::Kernels;
-use crate::solvers::{dfsph_max_time_step, DfsphSettings, Solver};
+use crate::solvers::{dfsph_max_time_step, DfsphSettings, PbfSettings, Solver, PBF_MAX_TIME_STEP};
 use glam::Vec3;
 use std::fmt;
 
@@ -84,6 +84,8 @@ pub struct SphParams {
     pub solver: Solver,
     /// Settings of [`Solver::Dfsph`].
     pub dfsph: DfsphSettings,
+    /// Settings of [`Solver::Pbf`].
+    pub pbf: PbfSettings,
 }
 
 /// A parameter outside its allowed range: names the field, the value and the range.
@@ -201,6 +203,7 @@ impl SphParams {
             neighbor_search: NeighborSearch::Grid,
             solver: Solver::Wcsph,
             dfsph: DfsphSettings::default(),
+            pbf: PbfSettings::default(),
         }
     }
 
@@ -237,6 +240,7 @@ impl SphParams {
             neighbor_search: NeighborSearch::Grid,
             solver: Solver::Wcsph,
             dfsph: DfsphSettings::default(),
+            pbf: PbfSettings::default(),
         }
     }
 
@@ -253,6 +257,10 @@ impl SphParams {
             }
             Solver::Dfsph => {
                 self.time_step = dfsph_max_time_step(self.spacing(), self.gravity.length());
+                self.adaptive_time_step = true;
+            }
+            Solver::Pbf => {
+                self.time_step = PBF_MAX_TIME_STEP;
                 self.adaptive_time_step = true;
             }
         }
@@ -362,7 +370,8 @@ impl SphParams {
         check_range("wall_damping", self.wall_damping, 0.0, true, 1.0, "[0, 1]")?;
         check_range("time_step", self.time_step, 0.0, false, 1.0, "(0, 1] s")?;
         check_range("cfl_factor", self.cfl_factor, 0.0, false, 1.0, "(0, 1]")?;
-        self.dfsph.validate()
+        self.dfsph.validate()?;
+        self.pbf.validate()
     }
 
     /// Whether the surface-tension stage (normals pass and cohesion/curvature terms) is needed.
@@ -442,5 +451,43 @@ impl DfsphSettings {
             self.min_divergence_iterations,
             self.max_divergence_iterations,
         )
+    }
+}
+
+impl PbfSettings {
+    /// Checks every field; the error names the first field out of range.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        if !(1..=100).contains(&self.iterations) {
+            return Err(ParamError {
+                field: "pbf.iterations",
+                value: self.iterations.to_string(),
+                allowed: "[1, 100] iterations",
+            });
+        }
+        check_range(
+            "pbf.relaxation",
+            self.relaxation,
+            0.0,
+            false,
+            10.0,
+            "(0, 10]",
+        )?;
+        check_range("pbf.s_corr_k", self.s_corr_k, 0.0, true, 1.0, "[0, 1]")?;
+        if !(1..=8).contains(&self.s_corr_n) {
+            return Err(ParamError {
+                field: "pbf.s_corr_n",
+                value: self.s_corr_n.to_string(),
+                allowed: "[1, 8]",
+            });
+        }
+        check_range(
+            "pbf.s_corr_dq",
+            self.s_corr_dq,
+            0.0,
+            false,
+            0.9,
+            "(0, 0.9] h",
+        )?;
+        check_range("pbf.xsph_c", self.xsph_c, 0.0, true, 1.0, "[0, 1]")
     }
 }

@@ -14,17 +14,22 @@ pub enum Solver {
     /// for constant density, one for a divergence-free velocity; dt bound by the flow speed
     /// ([`DfsphSettings`]).
     Dfsph,
+    /// Position-based fluids (Macklin & Müller 2013): a density constraint on predicted
+    /// positions, solved by a few Jacobi iterations per step; dt bound by the support radius
+    /// ([`PbfSettings`]).
+    Pbf,
 }
 
 impl Solver {
     /// Every solver, in the order of the user interfaces.
-    pub const ALL: [Solver; 2] = [Solver::Wcsph, Solver::Dfsph];
+    pub const ALL: [Solver; 3] = [Solver::Wcsph, Solver::Dfsph, Solver::Pbf];
 
     /// The short name used by the command line and the panels.
     pub fn name(self) -> &'static str {
         match self {
             Solver::Wcsph => "wcsph",
             Solver::Dfsph => "dfsph",
+            Solver::Pbf => "pbf",
         }
     }
 }
@@ -85,6 +90,42 @@ impl Default for DfsphSettings {
         }
     }
 }
+
+/// Settings of [`Solver::Pbf`] (Macklin & Müller 2013).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
+pub struct PbfSettings {
+    /// Jacobi iterations of the density constraint per step.
+    pub iterations: u32,
+    /// The constraint's relaxation ε (constraint force mixing), as a fraction of the rest
+    /// lattice's Σ |∇C|²: λ_i = -C_i / (Σ_k |∇_k C_i|² + ε).
+    pub relaxation: f32,
+    /// Artificial pressure s_corr = -k (W(r) / W(Δq))^n against tensile clumping: k.
+    pub s_corr_k: f32,
+    /// The exponent n of s_corr.
+    pub s_corr_n: u32,
+    /// Δq of s_corr as a fraction of h.
+    pub s_corr_dq: f32,
+    /// XSPH viscosity c: v_i += c Σ_j (m/ρ_j) (v_j - v_i) W_ij.
+    pub xsph_c: f32,
+}
+
+impl Default for PbfSettings {
+    /// 4 iterations, relaxation 0.01, s_corr k 0.1, n 4, Δq 0.2 h (the paper's), XSPH c 0.01.
+    fn default() -> Self {
+        Self {
+            iterations: 4,
+            relaxation: 0.01,
+            s_corr_k: 0.1,
+            s_corr_n: 4,
+            s_corr_dq: 0.2,
+            xsph_c: 0.01,
+        }
+    }
+}
+
+/// The largest time step of PBF's own rule [s]: two steps per 60 Hz frame.
+pub const PBF_MAX_TIME_STEP: f32 = 1.0 / 120.0;
 
 /// What the pressure solves of the last step did (zero for WCSPH).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

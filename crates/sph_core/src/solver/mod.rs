@@ -22,6 +22,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 mod dfsph;
+mod pbf;
 mod state;
 
 use state::timed;
@@ -78,6 +79,8 @@ pub struct CpuSolver {
     last_body_forces: Vec<BodyForceSum>,
     /// DFSPH's per-step scratch (neighbour lists, factors, sources).
     dfsph: dfsph::DfsphScratch,
+    /// PBF's per-step scratch (neighbour lists, λ, corrections).
+    pbf: pbf::PbfScratch,
     /// What the pressure solves of the last step did.
     solver_stats: SolverStats,
 }
@@ -117,6 +120,7 @@ impl CpuSolver {
             body_force_sums: (Vec::new(), 0),
             last_body_forces: Vec::new(),
             dfsph: dfsph::DfsphScratch::default(),
+            pbf: pbf::PbfScratch::default(),
             solver_stats: SolverStats::default(),
             params,
             container,
@@ -363,6 +367,7 @@ impl CpuSolver {
             p.pressure.push(0.0);
             p.normal.push(Vec3::ZERO);
             p.stiffness_density.push(0.0);
+            p.position_previous.push(x);
             p.stiffness_divergence.push(0.0);
             p.id.push(self.next_id);
             self.next_id += 1;
@@ -429,8 +434,14 @@ impl CpuSolver {
     /// (symplectic Euler, the design's leapfrog) or with the previous step's closing
     /// acceleration (kick-drift-kick).
     pub fn next_time_step(&self) -> f32 {
-        if self.params.solver == Solver::Dfsph {
-            return dfsph::next_time_step(&self.params, &self.particles, &self.boundary);
+        match self.params.solver {
+            Solver::Dfsph => {
+                return dfsph::next_time_step(&self.params, &self.particles, &self.boundary)
+            }
+            Solver::Pbf => {
+                return pbf::next_time_step(&self.params, &self.particles, &self.boundary)
+            }
+            Solver::Wcsph => {}
         }
         if !self.params.adaptive_time_step {
             return self.params.time_step;
@@ -443,7 +454,7 @@ impl CpuSolver {
     /// Force evaluations the next step takes: two for the design's leapfrog, one otherwise, plus
     /// one for kick-drift-kick right after a spawn or parameter change.
     pub fn evaluations_per_step(&self) -> u32 {
-        if self.params.solver == Solver::Dfsph {
+        if self.params.solver != Solver::Wcsph {
             return 1;
         }
         match self.params.integrator {
@@ -552,8 +563,10 @@ impl CpuSolver {
 
     /// One step with the selected integrator at `dt_scale` times the rule's dt; returns its dt.
     fn advance(&mut self, dt_scale: f32) -> f32 {
-        if self.params.solver == Solver::Dfsph {
-            return self.advance_dfsph(dt_scale);
+        match self.params.solver {
+            Solver::Dfsph => return self.advance_dfsph(dt_scale),
+            Solver::Pbf => return self.advance_pbf(dt_scale),
+            Solver::Wcsph => {}
         }
         self.solver_stats = SolverStats::default();
         let ctx = StageContext::new(&self.params);
@@ -662,6 +675,26 @@ impl CpuSolver {
         self.last_body_forces = outcome.forces;
         self.solver_stats = outcome.stats;
         self.forces_stale = false;
+        self.boundary_corrections += outcome.corrections;
+        outcome.dt
+    }
+
+    /// One PBF step ([`pbf::PbfStep`]) at `dt_scale` times the rule's dt; returns its dt.
+    fn advance_pbf(&mut self, dt_scale: f32) -> f32 {
+        let colliders = self.boundary.collider_list();
+        let guard = self.guard(&colliders);
+        let outcome = pbf::PbfStep {
+            params: &self.params,
+            neighbors: &mut self.neighbors,
+            particles: &mut self.particles,
+            boundary: &mut self.boundary,
+            timings: &mut self.timings,
+            scratch: &mut self.pbf,
+            sort_scratch: &mut self.scratch,
+        }
+        .advance(dt_scale, &guard);
+        self.solver_stats = outcome.stats;
+        self.forces_stale = true;
         self.boundary_corrections += outcome.corrections;
         outcome.dt
     }

@@ -30,6 +30,9 @@ pub struct ParticleData {
     pub stiffness_density: Vec<f32>,
     /// DFSPH: the divergence-free solve's stiffness of the last step, likewise.
     pub stiffness_divergence: Vec<f32>,
+    /// PBF: the positions at the start of the step, while the constraint moves the predicted
+    /// ones in `position`.
+    pub position_previous: Vec<Vec3>,
 }
 
 impl ParticleData {
@@ -59,6 +62,7 @@ impl ParticleData {
         self.stiffness_density.clone_from(&other.stiffness_density);
         self.stiffness_divergence
             .clone_from(&other.stiffness_divergence);
+        self.position_previous.clone_from(&other.position_previous);
     }
 
     /// Gathers every per-particle array by `order` (sorted slot k takes particle order[k]).
@@ -69,6 +73,7 @@ impl ParticleData {
             &mut self.velocity_predicted,
             &mut self.acceleration,
             &mut self.acceleration_start,
+            &mut self.position_previous,
         ] {
             scratch.clear();
             scratch.extend(order.iter().map(|&i| field[i as usize]));

@@ -1,0 +1,216 @@
+//! Position-based fluids (Macklin & Müller 2013, "Position based fluids"): the density
+//! constraint C_i = ρ_i/ρ0 - 1 on predicted positions, solved by Jacobi iterations of λ_i and
+//! position corrections Δp_i, with the artificial pressure s_corr against tensile clumping and
+//! XSPH viscosity. The step that strings them together is `CpuSolver`'s (`solver/pbf.rs`).
+//!
+//! The passes read the neighbour indices of [`NeighborLists`] (built on the predicted positions
+//! once per step) and evaluate the kernel at the current predicted positions, which move with
+//! every iteration. The kernel is DFSPH's cubic spline ([`CubicSpline`], normalised on the rest
+//! lattice), so the rest lattice satisfies the constraint exactly. Boundary samples (Akinci 2012)
+//! take part in the density and push with the particle's own λ_i.
+
+use crate::boundary::Boundary;
+use crate::kernel::CubicSpline;
+use crate::neighbor_lists::NeighborLists;
+use crate::solvers::PbfSettings;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// The constants of the PBF passes for one parameter set.
+#[derive(Clone, Copy, Debug)]
+pub struct PbfContext {
+    /// The kernel of density and gradients.
+    pub kernel: CubicSpline,
+    /// Particle mass m.
+    pub mass: f32,
+    /// Rest density ρ0.
+    pub rest_density: f32,
+    /// The relaxation ε of λ, absolute [1/m²].
+    pub epsilon: f32,
+    /// s_corr's k in λ's units: k / Σ|∇C|² of the rest lattice (the paper's λ and s_corr are
+    /// both dimensionless in its units; ours is m², so s_corr takes the rest lattice's scale).
+    pub s_corr_k: f32,
+    /// s_corr's n.
+    pub s_corr_n: i32,
+    /// 1 / W(Δq).
+    pub inverse_w_dq: f32,
+    /// XSPH c.
+    pub xsph_c: f32,
+    /// The longest correction of one iteration [m], [`MAX_CORRECTION`] h.
+    pub max_correction: f32,
+}
+
+/// The longest position correction of one iteration, as a fraction of h. Water's corrections
+/// are a hundredth of that; 64 particles spawned into one cell (8 ρ0) would otherwise be thrown
+/// apart by more than h in a step, which the stability check rejects at any dt.
+pub const MAX_CORRECTION: f32 = 0.1;
+
+impl PbfContext {
+    /// The constants of `settings` for support radius `h`, spacing `spacing`, mass and ρ0.
+    pub fn new(settings: &PbfSettings, h: f32, spacing: f32, mass: f32, rest_density: f32) -> Self {
+        let kernel = CubicSpline::new(h, spacing);
+        // Σ_k |∇_k C_i|² of a rest-lattice particle: Σ_j |m/ρ0 ∇W|² twice (its own gradient is
+        // zero on the lattice; each neighbour's term and i's share of it).
+        let mut rest = 0.0;
+        for i in -2i32..=2 {
+            for j in -2i32..=2 {
+                for k in -2i32..=2 {
+                    let r = Vec3::new(i as f32, j as f32, k as f32) * spacing;
+                    rest +=
+                        (kernel.gradient(r, r.length()) * (mass / rest_density)).length_squared();
+                }
+            }
+        }
+        let w_dq = kernel.value(settings.s_corr_dq * h);
+        Self {
+            kernel,
+            mass,
+            rest_density,
+            epsilon: settings.relaxation * rest.max(f32::MIN_POSITIVE),
+            s_corr_k: settings.s_corr_k / rest.max(f32::MIN_POSITIVE),
+            s_corr_n: settings.s_corr_n as i32,
+            inverse_w_dq: if w_dq > 0.0 { 1.0 / w_dq } else { 0.0 },
+            xsph_c: settings.xsph_c,
+            max_correction: MAX_CORRECTION * h,
+        }
+    }
+}
+
+/// A particle's constraint state after the λ pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Constraint {
+    /// λ_i.
+    pub lambda: f32,
+    /// ρ_i at the predicted positions [kg/m³].
+    pub density: f32,
+}
+
+/// λ_i = -C_i / (Σ_k |∇_k C_i|² + ε) with C_i = max(ρ_i/ρ0 - 1, 0) (only compression is a
+/// violation: a free surface is not pulled together), ρ_i at the predicted `positions`
+/// (fluid and boundary), ∇_i C_i = Σ_j (m/ρ0) ∇W_ij + Σ_b V_b ∇W_ib and ∇_j C_i = -(m/ρ0) ∇W_ij
+/// (Macklin & Müller 2013, the constraint and its λ). Returns Σ_i C_i.
+pub fn compute_lambdas(
+    ctx: &PbfContext,
+    lists: &NeighborLists,
+    positions: &[Vec3],
+    boundary: Option<&Boundary>,
+    out: &mut [Constraint],
+) -> f64 {
+    let k = &ctx.kernel;
+    let scale = ctx.mass / ctx.rest_density;
+    lists.update(out, |i, pairs, o| {
+        let x_i = positions[i];
+        let mut rho = ctx.mass * k.value(0.0);
+        let mut grad_i = Vec3::ZERO;
+        let mut squares = 0.0;
+        for p in pairs.fluid {
+            let r = x_i - positions[p.index as usize];
+            let r_len = r.length();
+            rho += ctx.mass * k.value(r_len);
+            let g = k.gradient(r, r_len) * scale;
+            grad_i += g;
+            squares += g.length_squared();
+        }
+        if let Some(b) = boundary {
+            for p in pairs.boundary {
+                let s = p.index as usize;
+                let r = x_i - b.position[s];
+                let r_len = r.length();
+                rho += ctx.rest_density * b.volume[s] * k.value(r_len);
+                grad_i += k.gradient(r, r_len) * b.volume[s];
+            }
+        }
+        let c = (rho / ctx.rest_density - 1.0).max(0.0);
+        *o = Constraint {
+            lambda: -c / (grad_i.length_squared() + squares + ctx.epsilon),
+            density: rho,
+        };
+    });
+    out.par_iter()
+        .map(|o| (o.density / ctx.rest_density - 1.0).max(0.0) as f64)
+        .sum()
+}
+
+/// The densities at the final positions (fluid and boundary), for the diagnostics and the next
+/// XSPH weights: the λ pass without its gradients.
+pub fn compute_densities(
+    ctx: &PbfContext,
+    lists: &NeighborLists,
+    positions: &[Vec3],
+    boundary: Option<&Boundary>,
+    density: &mut [f32],
+) {
+    let k = &ctx.kernel;
+    lists.update(density, |i, pairs, rho| {
+        let x_i = positions[i];
+        let mut fluid = k.value(0.0);
+        for p in pairs.fluid {
+            fluid += k.value((x_i - positions[p.index as usize]).length());
+        }
+        let mut solid = 0.0;
+        if let Some(b) = boundary {
+            for p in pairs.boundary {
+                let s = p.index as usize;
+                solid += b.volume[s] * k.value((x_i - b.position[s]).length());
+            }
+        }
+        *rho = ctx.mass * fluid + ctx.rest_density * solid;
+    });
+}
+
+/// Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b λ_i ∇W_ib with
+/// s_corr = -k (W(r_ij) / W(Δq))^n (Macklin & Müller 2013, the position update and the
+/// artificial pressure), at most [`MAX_CORRECTION`] h long.
+pub fn compute_corrections(
+    ctx: &PbfContext,
+    lists: &NeighborLists,
+    positions: &[Vec3],
+    boundary: Option<&Boundary>,
+    constraint: &[Constraint],
+    delta: &mut [Vec3],
+) {
+    let k = &ctx.kernel;
+    let scale = ctx.mass / ctx.rest_density;
+    lists.update(delta, |i, pairs, d| {
+        let x_i = positions[i];
+        let l_i = constraint[i].lambda;
+        let mut sum = Vec3::ZERO;
+        for p in pairs.fluid {
+            let j = p.index as usize;
+            let r = x_i - positions[j];
+            let r_len = r.length();
+            let s_corr = -ctx.s_corr_k * (k.value(r_len) * ctx.inverse_w_dq).powi(ctx.s_corr_n);
+            sum += k.gradient(r, r_len) * (scale * (l_i + constraint[j].lambda + s_corr));
+        }
+        if let Some(b) = boundary {
+            for p in pairs.boundary {
+                let s = p.index as usize;
+                let r = x_i - b.position[s];
+                sum += k.gradient(r, r.length()) * (b.volume[s] * l_i);
+            }
+        }
+        *d = sum.clamp_length_max(ctx.max_correction);
+    });
+}
+
+/// XSPH viscosity: v_i + c Σ_j (m/ρ_j) (v_j - v_i) W_ij into `out`.
+pub fn xsph(
+    ctx: &PbfContext,
+    lists: &NeighborLists,
+    positions: &[Vec3],
+    constraint: &[Constraint],
+    velocity: &[Vec3],
+    out: &mut [Vec3],
+) {
+    let k = &ctx.kernel;
+    lists.update(out, |i, pairs, v| {
+        let (x_i, v_i) = (positions[i], velocity[i]);
+        let mut sum = Vec3::ZERO;
+        for p in pairs.fluid {
+            let j = p.index as usize;
+            let w = k.value((x_i - positions[j]).length());
+            sum += (velocity[j] - v_i) * (ctx.mass / constraint[j].density * w);
+        }
+        *v = v_i + sum * ctx.xsph_c;
+    });
+}

@@ -1,0 +1,218 @@
+//! `CpuSolver`'s PBF step ([`PbfStep`]), the simulation loop of Macklin & Müller 2013
+//! (Algorithm 1) over the passes of [`crate::pbf_macklin2013`]:
+//!
+//! 1. v += dt g; predicted positions x* = x + dt v; the guard;
+//! 2. neighbour sort and lists on the predicted positions;
+//! 3. `iterations` times: λ_i, then the corrections Δp_i, x* += Δp;
+//! 4. v = (x* - x) / dt, the guard, XSPH viscosity; x = x*.
+//!
+//! Viscosity and surface tension of the WCSPH forces pass are not applied (XSPH stands for the
+//! viscosity), and the collider forces are not summed (see docs/pbf.md).
+
+use super::state::{timed, ParticleData, StageTimings};
+use crate::boundary::Boundary;
+use crate::guard::{Corrections, Guard};
+use crate::neighbor::Neighbors;
+use crate::neighbor_lists::{ListSource, NeighborLists};
+use crate::params::SphParams;
+use crate::pbf_macklin2013::{
+    compute_corrections, compute_densities, compute_lambdas, xsph, Constraint, PbfContext,
+};
+use crate::solvers::SolverStats;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// PBF's per-step scratch arrays.
+#[derive(Clone, Debug, Default)]
+pub(super) struct PbfScratch {
+    lists: NeighborLists,
+    constraint: Vec<Constraint>,
+    delta: Vec<Vec3>,
+    velocity: Vec<Vec3>,
+    list_density: Vec<f32>,
+}
+
+/// PBF's time step: `params.time_step` when fixed; with `params.adaptive_time_step`,
+/// min(time_step, λ h / v_max) with v_max = max |v + g dt_max| (a particle moves at most λ h in
+/// a step, so the neighbours found on the predicted positions stay the ones that matter).
+pub(super) fn next_time_step(params: &SphParams, p: &ParticleData, boundary: &Boundary) -> f32 {
+    if !params.adaptive_time_step {
+        return params.time_step;
+    }
+    let g = params.gravity * params.time_step;
+    let fluid = p
+        .velocity
+        .par_iter()
+        .map(|&v| {
+            let s = (v + g).length();
+            if s.is_finite() {
+                s
+            } else {
+                f32::INFINITY
+            }
+        })
+        .reduce(|| 0.0, f32::max)
+        .max(boundary.max_speed());
+    let dt = if fluid > 0.0 {
+        params
+            .time_step
+            .min(params.cfl_factor * params.smoothing_radius / fluid)
+    } else {
+        params.time_step
+    };
+    if dt.is_finite() && dt > 0.0 {
+        dt
+    } else {
+        params.time_step
+    }
+}
+
+/// What the PBF step borrows from the solver.
+pub(super) struct PbfStep<'a> {
+    pub params: &'a SphParams,
+    pub neighbors: &'a mut Neighbors,
+    pub particles: &'a mut ParticleData,
+    pub boundary: &'a mut Boundary,
+    pub timings: &'a mut StageTimings,
+    pub scratch: &'a mut PbfScratch,
+    /// The reorder's scratch array.
+    pub sort_scratch: &'a mut Vec<Vec3>,
+}
+
+/// What one PBF step did.
+pub(super) struct PbfOutcome {
+    pub dt: f32,
+    pub corrections: Corrections,
+    pub stats: SolverStats,
+}
+
+impl PbfStep<'_> {
+    /// One PBF step at `dt_scale` times the rule's dt.
+    pub fn advance(&mut self, dt_scale: f32, guard: &Guard) -> PbfOutcome {
+        let params = self.params;
+        let dt = next_time_step(params, self.particles, self.boundary) * dt_scale;
+        let ctx = PbfContext::new(
+            &params.pbf,
+            params.smoothing_radius,
+            params.spacing(),
+            params.particle_mass,
+            params.rest_density,
+        );
+        let (p, t, s) = (&mut *self.particles, &mut *self.timings, &mut *self.scratch);
+        // 1. Gravity and the predicted positions.
+        let mut corrections: Corrections = timed(&mut t.integrate, || {
+            p.position_previous.clone_from(&p.position);
+            p.position
+                .par_iter_mut()
+                .zip(p.velocity.par_iter_mut())
+                .map(|(x, v)| {
+                    *v += params.gravity * dt;
+                    *x += *v * dt;
+                    guard.apply(x, v)
+                })
+                .sum()
+        });
+        // 2. Neighbours of the predicted positions.
+        let (neighbors, boundary) = (&mut *self.neighbors, &mut *self.boundary);
+        let sort_scratch = &mut *self.sort_scratch;
+        timed(&mut t.sort, || {
+            let _ = boundary.sort();
+            let order = neighbors.sort(&p.position);
+            p.reorder(order, sort_scratch);
+        });
+        let n = p.len();
+        s.constraint.resize(n, Constraint::default());
+        s.delta.resize(n, Vec3::ZERO);
+        s.velocity.resize(n, Vec3::ZERO);
+        s.list_density.resize(n, 0.0);
+        let kernel = ctx.kernel;
+        timed(&mut t.density, || {
+            s.lists.rebuild(
+                ListSource {
+                    neighbors,
+                    positions: &p.position,
+                    boundary: Some(boundary),
+                    mass: params.particle_mass,
+                    rest_density: params.rest_density,
+                },
+                |r, r2| {
+                    let r_len = r2.sqrt();
+                    (kernel.value(r_len), kernel.gradient(r, r_len))
+                },
+                &mut s.list_density,
+            )
+        });
+        // 3. The constraint's Jacobi iterations.
+        let iterations = params.pbf.iterations;
+        let mut error = 0.0;
+        timed(&mut t.pressure_solve, || {
+            for _ in 0..iterations {
+                error = compute_lambdas(
+                    &ctx,
+                    &s.lists,
+                    &p.position,
+                    Some(boundary),
+                    &mut s.constraint,
+                ) / n.max(1) as f64;
+                compute_corrections(
+                    &ctx,
+                    &s.lists,
+                    &p.position,
+                    Some(boundary),
+                    &s.constraint,
+                    &mut s.delta,
+                );
+                p.position
+                    .par_iter_mut()
+                    .zip(s.delta.par_iter())
+                    .for_each(|(x, &d)| *x += d);
+            }
+        });
+        // 4. Velocities from the positions, the guard, XSPH.
+        timed(&mut t.integrate, || {
+            let inverse_dt = 1.0 / dt;
+            corrections += p
+                .position
+                .par_iter_mut()
+                .zip(p.velocity.par_iter_mut())
+                .zip(p.position_previous.par_iter())
+                .map(|((x, v), &x0)| {
+                    *v = (*x - x0) * inverse_dt;
+                    guard.apply(x, v)
+                })
+                .sum::<Corrections>();
+        });
+        timed(&mut t.forces, || {
+            // The densities of the last λ pass (before its correction) weigh XSPH.
+            xsph(
+                &ctx,
+                &s.lists,
+                &p.position,
+                &s.constraint,
+                &p.velocity,
+                &mut s.velocity,
+            );
+            compute_densities(&ctx, &s.lists, &p.position, Some(boundary), &mut p.density);
+            std::mem::swap(&mut p.velocity, &mut s.velocity);
+        });
+        let inverse_dt = 1.0 / dt;
+        p.pressure.iter_mut().for_each(|pressure| *pressure = 0.0);
+        // The step's mean acceleration, for the stability check and the diagnostics.
+        p.acceleration
+            .par_iter_mut()
+            .zip(p.velocity.par_iter().zip(s.velocity.par_iter()))
+            .for_each(|(a, (&v, &v_before_xsph))| {
+                *a = (v - v_before_xsph) * inverse_dt + params.gravity
+            });
+        PbfOutcome {
+            dt,
+            corrections,
+            stats: SolverStats {
+                density_iterations: iterations,
+                divergence_iterations: 0,
+                density_error: error as f32,
+                divergence_error: 0.0,
+            },
+        }
+    }
+}

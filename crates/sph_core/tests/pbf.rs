@@ -1,0 +1,180 @@
+//! PBF (Macklin & Müller 2013): the position corrections conserve momentum and push compressed
+//! pairs apart, a dam break keeps its particles and its density, the settings are validated,
+//! and the extremes stay finite.
+
+use sph_core::glam::Vec3;
+use sph_core::neighbor_lists::{ListSource, NeighborLists};
+use sph_core::pbf_macklin2013::{compute_corrections, compute_lambdas, Constraint, PbfContext};
+use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Neighbors, PbfSettings, Solver, SphParams};
+
+fn pbf_params() -> SphParams {
+    let mut p = SphParams::water();
+    p.use_solver(Solver::Pbf);
+    p
+}
+
+/// A block squeezed to 90 % of its spacing, sorted, with its lists.
+fn squeezed_block() -> (SphParams, Vec<Vec3>, NeighborLists) {
+    let params = pbf_params();
+    let dx = params.spacing();
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::splat(0.3));
+    let raw = BlockSpawn::new(Vec3::splat(0.1), Vec3::splat(0.1 + 6.0 * dx), 0.9 * dx).positions();
+    let mut neighbors = Neighbors::new(
+        params.neighbor_search,
+        &container,
+        params.smoothing_radius,
+        raw.len(),
+    )
+    .unwrap();
+    let order = neighbors.sort(&raw).to_vec();
+    let positions: Vec<Vec3> = order.iter().map(|&i| raw[i as usize]).collect();
+    let mut lists = NeighborLists::default();
+    let mut density = vec![0.0; positions.len()];
+    lists.rebuild(
+        ListSource {
+            neighbors: &neighbors,
+            positions: &positions,
+            boundary: None,
+            mass: params.particle_mass,
+            rest_density: params.rest_density,
+        },
+        |_, _| (0.0, Vec3::ZERO),
+        &mut density,
+    );
+    (params, positions, lists)
+}
+
+#[test]
+fn corrections_conserve_momentum_and_spread_a_squeezed_block() {
+    let (params, positions, lists) = squeezed_block();
+    let ctx = PbfContext::new(
+        &params.pbf,
+        params.smoothing_radius,
+        params.spacing(),
+        params.particle_mass,
+        params.rest_density,
+    );
+    let n = positions.len();
+    let mut constraint = vec![Constraint::default(); n];
+    let violation = compute_lambdas(&ctx, &lists, &positions, None, &mut constraint);
+    assert!(violation > 0.0, "a squeezed block violates the constraint");
+    assert!(constraint.iter().all(|c| c.lambda <= 0.0));
+    let mut delta = vec![Vec3::ZERO; n];
+    compute_corrections(&ctx, &lists, &positions, None, &constraint, &mut delta);
+    let total: Vec3 = delta.iter().copied().sum();
+    let scale: f32 = delta.iter().map(|d| d.length()).sum();
+    assert!(scale > 0.0);
+    assert!(
+        total.length() <= 1e-4 * scale,
+        "Σ Δp = {total} against {scale}"
+    );
+    // The block grows: the corrections point away from its centre on average.
+    let centre: Vec3 = positions.iter().copied().sum::<Vec3>() / n as f32;
+    let outward: f32 = positions
+        .iter()
+        .zip(&delta)
+        .map(|(&x, &d)| (x - centre).dot(d))
+        .sum();
+    assert!(outward > 0.0);
+    // One iteration lowers the violation.
+    let moved: Vec<Vec3> = positions.iter().zip(&delta).map(|(&x, &d)| x + d).collect();
+    let after = compute_lambdas(&ctx, &lists, &moved, None, &mut constraint);
+    assert!(after < violation, "{after} >= {violation}");
+}
+
+#[test]
+fn a_dam_break_keeps_its_particles_and_its_density() {
+    let params = pbf_params();
+    let dx = params.spacing();
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.6, 0.4, 0.2));
+    let positions = BlockSpawn::new(Vec3::ZERO, Vec3::new(0.2, 0.2, 0.2), dx).positions();
+    let mut solver = CpuSolver::new(params, container, positions.len()).unwrap();
+    solver.spawn(&positions, Vec3::ZERO);
+    while solver.time() < 0.3 {
+        solver.step();
+        assert_eq!(
+            solver.solver_stats().density_iterations,
+            params.pbf.iterations
+        );
+    }
+    let d = solver.diagnostics();
+    assert_eq!(
+        (d.particle_count, d.non_finite_count, d.outside_count),
+        (positions.len(), 0, 0)
+    );
+    assert!(
+        d.density_error_mean_pct < 2.0,
+        "{}",
+        d.density_error_mean_pct
+    );
+    assert!(
+        solver.last_time_step() > 5.0 * SphParams::water().time_step,
+        "PBF steps far beyond the speed of sound's dt"
+    );
+    let front = solver
+        .particles()
+        .position
+        .iter()
+        .map(|x| x.x)
+        .fold(0.0, f32::max);
+    assert!(front > 0.35, "front at {front} m");
+}
+
+#[test]
+fn bad_settings_name_the_field() {
+    let d = PbfSettings::default();
+    for (settings, field) in [
+        (PbfSettings { iterations: 0, ..d }, "pbf.iterations"),
+        (
+            PbfSettings {
+                relaxation: 0.0,
+                ..d
+            },
+            "pbf.relaxation",
+        ),
+        (
+            PbfSettings {
+                s_corr_k: f32::NAN,
+                ..d
+            },
+            "pbf.s_corr_k",
+        ),
+        (PbfSettings { s_corr_n: 0, ..d }, "pbf.s_corr_n"),
+        (
+            PbfSettings {
+                s_corr_dq: 1.0,
+                ..d
+            },
+            "pbf.s_corr_dq",
+        ),
+        (PbfSettings { xsph_c: -0.1, ..d }, "pbf.xsph_c"),
+    ] {
+        let mut p = pbf_params();
+        p.pbf = settings;
+        assert_eq!(p.validate().unwrap_err().field, field);
+    }
+}
+
+#[test]
+fn the_extremes_stay_finite() {
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::splat(0.2));
+    for positions in [
+        vec![],
+        vec![Vec3::splat(0.1)],
+        vec![Vec3::splat(0.1), Vec3::new(0.11, 0.1, 0.1)],
+        vec![Vec3::splat(0.1); 64],
+    ] {
+        let mut solver = CpuSolver::new(pbf_params(), container, 64).unwrap();
+        solver.spawn(&positions, Vec3::ZERO);
+        for _ in 0..50 {
+            solver.step();
+        }
+        let d = solver.diagnostics();
+        assert_eq!(
+            (d.particle_count, d.non_finite_count, d.outside_count),
+            (positions.len(), 0, 0),
+            "{} particles",
+            positions.len()
+        );
+    }
+}
