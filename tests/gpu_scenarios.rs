@@ -170,6 +170,15 @@ fn a_runtime_parameter_change_changes_the_next_step_and_readback_returns_it() {
     assert!(second.positions[0].y > first.positions[0].y - 1e-7);
 }
 
+/// The error `SphStats` reports, or "".
+fn stats_error(app: &App) -> String {
+    app.world()
+        .resource::<SphStats>()
+        .error
+        .clone()
+        .unwrap_or_default()
+}
+
 #[test]
 fn an_invalid_parameter_is_reported_by_name_and_not_applied() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
@@ -178,12 +187,7 @@ fn an_invalid_parameter_is_reported_by_name_and_not_applied() {
     app.world_mut().resource_mut::<SphParams>().wall_damping = 2.0;
     app.world_mut().resource_mut::<SphControl>().single_step = true;
     app.update();
-    let error = app
-        .world()
-        .resource::<SphStats>()
-        .error
-        .clone()
-        .unwrap_or_default();
+    let error = stats_error(&app);
     assert!(
         error.contains("wall_damping") && error.contains("2"),
         "{error}"
@@ -201,12 +205,7 @@ fn dfsph_on_the_gpu_backend_is_refused_and_names_the_cpu_backend() {
         .use_solver(sph_core::Solver::Dfsph);
     app.world_mut().resource_mut::<SphControl>().single_step = true;
     app.update();
-    let error = app
-        .world()
-        .resource::<SphStats>()
-        .error
-        .clone()
-        .unwrap_or_default();
+    let error = stats_error(&app);
     assert!(
         error.contains("Dfsph") && error.contains("SphBackend::Cpu"),
         "{error}"

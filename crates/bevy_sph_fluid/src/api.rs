@@ -139,8 +139,8 @@ pub struct SphStats {
     pub collider_errors: Vec<SphColliderError>,
     /// Compute dispatches in the last step (GPU backend).
     pub dispatches_per_step: u32,
-    /// DFSPH: constant-density iterations per step, mean over the last frame's steps (0 with
-    /// WCSPH; CPU backend).
+    /// DFSPH: constant-density iterations per step, mean over the last frame's steps; PBF: its
+    /// constraint iterations (0 with WCSPH; CPU backend).
     pub pressure_iterations_mean: f32,
     /// DFSPH: the most constant-density iterations of one step in the last frame.
     pub pressure_iterations_max: u32,
