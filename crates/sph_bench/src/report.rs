@@ -124,8 +124,8 @@ pub struct Report {
     pub density_error_mean_pct: f32,
     /// Largest compression error [%] at the end.
     pub density_error_max_pct: f32,
-    /// The largest mean compression error seen over the run [%] (sampled every 0.01 s in the
-    /// dam-break and hydrostatic scenarios; the end value otherwise).
+    /// The largest mean compression error seen over the run [%] (sampled every 0.01 s on the
+    /// CPU backend and in the GPU's dam-break and hydrostatic runs; the end value otherwise).
     pub density_error_mean_max_pct: f32,
     /// The mean compression error [%] averaged over the run's samples (every 0.01 s; the end
     /// value where the run takes no samples: GPU runs other than the dam break and the tank).
