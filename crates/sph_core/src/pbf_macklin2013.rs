@@ -12,6 +12,7 @@
 use crate::boundary::Boundary;
 use crate::kernel::CubicSpline;
 use crate::neighbor_lists::NeighborLists;
+use crate::params::SphParams;
 use crate::solvers::PbfSettings;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -46,6 +47,17 @@ pub struct PbfContext {
 pub const MAX_CORRECTION: f32 = 0.1;
 
 impl PbfContext {
+    /// The constants of `params` (its PBF settings, h, spacing, m and ρ0).
+    pub fn of(params: &SphParams) -> Self {
+        Self::new(
+            &params.pbf,
+            params.smoothing_radius,
+            params.spacing(),
+            params.particle_mass,
+            params.rest_density,
+        )
+    }
+
     /// The constants of `settings` for support radius `h`, spacing `spacing`, mass and ρ0.
     pub fn new(settings: &PbfSettings, h: f32, spacing: f32, mass: f32, rest_density: f32) -> Self {
         let kernel = CubicSpline::new(h, spacing);

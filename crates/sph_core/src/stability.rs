@@ -23,13 +23,21 @@ pub struct StepExtremes {
 }
 
 /// |x|, with every non-finite vector mapped to +∞ (so a NaN is never lost by `max`).
-fn magnitude(x: Vec3) -> f32 {
+pub(crate) fn magnitude(x: Vec3) -> f32 {
     let length = x.length();
     if length.is_finite() {
         length
     } else {
         f32::INFINITY
     }
+}
+
+/// max_i |f(i)| over `0..n` in parallel, +∞ if any is not finite (0 for n = 0).
+pub(crate) fn largest_magnitude(n: usize, f: impl Fn(usize) -> Vec3 + Sync) -> f32 {
+    (0..n)
+        .into_par_iter()
+        .map(|i| magnitude(f(i)))
+        .reduce(|| 0.0, f32::max)
 }
 
 impl StepExtremes {

@@ -47,13 +47,7 @@ fn squeezed_block() -> (SphParams, Vec<Vec3>, NeighborLists) {
 #[test]
 fn corrections_conserve_momentum_and_spread_a_squeezed_block() {
     let (params, positions, lists) = squeezed_block();
-    let ctx = PbfContext::new(
-        &params.pbf,
-        params.smoothing_radius,
-        params.spacing(),
-        params.particle_mass,
-        params.rest_density,
-    );
+    let ctx = PbfContext::of(&params);
     let n = positions.len();
     let mut constraint = vec![Constraint::default(); n];
     let violation = compute_lambdas(&ctx, &lists, &positions, None, &mut constraint);

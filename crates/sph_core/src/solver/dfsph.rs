@@ -14,7 +14,7 @@
 //! and runs iterations of two passes (apply the stiffness, predict the error), what the GPU's
 //! two dispatches per iteration will be.
 
-use super::state::{timed, ParticleData, StageTimings};
+use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::BodyForceSum;
 use crate::boundary::Boundary;
 use crate::dfsph_bender2017::{
@@ -25,10 +25,10 @@ use crate::forces::{compute_accelerations, ForceInputs};
 use crate::guard::Corrections;
 use crate::guard::Guard;
 use crate::kernel::CubicSpline;
-use crate::neighbor::Neighbors;
 use crate::neighbor_lists::{ListSource, NeighborLists};
 use crate::params::SphParams;
 use crate::solvers::SolverStats;
+use crate::stability::largest_magnitude;
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::compute_normals;
 use glam::Vec3;
@@ -107,32 +107,14 @@ fn rest_factor(params: &SphParams, kernel: &CubicSpline) -> f32 {
 /// the boundary's samples.
 pub(super) fn next_time_step(params: &SphParams, p: &ParticleData, boundary: &Boundary) -> f32 {
     let horizon = params.time_step;
-    let fluid = p
-        .velocity
-        .par_iter()
-        .zip(p.acceleration.par_iter())
-        .map(|(&v, &a)| {
-            let s = (v + a * horizon).length();
-            if s.is_finite() {
-                s
-            } else {
-                f32::INFINITY
-            }
-        })
-        .reduce(|| 0.0, f32::max);
+    let fluid = largest_magnitude(p.len(), |i| p.velocity[i] + p.acceleration[i] * horizon);
     dfsph_time_step(params, fluid.max(boundary.max_speed()))
 }
 
 /// What the DFSPH step borrows from the solver.
 pub(super) struct DfsphStep<'a> {
-    pub params: &'a SphParams,
-    pub neighbors: &'a mut Neighbors,
-    pub particles: &'a mut ParticleData,
-    pub boundary: &'a mut Boundary,
-    pub timings: &'a mut StageTimings,
+    pub parts: SolverParts<'a>,
     pub scratch: &'a mut DfsphScratch,
-    /// The reorder's scratch array.
-    pub sort_scratch: &'a mut Vec<Vec3>,
 }
 
 /// What one DFSPH step did.
@@ -148,21 +130,19 @@ impl DfsphStep<'_> {
     /// Sort, densities, neighbour lists and factors at the current positions.
     fn neighborhood(&mut self, ctx: &StageContext) {
         // A few hundred kernel evaluations: cheaper to redo each step than to track h and m.
-        let kernel = CubicSpline::new(self.params.smoothing_radius, self.params.spacing());
-        self.scratch.kernel = kernel;
-        self.scratch.rest_factor = rest_factor(self.params, &kernel);
-        let (neighbors, p, t) = (
-            &mut *self.neighbors,
-            &mut *self.particles,
-            &mut *self.timings,
+        let kernel = CubicSpline::new(
+            self.parts.params.smoothing_radius,
+            self.parts.params.spacing(),
         );
-        let boundary = &mut *self.boundary;
-        let sort_scratch = &mut *self.sort_scratch;
-        timed(&mut t.sort, || {
-            let _ = boundary.sort();
-            let order = neighbors.sort(&p.position);
-            p.reorder(order, sort_scratch);
-        });
+        self.scratch.kernel = kernel;
+        self.scratch.rest_factor = rest_factor(self.parts.params, &kernel);
+        self.parts.sort_by_cell();
+        let (neighbors, p, t) = (
+            &*self.parts.neighbors,
+            &mut *self.parts.particles,
+            &mut *self.parts.timings,
+        );
+        let boundary = &*self.parts.boundary;
         let s = &mut *self.scratch;
         timed(&mut t.density, || {
             let n = p.len();
@@ -193,9 +173,9 @@ impl DfsphStep<'_> {
     /// constant-density solve on v*, the divergence-free solve on v).
     fn solve(&mut self, solve: Solve, dt: f32) -> SolveOutcome {
         let start = std::time::Instant::now();
-        let settings = self.params.dfsph;
-        let rho0 = self.params.rest_density;
-        let (p, s) = (&mut *self.particles, &mut *self.scratch);
+        let settings = self.parts.params.dfsph;
+        let rho0 = self.parts.params.rest_density;
+        let (p, s) = (&mut *self.parts.particles, &mut *self.scratch);
         let n = p.len();
         let (total, scale, min, max, eta) = match solve {
             Solve::Density => (
@@ -249,9 +229,13 @@ impl DfsphStep<'_> {
             error = mean_error(s, &p.velocity, &p.density);
             iterations += 1;
         }
-        let reactions =
-            boundary_reactions(&s.lists, self.boundary, total, self.params.particle_mass);
-        self.timings.pressure_solve += start.elapsed();
+        let reactions = boundary_reactions(
+            &s.lists,
+            self.parts.boundary,
+            total,
+            self.parts.params.particle_mass,
+        );
+        self.parts.timings.pressure_solve += start.elapsed();
         SolveOutcome {
             iterations,
             error,
@@ -262,14 +246,18 @@ impl DfsphStep<'_> {
     /// One DFSPH step at `dt_scale` times the rule's dt. `stale`: the densities, lists and
     /// factors do not hold for the current positions (spawns, parameter changes).
     pub fn advance(&mut self, dt_scale: f32, stale: bool, guard: &Guard) -> DfsphOutcome {
-        let ctx = StageContext::new(self.params);
-        let boundary_moved = self.boundary.sort();
+        let ctx = StageContext::new(self.parts.params);
+        let boundary_moved = self.parts.boundary.sort();
         if stale || boundary_moved {
             self.neighborhood(&ctx);
         }
         // 1. Non-pressure accelerations at the step's start.
-        let (neighbors, p, t) = (&*self.neighbors, &mut *self.particles, &mut *self.timings);
-        if self.params.has_surface_tension() {
+        let (neighbors, p, t) = (
+            &*self.parts.neighbors,
+            &mut *self.parts.particles,
+            &mut *self.parts.timings,
+        );
+        if self.parts.params.has_surface_tension() {
             timed(&mut t.normals, || {
                 compute_normals(&ctx, neighbors, &p.position, &p.density, &mut p.normal)
             });
@@ -280,15 +268,16 @@ impl DfsphStep<'_> {
             density: &p.density,
             pressure: &p.pressure,
             normal: &p.normal,
-            boundary: Some(&*self.boundary),
+            boundary: Some(&*self.parts.boundary),
             with_pressure: false,
         };
         let mut forces = timed(&mut t.forces, || {
             compute_accelerations(&ctx, neighbors, &input, &mut p.acceleration)
         });
         // 2.-3. The time step and the predicted velocities.
-        let dt = next_time_step(self.params, self.particles, self.boundary) * dt_scale;
-        let p = &mut *self.particles;
+        let dt =
+            next_time_step(self.parts.params, self.parts.particles, self.parts.boundary) * dt_scale;
+        let p = &mut *self.parts.particles;
         p.velocity
             .par_iter_mut()
             .zip(p.acceleration.par_iter())
@@ -296,8 +285,8 @@ impl DfsphStep<'_> {
         // 4. Constant density.
         let density = self.solve(Solve::Density, dt);
         // 5. Move.
-        let p = &mut *self.particles;
-        let corrections: Corrections = timed(&mut self.timings.integrate, || {
+        let p = &mut *self.parts.particles;
+        let corrections: Corrections = timed(&mut self.parts.timings.integrate, || {
             p.position
                 .par_iter_mut()
                 .zip(p.velocity.par_iter_mut())
@@ -310,7 +299,7 @@ impl DfsphStep<'_> {
         // 6.-7. The new neighbourhood, divergence-free velocities.
         self.neighborhood(&ctx);
         let divergence = self.solve(Solve::Divergence, dt);
-        let p = &mut *self.particles;
+        let p = &mut *self.parts.particles;
         p.pressure
             .par_iter_mut()
             .enumerate()

@@ -25,7 +25,7 @@ mod dfsph;
 mod pbf;
 mod state;
 
-use state::timed;
+use state::{timed, SolverParts};
 pub use state::{ParticleData, StageTimings};
 
 /// What a spawn did: how many particles were added, how many were refused for capacity and how
@@ -652,20 +652,32 @@ impl CpuSolver {
         dt
     }
 
-    /// One DFSPH step ([`dfsph::DfsphStep`]) at `dt_scale` times the rule's dt; returns its dt.
-    fn advance_dfsph(&mut self, dt_scale: f32) -> f32 {
-        let colliders = self.boundary.collider_list();
-        let guard = self.guard(&colliders);
-        let outcome = dfsph::DfsphStep {
+    /// The parts the DFSPH and PBF steps borrow, and their scratch.
+    fn split(
+        &mut self,
+    ) -> (
+        SolverParts<'_>,
+        &mut dfsph::DfsphScratch,
+        &mut pbf::PbfScratch,
+    ) {
+        let parts = SolverParts {
             params: &self.params,
             neighbors: &mut self.neighbors,
             particles: &mut self.particles,
             boundary: &mut self.boundary,
             timings: &mut self.timings,
-            scratch: &mut self.dfsph,
             sort_scratch: &mut self.scratch,
-        }
-        .advance(dt_scale, self.forces_stale, &guard);
+        };
+        (parts, &mut self.dfsph, &mut self.pbf)
+    }
+
+    /// One DFSPH step ([`dfsph::DfsphStep`]) at `dt_scale` times the rule's dt; returns its dt.
+    fn advance_dfsph(&mut self, dt_scale: f32) -> f32 {
+        let colliders = self.boundary.collider_list();
+        let guard = self.guard(&colliders);
+        let stale = self.forces_stale;
+        let (parts, scratch, _) = self.split();
+        let outcome = dfsph::DfsphStep { parts, scratch }.advance(dt_scale, stale, &guard);
         let (sums, evaluations) = &mut self.body_force_sums;
         sums.resize(outcome.forces.len(), BodyForceSum::default());
         sums.iter_mut()
@@ -683,16 +695,8 @@ impl CpuSolver {
     fn advance_pbf(&mut self, dt_scale: f32) -> f32 {
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
-        let outcome = pbf::PbfStep {
-            params: &self.params,
-            neighbors: &mut self.neighbors,
-            particles: &mut self.particles,
-            boundary: &mut self.boundary,
-            timings: &mut self.timings,
-            scratch: &mut self.pbf,
-            sort_scratch: &mut self.scratch,
-        }
-        .advance(dt_scale, &guard);
+        let (parts, _, scratch) = self.split();
+        let outcome = pbf::PbfStep { parts, scratch }.advance(dt_scale, &guard);
         self.solver_stats = outcome.stats;
         self.forces_stale = true;
         self.boundary_corrections += outcome.corrections;

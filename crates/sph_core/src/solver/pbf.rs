@@ -9,16 +9,16 @@
 //! Viscosity and surface tension of the WCSPH forces pass are not applied (XSPH stands for the
 //! viscosity), and the collider forces are not summed (see docs/pbf.md).
 
-use super::state::{timed, ParticleData, StageTimings};
+use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::Boundary;
 use crate::guard::{Corrections, Guard};
-use crate::neighbor::Neighbors;
 use crate::neighbor_lists::{ListSource, NeighborLists};
 use crate::params::SphParams;
 use crate::pbf_macklin2013::{
     compute_corrections, compute_densities, compute_lambdas, xsph, Constraint, PbfContext,
 };
 use crate::solvers::SolverStats;
+use crate::stability::largest_magnitude;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -40,19 +40,7 @@ pub(super) fn next_time_step(params: &SphParams, p: &ParticleData, boundary: &Bo
         return params.time_step;
     }
     let g = params.gravity * params.time_step;
-    let fluid = p
-        .velocity
-        .par_iter()
-        .map(|&v| {
-            let s = (v + g).length();
-            if s.is_finite() {
-                s
-            } else {
-                f32::INFINITY
-            }
-        })
-        .reduce(|| 0.0, f32::max)
-        .max(boundary.max_speed());
+    let fluid = largest_magnitude(p.len(), |i| p.velocity[i] + g).max(boundary.max_speed());
     let dt = if fluid > 0.0 {
         params
             .time_step
@@ -69,14 +57,8 @@ pub(super) fn next_time_step(params: &SphParams, p: &ParticleData, boundary: &Bo
 
 /// What the PBF step borrows from the solver.
 pub(super) struct PbfStep<'a> {
-    pub params: &'a SphParams,
-    pub neighbors: &'a mut Neighbors,
-    pub particles: &'a mut ParticleData,
-    pub boundary: &'a mut Boundary,
-    pub timings: &'a mut StageTimings,
+    pub parts: SolverParts<'a>,
     pub scratch: &'a mut PbfScratch,
-    /// The reorder's scratch array.
-    pub sort_scratch: &'a mut Vec<Vec3>,
 }
 
 /// What one PBF step did.
@@ -89,16 +71,14 @@ pub(super) struct PbfOutcome {
 impl PbfStep<'_> {
     /// One PBF step at `dt_scale` times the rule's dt.
     pub fn advance(&mut self, dt_scale: f32, guard: &Guard) -> PbfOutcome {
-        let params = self.params;
-        let dt = next_time_step(params, self.particles, self.boundary) * dt_scale;
-        let ctx = PbfContext::new(
-            &params.pbf,
-            params.smoothing_radius,
-            params.spacing(),
-            params.particle_mass,
-            params.rest_density,
+        let params = self.parts.params;
+        let dt = next_time_step(params, self.parts.particles, self.parts.boundary) * dt_scale;
+        let ctx = PbfContext::of(params);
+        let (p, t, s) = (
+            &mut *self.parts.particles,
+            &mut *self.parts.timings,
+            &mut *self.scratch,
         );
-        let (p, t, s) = (&mut *self.particles, &mut *self.timings, &mut *self.scratch);
         // 1. Gravity and the predicted positions.
         let mut corrections: Corrections = timed(&mut t.integrate, || {
             p.position_previous.clone_from(&p.position);
@@ -113,19 +93,16 @@ impl PbfStep<'_> {
                 .sum()
         });
         // 2. Neighbours of the predicted positions.
-        let (neighbors, boundary) = (&mut *self.neighbors, &mut *self.boundary);
-        let sort_scratch = &mut *self.sort_scratch;
-        timed(&mut t.sort, || {
-            let _ = boundary.sort();
-            let order = neighbors.sort(&p.position);
-            p.reorder(order, sort_scratch);
-        });
+        self.parts.sort_by_cell();
+        let (neighbors, boundary) = (&*self.parts.neighbors, &*self.parts.boundary);
+        let (p, t) = (&mut *self.parts.particles, &mut *self.parts.timings);
         let n = p.len();
         s.constraint.resize(n, Constraint::default());
         s.delta.resize(n, Vec3::ZERO);
         s.velocity.resize(n, Vec3::ZERO);
         s.list_density.resize(n, 0.0);
-        let kernel = ctx.kernel;
+        // The passes read only the neighbours' indices (they evaluate the kernel at the moving
+        // positions), so the lists are built without weights.
         timed(&mut t.density, || {
             s.lists.rebuild(
                 ListSource {
@@ -135,10 +112,7 @@ impl PbfStep<'_> {
                     mass: params.particle_mass,
                     rest_density: params.rest_density,
                 },
-                |r, r2| {
-                    let r_len = r2.sqrt();
-                    (kernel.value(r_len), kernel.gradient(r, r_len))
-                },
+                |_, _| (0.0, Vec3::ZERO),
                 &mut s.list_density,
             )
         });

@@ -1,8 +1,40 @@
 //! The solver's particle arrays and stage timings, shared by the WCSPH step (`solver/mod.rs`)
 //! and the DFSPH step (`solver/dfsph.rs`).
 
+use crate::boundary::Boundary;
+use crate::neighbor::Neighbors;
+use crate::params::SphParams;
 use glam::Vec3;
 use std::time::{Duration, Instant};
+
+/// The parts of the solver that the DFSPH and PBF steps borrow.
+pub(crate) struct SolverParts<'a> {
+    pub params: &'a SphParams,
+    pub neighbors: &'a mut Neighbors,
+    pub particles: &'a mut ParticleData,
+    pub boundary: &'a mut Boundary,
+    pub timings: &'a mut StageTimings,
+    /// The reorder's scratch array.
+    pub sort_scratch: &'a mut Vec<Vec3>,
+}
+
+impl SolverParts<'_> {
+    /// Re-places the boundary samples if they moved and sorts the particles by cell at their
+    /// current positions (timed as the sort stage).
+    pub fn sort_by_cell(&mut self) {
+        let (neighbors, p, boundary) = (
+            &mut *self.neighbors,
+            &mut *self.particles,
+            &mut *self.boundary,
+        );
+        let sort_scratch = &mut *self.sort_scratch;
+        timed(&mut self.timings.sort, || {
+            let _ = boundary.sort();
+            let order = neighbors.sort(&p.position);
+            p.reorder(order, sort_scratch);
+        });
+    }
+}
 
 /// Structure-of-arrays particle state, kept in the neighbour-sort order of the last evaluation.
 #[derive(Clone, Debug, Default)]
