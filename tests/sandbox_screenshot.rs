@@ -83,7 +83,7 @@ fn blue_pixels(w: u32, rgb: &[u8]) -> usize {
 
 #[test]
 fn dfsph_water_on_the_cpu_backend_is_drawn() {
-    // `--solver dfsph` runs the CPU backend; the sandbox fills its own draw buffers.
+    // `--solver dfsph` runs the CPU backend; the plugin copies its particles into the draw buffers.
     let (w, _, rgb) = screenshot(&["--particles", "4096", "--frames", "20", "--solver", "dfsph"]);
     let blue = blue_pixels(w, &rgb);
     assert!(blue >= 3_000, "only {blue} blue particle pixels in the box");

@@ -8,7 +8,6 @@
 //! particle drawing's share of the frame.
 
 mod config;
-mod cpu_draw;
 mod debug;
 mod flat_material;
 mod obstacles;
@@ -187,13 +186,6 @@ fn main() {
     .add_systems(
         Update,
         (
-            (
-                cpu_draw::make_cpu_draw_buffers,
-                cpu_draw::request_cpu_snapshot,
-                cpu_draw::upload_cpu_snapshot,
-            )
-                .chain()
-                .before(scene::sync_particle_mesh),
             scene::sync_particle_mesh,
             particles::update_particle_draw,
             ui::record_history,

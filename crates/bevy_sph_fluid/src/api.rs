@@ -309,9 +309,11 @@ impl SphSnapshot {
     }
 }
 
-/// Handles of the GPU state buffers (GPU backend): read back by [`SphReadbackRequest`], and
-/// bindable by a material to draw particles straight from the GPU. The render world writes them;
-/// never modify these assets from the main world. Replaced when [`SphCapacity`] changes.
+/// Handles of the GPU state buffers: read back by [`SphReadbackRequest`] (GPU backend), and
+/// bindable by a material to draw particles straight from the GPU. On the GPU backend the render
+/// world writes them; on the CPU backend the plugin copies the solver's positions, velocities and
+/// densities into them every frame. Never modify these assets yourself. Replaced when
+/// [`SphCapacity`] changes.
 #[derive(Resource, Clone, Debug, PartialEq, Eq)]
 pub struct SphGpuBuffers {
     /// `array<vec4<f32>>`: xyz position [m], w = particle id (bit-cast u32).

@@ -27,6 +27,7 @@
 
 pub mod api;
 pub mod colliders;
+mod cpu_buffers;
 pub mod headless;
 mod plugin;
 mod readback;
