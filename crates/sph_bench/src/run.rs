@@ -43,13 +43,13 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
                 }
             }
         }
-        Solver::Dfsph => {
+        Solver::Dfsph | Solver::Pbf => {
             if let Some(lambda) = args.cfl {
                 p.cfl_factor = lambda;
             }
             // The solver's own rule, unless a dt is given (then fixed, or the largest with
             // --adaptive on).
-            p.use_solver(Solver::Dfsph);
+            p.use_solver(args.solver);
             if let Some(dt) = args.dt {
                 p.time_step = dt;
                 p.adaptive_time_step = args.adaptive;
@@ -61,16 +61,6 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
                 p.dfsph.max_divergence_error = pct / 100.0;
             }
             p.dfsph.warm_start = args.warm_start;
-        }
-        Solver::Pbf => {
-            if let Some(lambda) = args.cfl {
-                p.cfl_factor = lambda;
-            }
-            p.use_solver(Solver::Pbf);
-            if let Some(dt) = args.dt {
-                p.time_step = dt;
-                p.adaptive_time_step = args.adaptive;
-            }
             if let Some(n) = args.pbf_iterations {
                 p.pbf.iterations = n;
             }
