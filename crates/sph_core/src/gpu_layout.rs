@@ -54,6 +54,10 @@ pub struct GpuSphParams {
     /// Rollback ([`crate::rollback`]): enabled (0/1), checkpoint interval, max retries, recovery
     /// steps. All zero (off) until [`Self::with_rollback`].
     pub rollback: [u32; 4],
+    /// Real-time mode ([`crate::frame_budget`]): the frame's time [s] as f32 bits, the steps
+    /// planned for it, the frame's number (a new number starts a new budget), 0. All zero (off)
+    /// until [`Self::with_frame_budget`].
+    pub frame_budget: [u32; 4],
 }
 
 /// The simulation clock (WGSL `SphClock`), a storage buffer written only by the GPU: the
@@ -106,8 +110,14 @@ pub struct GpuClock {
     pub boundary_corrections: u32,
     /// Of those, the particles clamped back into the box.
     pub wall_corrections: u32,
+    /// Real-time mode: the number of the frame whose budget is being spent.
+    pub budget_frame: u32,
+    /// What is left of that frame's time [s], f32 bits.
+    pub budget_remaining_bits: u32,
+    /// Steps left in that frame's plan.
+    pub budget_steps_left: u32,
     /// Padding.
-    pub pad: u32,
+    pub pad: [u32; 3],
 }
 
 impl GpuClock {
@@ -203,7 +213,15 @@ impl GpuSphParams {
                 params.speed_of_sound(),
             ],
             rollback: [0; 4],
+            frame_budget: [0; 4],
         }
+    }
+
+    /// The same block with a frame budget: `duration` seconds split among `steps` steps on the
+    /// device, for the frame numbered `frame`.
+    pub fn with_frame_budget(mut self, duration: f32, steps: u32, frame: u32) -> Self {
+        self.frame_budget = [duration.to_bits(), steps, frame, 0];
+        self
     }
 
     /// The same block with the rollback settings of `rollback`.

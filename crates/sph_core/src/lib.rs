@@ -28,6 +28,7 @@ pub mod dfsph_bender2017;
 pub mod diagnostics;
 pub mod eos;
 pub mod forces;
+pub mod frame_budget;
 pub mod front;
 pub mod gpu_layout;
 pub mod guard;
@@ -53,13 +54,14 @@ pub use collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 pub use container::{BoxContainer, Walls};
 pub use diagnostics::Diagnostics;
 pub use eos::Eos;
+pub use frame_budget::StepDt;
 pub use kernel::Kernels;
 pub use neighbor::Neighbors;
 pub use params::{
     EquationOfState, Integrator, NeighborSearch, ParamError, SpacingDerivation, SphParams,
 };
 pub use rollback::Rollback;
-pub use solver::{CpuSolver, ParticleData, SpawnReport, StageTimings};
+pub use solver::{CpuSolver, FrameAdvance, ParticleData, SpawnReport, StageTimings};
 pub use solvers::{DfsphSettings, PbfSettings, Solver, SolverStats};
 pub use spawn::{BlockSpawn, Emission, PipeEmitter};
 pub use stability::StepExtremes;

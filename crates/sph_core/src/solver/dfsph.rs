@@ -22,6 +22,7 @@ use crate::dfsph_bender2017::{
     divergence_source, stiffness_from_source, ParticleFactor,
 };
 use crate::forces::{compute_accelerations, ForceInputs};
+use crate::frame_budget::StepDt;
 use crate::guard::Corrections;
 use crate::guard::Guard;
 use crate::kernel::CubicSpline;
@@ -243,9 +244,9 @@ impl DfsphStep<'_> {
         }
     }
 
-    /// One DFSPH step at `dt_scale` times the rule's dt. `stale`: the densities, lists and
+    /// One DFSPH step at the dt `step_dt` makes of the rule's. `stale`: the densities, lists and
     /// factors do not hold for the current positions (spawns, parameter changes).
-    pub fn advance(&mut self, dt_scale: f32, stale: bool, guard: &Guard) -> DfsphOutcome {
+    pub fn advance(&mut self, step_dt: StepDt, stale: bool, guard: &Guard) -> DfsphOutcome {
         let ctx = StageContext::new(self.parts.params);
         let boundary_moved = self.parts.boundary.sort();
         if stale || boundary_moved {
@@ -275,8 +276,11 @@ impl DfsphStep<'_> {
             compute_accelerations(&ctx, neighbors, &input, &mut p.acceleration)
         });
         // 2.-3. The time step and the predicted velocities.
-        let dt =
-            next_time_step(self.parts.params, self.parts.particles, self.parts.boundary) * dt_scale;
+        let dt = step_dt.of(next_time_step(
+            self.parts.params,
+            self.parts.particles,
+            self.parts.boundary,
+        ));
         let p = &mut *self.parts.particles;
         p.velocity
             .par_iter_mut()

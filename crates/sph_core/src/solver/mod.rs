@@ -9,6 +9,7 @@ use crate::container::BoxContainer;
 use crate::density::compute_density_pressure;
 use crate::diagnostics::{Diagnostics, DiagnosticsInput};
 use crate::forces::{compute_accelerations, ForceInputs};
+use crate::frame_budget::{StepDt, FRAME_DONE};
 use crate::guard::{Corrections, Guard};
 use crate::integrate;
 use crate::neighbor::Neighbors;
@@ -83,6 +84,18 @@ pub struct CpuSolver {
     pbf: pbf::PbfScratch,
     /// What the pressure solves of the last step did.
     solver_stats: SolverStats,
+    /// What is left of the frame [s] while [`CpuSolver::advance_by`] steps.
+    frame_remaining: Option<f32>,
+}
+
+/// What [`CpuSolver::advance_by`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameAdvance {
+    /// Steps taken (retried steps included).
+    pub steps: u32,
+    /// Simulated time gained [s]: the duration asked for, less when the step cap was reached or
+    /// the solver froze, and negative when a rollback went back past the frame's start.
+    pub simulated: f64,
 }
 
 /// Checks a particle capacity (1 ..= 2^26).
@@ -122,6 +135,7 @@ impl CpuSolver {
             dfsph: dfsph::DfsphScratch::default(),
             pbf: pbf::PbfScratch::default(),
             solver_stats: SolverStats::default(),
+            frame_remaining: None,
             params,
             container,
             capacity,
@@ -533,8 +547,11 @@ impl CpuSolver {
             self.checkpoint_time = self.time;
             state.saved(self.step_count);
         }
-        let scale = state.dt_scale();
-        let dt = self.advance(scale);
+        let step_dt = StepDt {
+            scale: state.dt_scale(),
+            remaining: self.frame_remaining,
+        };
+        let dt = self.advance(step_dt);
         let p = &self.particles;
         let after = StepExtremes::measure(&p.velocity, &p.acceleration);
         let unstable = after.is_unstable(dt, self.params.smoothing_radius);
@@ -553,6 +570,32 @@ impl CpuSolver {
         }
     }
 
+    /// Advances the simulation by `duration` seconds (a game frame's time) in as many steps as
+    /// the time-step rule needs, at most `max_steps`: the frame is split into equal steps no
+    /// longer than the rule's dt, so it ends on its time (see [`crate::frame_budget`]). A
+    /// non-finite or non-positive `duration` takes no step.
+    pub fn advance_by(&mut self, duration: f32, max_steps: u32) -> FrameAdvance {
+        let start = self.time;
+        let mut steps = 0;
+        if duration.is_finite() && duration > 0.0 {
+            let end = start + duration as f64;
+            while steps < max_steps && self.unstable_step.is_none() {
+                let remaining = (end - self.time) as f32;
+                if remaining <= FRAME_DONE {
+                    break;
+                }
+                self.frame_remaining = Some(remaining);
+                self.step();
+                steps += 1;
+            }
+            self.frame_remaining = None;
+        }
+        FrameAdvance {
+            steps,
+            simulated: self.time - start,
+        }
+    }
+
     /// The state, step count and time of the checkpoint become current again.
     fn restore_checkpoint(&mut self) {
         self.particles.copy_from(&self.checkpoint);
@@ -561,11 +604,12 @@ impl CpuSolver {
         self.forces_stale = true;
     }
 
-    /// One step with the selected integrator at `dt_scale` times the rule's dt; returns its dt.
-    fn advance(&mut self, dt_scale: f32) -> f32 {
+    /// One step with the selected integrator at the dt `step_dt` makes of the rule's; returns
+    /// its dt.
+    fn advance(&mut self, step_dt: StepDt) -> f32 {
         match self.params.solver {
-            Solver::Dfsph => return self.advance_dfsph(dt_scale),
-            Solver::Pbf => return self.advance_pbf(dt_scale),
+            Solver::Dfsph => return self.advance_dfsph(step_dt),
+            Solver::Pbf => return self.advance_pbf(step_dt),
             Solver::Wcsph => {}
         }
         self.solver_stats = SolverStats::default();
@@ -577,7 +621,7 @@ impl CpuSolver {
         match self.params.integrator {
             Integrator::SymplecticEuler => {
                 self.evaluate(&ctx, true);
-                dt = self.next_time_step() * dt_scale;
+                dt = step_dt.of(self.next_time_step());
                 let p = &mut self.particles;
                 corrections += timed(&mut self.timings.integrate, || {
                     integrate::euler(
@@ -594,7 +638,7 @@ impl CpuSolver {
                     // The closing kick of the previous step left no valid acceleration.
                     self.evaluate(&ctx, true);
                 }
-                dt = self.next_time_step() * dt_scale;
+                dt = step_dt.of(self.next_time_step());
                 let p = &mut self.particles;
                 corrections += timed(&mut self.timings.integrate, || {
                     integrate::kick_drift(
@@ -620,7 +664,7 @@ impl CpuSolver {
             }
             Integrator::Leapfrog => {
                 self.evaluate(&ctx, true);
-                dt = self.next_time_step() * dt_scale;
+                dt = step_dt.of(self.next_time_step());
                 let p = &mut self.particles;
                 corrections += timed(&mut self.timings.integrate, || {
                     p.acceleration_start.copy_from_slice(&p.acceleration);
@@ -671,13 +715,13 @@ impl CpuSolver {
         (parts, &mut self.dfsph, &mut self.pbf)
     }
 
-    /// One DFSPH step ([`dfsph::DfsphStep`]) at `dt_scale` times the rule's dt; returns its dt.
-    fn advance_dfsph(&mut self, dt_scale: f32) -> f32 {
+    /// One DFSPH step ([`dfsph::DfsphStep`]) at the dt `step_dt` makes of the rule's; returns it.
+    fn advance_dfsph(&mut self, step_dt: StepDt) -> f32 {
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
         let stale = self.forces_stale;
         let (parts, scratch, _) = self.split();
-        let outcome = dfsph::DfsphStep { parts, scratch }.advance(dt_scale, stale, &guard);
+        let outcome = dfsph::DfsphStep { parts, scratch }.advance(step_dt, stale, &guard);
         let (sums, evaluations) = &mut self.body_force_sums;
         sums.resize(outcome.forces.len(), BodyForceSum::default());
         sums.iter_mut()
@@ -691,12 +735,12 @@ impl CpuSolver {
         outcome.dt
     }
 
-    /// One PBF step ([`pbf::PbfStep`]) at `dt_scale` times the rule's dt; returns its dt.
-    fn advance_pbf(&mut self, dt_scale: f32) -> f32 {
+    /// One PBF step ([`pbf::PbfStep`]) at the dt `step_dt` makes of the rule's; returns it.
+    fn advance_pbf(&mut self, step_dt: StepDt) -> f32 {
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
         let (parts, _, scratch) = self.split();
-        let outcome = pbf::PbfStep { parts, scratch }.advance(dt_scale, &guard);
+        let outcome = pbf::PbfStep { parts, scratch }.advance(step_dt, &guard);
         self.solver_stats = outcome.stats;
         self.forces_stale = true;
         self.boundary_corrections += outcome.corrections;

@@ -11,6 +11,7 @@
 
 use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::Boundary;
+use crate::frame_budget::StepDt;
 use crate::guard::{Corrections, Guard};
 use crate::neighbor_lists::{ListSource, NeighborLists};
 use crate::params::SphParams;
@@ -69,10 +70,14 @@ pub(super) struct PbfOutcome {
 }
 
 impl PbfStep<'_> {
-    /// One PBF step at `dt_scale` times the rule's dt.
-    pub fn advance(&mut self, dt_scale: f32, guard: &Guard) -> PbfOutcome {
+    /// One PBF step at the dt `step_dt` makes of the rule's.
+    pub fn advance(&mut self, step_dt: StepDt, guard: &Guard) -> PbfOutcome {
         let params = self.parts.params;
-        let dt = next_time_step(params, self.parts.particles, self.parts.boundary) * dt_scale;
+        let dt = step_dt.of(next_time_step(
+            params,
+            self.parts.particles,
+            self.parts.boundary,
+        ));
         let ctx = PbfContext::of(params);
         let (p, t, s) = (
             &mut *self.parts.particles,
