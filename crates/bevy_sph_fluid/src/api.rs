@@ -6,6 +6,9 @@ use bevy::prelude::*;
 use bevy::render::storage::ShaderBuffer;
 use sph_core::{BlockSpawn, BoxContainer, Diagnostics, PipeEmitter};
 
+/// Most steps per frame ([`SphControl::substeps`], [`SphRealTime::max_steps`]).
+pub const MAX_SUBSTEPS: u32 = 64;
+
 /// Which solver runs the simulation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Reflect)]
 pub enum SphBackend {
@@ -34,8 +37,9 @@ impl Default for SphParams {
 #[reflect(Resource)]
 pub struct SphCapacity(pub u32);
 
-/// Run, pause, single-step, reset and substeps per frame.
-#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq, Reflect)]
+/// Run, pause, single-step, reset, and how far each frame steps: a fixed number of steps
+/// ([`Self::substeps`]) or, with [`Self::real_time`], the frame's own time.
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Reflect)]
 #[reflect(Resource)]
 pub struct SphControl {
     /// Step every frame while true.
@@ -44,8 +48,12 @@ pub struct SphControl {
     pub single_step: bool,
     /// Remove every particle on the next frame and respawn the block spawners (cleared when done).
     pub reset: bool,
-    /// Simulation steps per rendered frame while running (1 ..= 64).
+    /// Simulation steps per rendered frame while running (1 ..= 64), unless [`Self::real_time`].
     pub substeps: u32,
+    /// Real-time mode: each frame advances the water by the frame's own time ([`Time`]'s delta
+    /// in the plugin's schedule, clamped to [`SphRealTime::max_frame_time`]) in as many steps as
+    /// the solver's time-step rule needs. `None` (the default) takes [`Self::substeps`] steps.
+    pub real_time: Option<SphRealTime>,
     /// The density pass also records each particle's neighbour count (debug views; GPU only).
     pub record_neighbor_counts: bool,
     /// How unstable steps are handled: rolled back to the last checkpoint and retried at half
@@ -61,8 +69,65 @@ impl Default for SphControl {
             single_step: false,
             reset: false,
             substeps: 1,
+            real_time: None,
             record_neighbor_counts: false,
             rollback: sph_core::Rollback::default(),
+        }
+    }
+}
+
+/// The limits of real-time mode ([`SphControl::real_time`]).
+///
+/// A frame longer than `max_frame_time` (a hitch, a breakpoint) advances the water by
+/// `max_frame_time` only, and no frame takes more than `max_steps` steps: when the solver needs
+/// more, the water runs slower than real time and [`SphStats::real_time_factor`] says by how much.
+/// On the GPU the frame's steps are planned from the time-step rule's dt as last read back, and
+/// the time-step pass splits the frame among them on the device (see
+/// [`sph_core::frame_budget`]): the CPU never waits for the GPU.
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+pub struct SphRealTime {
+    /// The most simulated time one frame advances [s], in (0, 1]. Default 1/20 s.
+    pub max_frame_time: f32,
+    /// The most steps one frame takes, 1 ..= 64. Default 64.
+    pub max_steps: u32,
+}
+
+impl Default for SphRealTime {
+    fn default() -> Self {
+        Self {
+            max_frame_time: 1.0 / 20.0,
+            max_steps: MAX_SUBSTEPS,
+        }
+    }
+}
+
+impl SphRealTime {
+    /// Checks both limits; the error names the field, the value and the allowed range.
+    pub fn validate(&self) -> Result<(), sph_core::ParamError> {
+        if !(self.max_frame_time > 0.0 && self.max_frame_time <= 1.0) {
+            return Err(sph_core::ParamError {
+                field: "SphControl::real_time.max_frame_time",
+                value: self.max_frame_time.to_string(),
+                allowed: "(0, 1] s",
+            });
+        }
+        if !(1..=MAX_SUBSTEPS).contains(&self.max_steps) {
+            return Err(sph_core::ParamError {
+                field: "SphControl::real_time.max_steps",
+                value: self.max_steps.to_string(),
+                allowed: "1 ..= 64",
+            });
+        }
+        Ok(())
+    }
+
+    /// The simulated time a frame of `delta` seconds advances: `delta` clamped to
+    /// [`Self::max_frame_time`] (0 for a non-finite or negative delta).
+    pub fn frame_time(&self, delta: f32) -> f32 {
+        if delta.is_finite() && delta > 0.0 {
+            delta.min(self.max_frame_time)
+        } else {
+            0.0
         }
     }
 }
@@ -142,6 +207,14 @@ pub struct SphStats {
     /// DFSPH: constant-density iterations per step, mean over the last frame's steps; PBF: its
     /// constraint iterations (0 with WCSPH; CPU backend).
     pub pressure_iterations_mean: f32,
+    /// Simulated seconds per wall-clock second over the last half second or more of real time
+    /// (1 = real time; GPU: from the clock as read back).
+    pub real_time_factor: f32,
+    /// Steps the last frame took (planned on the GPU).
+    pub frame_steps: u32,
+    /// The solver's mean compression, mean over particles of max(ρ/ρ0 − 1, 0) [%]: from the
+    /// last step on the CPU backend, from the last snapshot on the GPU backend.
+    pub density_error_mean_pct: f32,
     /// DFSPH: the most constant-density iterations of one step in the last frame.
     pub pressure_iterations_max: u32,
     /// DFSPH: divergence-free iterations per step, mean over the last frame's steps.

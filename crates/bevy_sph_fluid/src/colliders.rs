@@ -5,7 +5,7 @@
 //! component; and the water's force on each collider is written back to [`SphColliderForce`].
 
 use crate::api::*;
-use crate::shared::{SphSimulation, MAX_SUBSTEPS};
+use crate::shared::SphSimulation;
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use sph_core::collider::ColliderError;
@@ -72,22 +72,6 @@ fn scaled_shape(shape: ColliderShape, scale: Vec3) -> Result<ColliderShape, Coll
     })
 }
 
-/// The simulated time one running frame advances [s] (the velocity of a moved collider is its
-/// displacement over it).
-fn frame_sim_time(control: &SphControl, params: &SphParams, stats: &SphStats) -> f32 {
-    let steps = if control.running {
-        control.substeps.clamp(1, MAX_SUBSTEPS)
-    } else {
-        control.single_step as u32
-    };
-    let dt = if params.adaptive_time_step && stats.time_step > 0.0 {
-        stats.time_step.min(params.time_step)
-    } else {
-        params.time_step
-    };
-    steps as f32 * dt
-}
-
 fn refuse(entity: Entity, e: ColliderError, stats: &mut SphStats) {
     let error = SphColliderError {
         entity,
@@ -104,7 +88,6 @@ pub(crate) fn sph_sync_colliders(
     colliders: Query<(Entity, &SphCollider, &GlobalTransform)>,
     mut removed: RemovedComponents<SphCollider>,
     params: Res<SphParams>,
-    control: Res<SphControl>,
     mut map: ResMut<SphColliderMap>,
     mut sim: ResMut<SphSimulation>,
     mut stats: ResMut<SphStats>,
@@ -113,7 +96,7 @@ pub(crate) fn sph_sync_colliders(
     let Some(container) = sim.container else {
         return;
     };
-    let tau = frame_sim_time(&control, &params, &stats);
+    let tau = sim.plan.duration;
     if sim.boundary_epoch != map.epoch {
         map.tracked.clear();
         map.epoch = sim.boundary_epoch;

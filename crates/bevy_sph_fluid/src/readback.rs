@@ -193,6 +193,7 @@ fn sph_deliver_snapshot(
         if !stats.health.is_unstable() && !transient {
             stats.health = SphHealth::of(&d, pending.step);
         }
+        stats.density_error_mean_pct = d.density_error_mean_pct;
         stats.diagnostics = Some(d);
     }
     snapshots.write(snapshot);

@@ -9,8 +9,62 @@ use sph_core::gpu_layout::{id_to_w, GpuBoundarySamples, GpuClock};
 use sph_core::{Boundary, BoxContainer, CpuSolver};
 use std::sync::{Arc, Mutex};
 
-/// Most substeps per frame.
-pub const MAX_SUBSTEPS: u32 = 64;
+/// How far a frame goes: the steps it plans and the simulated time they are expected to cover.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FramePlan {
+    /// Steps to take (on the CPU backend in real-time mode: at most this many, as the rule needs).
+    pub steps: u32,
+    /// The simulated time the steps are expected to cover [s] (emitters emit for it; a moved
+    /// collider's velocity is its displacement over it).
+    pub duration: f32,
+    /// Real-time mode: the frame's time to split among the steps [s].
+    pub budget: Option<f32>,
+}
+
+impl FramePlan {
+    /// The plan for `control` when the frame took `delta` seconds and a step is expected to take
+    /// `dt` (the time-step rule's dt as last known).
+    pub fn of(control: &SphControl, delta: f32, dt: f32) -> Self {
+        let dt = if dt.is_finite() && dt > 0.0 { dt } else { 0.0 };
+        if !control.running {
+            let steps = control.single_step as u32;
+            return Self {
+                steps,
+                duration: steps as f32 * dt,
+                budget: None,
+            };
+        }
+        match control.real_time {
+            Some(real_time) => {
+                let budget = real_time.frame_time(delta);
+                if budget <= 0.0 {
+                    return Self::default();
+                }
+                let steps = sph_core::frame_budget::steps_to_cover(budget, dt)
+                    .min(real_time.max_steps.clamp(1, MAX_SUBSTEPS));
+                // Short of the budget only when the step cap cuts the frame.
+                let duration = if dt > 0.0 {
+                    budget.min(steps as f32 * dt)
+                } else {
+                    budget
+                };
+                Self {
+                    steps,
+                    duration,
+                    budget: Some(budget),
+                }
+            }
+            None => {
+                let steps = control.substeps.clamp(1, MAX_SUBSTEPS);
+                Self {
+                    steps,
+                    duration: steps as f32 * dt,
+                    budget: None,
+                }
+            }
+        }
+    }
+}
 
 /// What the render world does this frame; extracted every frame.
 #[derive(Resource, Clone, Debug, Default)]
@@ -33,6 +87,9 @@ pub struct SphFrame {
     pub spawn_velocities: Vec<[f32; 4]>,
     /// Steps to take this frame.
     pub steps: u32,
+    /// Real-time mode: the frame's time [s], split among `steps` on the device, and this frame's
+    /// number (the time-step pass starts a new budget when it changes).
+    pub budget: Option<(f32, u32)>,
     /// The density pass records neighbour counts.
     pub neighbor_counts: bool,
     /// How unstable steps are handled.
@@ -86,6 +143,13 @@ pub struct SphSimulation {
     pub boundary_epoch: u64,
     /// The walls' slip in use.
     pub wall_slip: sph_core::Slip,
+    /// The time-step rule's dt as last known [s] (the CPU solver's, or the GPU clock's as read
+    /// back), rollback scale included: what a frame plans its steps with.
+    pub rule_dt: Option<f32>,
+    /// Frames planned since the start (numbers the GPU's frame budgets).
+    pub frame_number: u32,
+    /// This frame's plan, made first thing in the `Prepare` set.
+    pub plan: FramePlan,
 }
 
 impl SphSimulation {
@@ -106,6 +170,9 @@ impl SphSimulation {
             boundary_generation: 0,
             boundary_epoch: 0,
             wall_slip: sph_core::Slip::Free,
+            rule_dt: None,
+            frame_number: 0,
+            plan: FramePlan::default(),
         }
     }
 
@@ -149,6 +216,29 @@ impl SphSimulation {
 }
 
 impl SphSimulation {
+    /// The dt a step is expected to take [s]: the rule's as last known, else the last step's
+    /// (with the adaptive rule) or `params.time_step`.
+    pub fn expected_dt(&self, params: &sph_core::SphParams, stats: &SphStats) -> f32 {
+        match self.rule_dt {
+            Some(dt) if dt.is_finite() && dt > 0.0 => dt,
+            _ if params.adaptive_time_step && stats.time_step > 0.0 => {
+                stats.time_step.min(params.time_step)
+            }
+            _ => params.time_step,
+        }
+    }
+
+    /// This frame's plan (see [`FramePlan::of`]).
+    pub fn plan(
+        &self,
+        control: &SphControl,
+        params: &sph_core::SphParams,
+        stats: &SphStats,
+        delta: f32,
+    ) -> FramePlan {
+        FramePlan::of(control, delta, self.expected_dt(params, stats))
+    }
+
     /// The boundary of the backend in use: the CPU solver's or the GPU backend's.
     pub fn boundary(&self) -> Option<&Boundary> {
         match self.backend {

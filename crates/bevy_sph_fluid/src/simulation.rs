@@ -5,7 +5,7 @@
 use crate::api::*;
 use crate::colliders::{sph_sync_colliders, sph_write_collider_forces};
 use crate::sets::SphSystems;
-use crate::shared::{ClockReadback, SphRenderFeedback, SphSimulation, MAX_SUBSTEPS};
+use crate::shared::{ClockReadback, FramePlan, SphRenderFeedback, SphSimulation};
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::render_resource::DownlevelFlags;
@@ -18,6 +18,7 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
         schedule,
         (
             (
+                sph_plan_frame,
                 sph_apply_capacity,
                 sph_track_container,
                 sph_sync_colliders,
@@ -240,44 +241,39 @@ fn sph_spawn_blocks(
 
 fn sph_emit(
     mut emitters: Query<&mut SphEmitter>,
-    params: Res<SphParams>,
-    control: Res<SphControl>,
     mut sim: ResMut<SphSimulation>,
     mut stats: ResMut<SphStats>,
 ) {
-    if sim.container.is_none() {
+    if sim.container.is_none() || sim.plan.steps == 0 {
         return;
     }
-    let steps = planned_steps(&control);
-    if steps == 0 {
-        return;
-    }
-    // With the adaptive rule the GPU chooses dt; the last one read back (or the solver's) is
-    // the best estimate of this frame's steps.
-    let step_dt = if params.adaptive_time_step && stats.time_step > 0.0 {
-        stats.time_step.min(params.time_step)
-    } else {
-        params.time_step
-    };
-    let dt = step_dt * steps as f32;
+    let duration = sim.plan.duration;
     for mut emitter in &mut emitters {
         if let Err(e) = emitter.0.validate() {
             stats.error = Some(e.to_string());
             continue;
         }
-        let emission = emitter.0.emit(dt);
+        let emission = emitter.0.emit(duration);
         sim.spawn(&emission.positions, emission.velocity);
     }
 }
 
-fn planned_steps(control: &SphControl) -> u32 {
-    if control.running {
-        control.substeps.clamp(1, MAX_SUBSTEPS)
-    } else if control.single_step {
-        1
+/// This frame's plan: its steps and the simulated time they cover, from [`SphControl`], the
+/// frame's [`Time`] delta in real-time mode and the time-step rule's dt as last known.
+fn sph_plan_frame(
+    time: Res<Time>,
+    params: Res<SphParams>,
+    control: Res<SphControl>,
+    stats: Res<SphStats>,
+    mut sim: ResMut<SphSimulation>,
+) {
+    let valid = control.real_time.is_none_or(|r| r.validate().is_ok());
+    sim.plan = if valid {
+        sim.plan(&control, &params, &stats, time.delta_secs())
     } else {
-        0
-    }
+        // Refused (and named) by sph_plan_step; nothing moves this frame.
+        FramePlan::default()
+    };
 }
 
 fn sph_plan_step(
@@ -286,14 +282,19 @@ fn sph_plan_step(
     mut sim: ResMut<SphSimulation>,
     mut stats: ResMut<SphStats>,
 ) {
-    let steps = planned_steps(&control);
+    let plan = sim.plan;
     control.single_step = false;
     let Some(container) = sim.container else {
         stats.error = Some("no entity with an SphContainer component".into());
         sim.frame.active = false;
         return;
     };
-    if let Err(e) = params.validate().and(control.rollback.validate()) {
+    let real_time = control.real_time.map_or(Ok(()), |r| r.validate());
+    if let Err(e) = params
+        .validate()
+        .and(control.rollback.validate())
+        .and(real_time)
+    {
         stats.error = Some(e.to_string());
         sim.frame.steps = 0;
         return;
@@ -317,13 +318,38 @@ fn sph_plan_step(
             }
             solver.reset_timings();
             let (mut density, mut most, mut divergence) = (0u64, 0u32, 0u64);
-            for _ in 0..steps {
-                solver.step();
+            let mut steps = 0;
+            let mut record = |solver: &CpuSolver| {
                 let s = solver.solver_stats();
                 density += s.density_iterations as u64;
                 most = most.max(s.density_iterations);
                 divergence += s.divergence_iterations as u64;
+            };
+            match plan.budget {
+                // As many steps as the rule needs, each recorded.
+                Some(budget) => {
+                    let cap = control
+                        .real_time
+                        .map_or(plan.steps, |r| r.max_steps.clamp(1, MAX_SUBSTEPS));
+                    let end = solver.time() + budget as f64;
+                    while steps < cap {
+                        let left = (end - solver.time()) as f32;
+                        if solver.advance_by(left, 1).steps == 0 {
+                            break;
+                        }
+                        steps += 1;
+                        record(solver);
+                    }
+                }
+                None => {
+                    for _ in 0..plan.steps {
+                        solver.step();
+                        steps += 1;
+                        record(solver);
+                    }
+                }
             }
+            stats.frame_steps = steps;
             if steps > 0 {
                 stats.pressure_iterations_mean = density as f32 / steps as f32;
                 stats.pressure_iterations_max = most;
@@ -347,25 +373,59 @@ fn sph_plan_step(
                 return;
             }
             let capacity = sim.capacity;
+            sim.frame_number = sim.frame_number.wrapping_add(1);
+            let number = sim.frame_number;
             let frame = &mut sim.frame;
             frame.active = true;
             frame.params = params.0;
             frame.container = container;
             frame.capacity = capacity;
-            frame.steps = steps;
+            frame.steps = plan.steps;
+            frame.budget = plan.budget.map(|b| (b, number));
+            stats.frame_steps = plan.steps;
             frame.neighbor_counts = control.record_neighbor_counts;
             frame.rollback = control.rollback;
         }
     }
 }
 
+/// Real time and simulated time at the start of the real-time factor's window [s].
+#[derive(Default)]
+struct FactorWindow(Option<(f64, f64)>);
+
+/// The shortest window the real-time factor is measured over [s of real time].
+const FACTOR_WINDOW: f64 = 0.5;
+
+impl FactorWindow {
+    /// The factor when the window is complete (and a new one starts), `None` before. Simulated
+    /// time going back (a reset, a rollback) restarts the window.
+    fn update(&mut self, real: f64, sim: f64) -> Option<f32> {
+        let Some((real0, sim0)) = self.0 else {
+            self.0 = Some((real, sim));
+            return None;
+        };
+        if sim < sim0 {
+            self.0 = Some((real, sim));
+            return None;
+        }
+        if real - real0 < FACTOR_WINDOW {
+            return None;
+        }
+        self.0 = Some((real, sim));
+        Some(((sim - sim0) / (real - real0)) as f32)
+    }
+}
+
 fn sph_update_stats(
-    sim: Res<SphSimulation>,
+    mut sim: ResMut<SphSimulation>,
     clock: Res<ClockReadback>,
     feedback: Option<Res<SphRenderFeedback>>,
     diagnostics: Option<Res<bevy::diagnostic::DiagnosticsStore>>,
+    real: Res<Time<Real>>,
+    mut window: Local<FactorWindow>,
     mut stats: ResMut<SphStats>,
 ) {
+    let sim = &mut *sim;
     stats.backend = sim.backend;
     stats.adapter = sim.adapter.clone();
     stats.capacity = sim.capacity;
@@ -388,7 +448,9 @@ fn sph_update_stats(
                 Some(step) => SphHealth::Unstable { step },
                 None => SphHealth::of(&d, solver.step_count()),
             };
+            stats.density_error_mean_pct = d.density_error_mean_pct;
             stats.diagnostics = Some(d);
+            sim.rule_dt = Some(solver.next_time_step() * solver.time_step_scale());
             stats.stage_ms = solver
                 .timings()
                 .stages()
@@ -424,6 +486,8 @@ fn sph_update_stats(
                 stats.boundary_corrections = clock.boundary_corrections as u64;
                 stats.wall_corrections = clock.wall_corrections as u64;
                 stats.clock_steps = clock.step as u64;
+                let scale = (-(clock.halvings as f32)).exp2();
+                sim.rule_dt = Some(f32::from_bits(clock.rule_dt_bits) * scale);
                 if clock.unstable_step != 0 {
                     stats.health = SphHealth::Unstable {
                         step: clock.unstable_step as u64,
@@ -449,5 +513,8 @@ fn sph_update_stats(
             }
         }
         _ => {}
+    }
+    if let Some(factor) = window.update(real.elapsed_secs_f64(), stats.sim_time) {
+        stats.real_time_factor = factor;
     }
 }

@@ -462,6 +462,9 @@ pub(crate) fn prepare_sph_buffers(
         state.particle_count,
     )
     .with_rollback(&frame.rollback);
+    if let Some((duration, number)) = frame.budget {
+        uniforms = uniforms.with_frame_budget(duration, frame.steps, number);
+    }
     uniforms.flags[3] = state.boundary_colliders;
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
 }

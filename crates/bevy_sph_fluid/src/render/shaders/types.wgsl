@@ -28,6 +28,9 @@ struct SphUniforms {
     time_step: vec4<f32>,
     // rollback: enabled (0/1), checkpoint interval, max retries, recovery steps
     rollback: vec4<u32>,
+    // real-time mode (sph_core::frame_budget): the frame's time [s] as f32 bits, the steps
+    // planned for it, the frame's number, 0; all zero when off
+    frame_budget: vec4<u32>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).
@@ -67,7 +70,13 @@ struct SphClock {
     // those the ones clamped back into the box (sph_core::guard).
     boundary_corrections: atomic<u32>,
     wall_corrections: atomic<u32>,
+    // Real-time mode: the frame whose budget is being spent, its time left [s], its steps left.
+    budget_frame: u32,
+    budget_remaining: f32,
+    budget_steps_left: u32,
     pad_c: u32,
+    pad_d: u32,
+    pad_e: u32,
 }
 
 struct BitonicStep {

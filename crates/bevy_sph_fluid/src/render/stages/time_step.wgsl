@@ -11,7 +11,10 @@
 //    when one is due (none yet, particles were added, or `interval` steps since the last);
 // 4. dt = time_step, or with the adaptive rule
 //    min(time_step, λ h / (c0 + v_max), 0.125 h² ρ0/μ, 0.25 sqrt(h / a_max)), times 2^-halvings;
-// 5. step += 1, time += dt (in whole nanoseconds, exact), the extremes are cleared.
+// 5. real-time mode (sph_core::frame_budget::budget_dt): a new frame number starts a budget of
+//    the frame's time in its planned steps; dt = min(dt, remaining / steps left), so the frame
+//    never oversteps its time and ends on it when the plan's step count was right;
+// 6. step += 1, time += dt (in whole nanoseconds, exact), the extremes are cleared.
 #import sph::bindings::{params, clock}
 
 const NON_FINITE: u32 = 0x7f800000u;
@@ -105,7 +108,19 @@ fn main() {
         }
     }
     clock.rule_dt = rule_dt;
-    let dt = rule_dt * scale();
+    var dt = rule_dt * scale();
+    let budget = params.frame_budget;
+    if budget.y != 0u {
+        if clock.budget_frame != budget.z {
+            clock.budget_frame = budget.z;
+            clock.budget_remaining = bitcast<f32>(budget.x);
+            clock.budget_steps_left = budget.y;
+        }
+        let left = max(clock.budget_steps_left, 1u);
+        dt = min(dt, max(clock.budget_remaining, 0.0) / f32(left));
+        clock.budget_remaining -= dt;
+        clock.budget_steps_left = left - 1u;
+    }
     clock.dt = dt;
     clock.step += 1u;
     let time = add_ns(clock.time_ns_lo, clock.time_ns_hi, dt);
