@@ -55,6 +55,8 @@ pub struct SandboxConfig {
     pub box_obstacle: bool,
     /// A gate holding the block back, lifted from the runtime panel.
     pub gate: bool,
+    /// Real-time mode: each frame advances the water by the frame's own time.
+    pub real_time: bool,
 }
 
 impl Default for SandboxConfig {
@@ -72,6 +74,7 @@ impl Default for SandboxConfig {
             sphere_obstacle: false,
             box_obstacle: false,
             gate: false,
+            real_time: false,
         };
         config.apply_preset_defaults();
         config

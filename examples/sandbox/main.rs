@@ -48,6 +48,8 @@ struct Cli {
     debug: bool,
     adaptive: bool,
     obstacles: bool,
+    /// `--real-time`: each frame advances the water by the frame's own time.
+    real_time: bool,
     /// `--solver dfsph|pbf`: that solver on the CPU backend (their GPU passes are not built yet).
     solver: Option<sph_core::Solver>,
 }
@@ -92,6 +94,7 @@ fn parse_cli() -> Result<Cli, String> {
             "--debug" => cli.debug = true,
             "--adaptive" => cli.adaptive = true,
             "--obstacles" => cli.obstacles = true,
+            "--real-time" => cli.real_time = true,
             "--solver" => {
                 cli.solver = match value()?.as_str() {
                     "wcsph" => None,
@@ -115,7 +118,7 @@ fn main() {
             eprintln!(
                 "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
                  [--hide-particles] [--no-gpu-timings] [--debug] [--adaptive] \
-                 [--obstacles] [--solver wcsph|dfsph|pbf] [--screenshot FILE --frames N]"
+                 [--obstacles] [--solver wcsph|dfsph|pbf] [--real-time] [--screenshot FILE --frames N]"
             );
             std::process::exit(2);
         }
@@ -127,6 +130,7 @@ fn main() {
         config.apply_preset_defaults();
     }
     config.adaptive_time_step = cli.adaptive;
+    config.real_time = cli.real_time;
     // DFSPH and PBF run on the CPU backend until their GPU passes exist.
     let backend = match cli.solver {
         Some(solver) => {
@@ -262,18 +266,23 @@ fn apply_cli_toggles(
 }
 
 /// With `--screenshot`, saves the window after `--frames` frames of the scene, prints the median
-/// frame time of the second half, then exits.
+/// frame time and the real-time factor of the second half, then exits.
 fn take_screenshot(
     cli: Res<Cli>,
     time: Res<Time<Real>>,
+    stats: Res<SphStats>,
     mut frames: Local<u32>,
     mut frame_ms: Local<Vec<f64>>,
+    mut half_way: Local<(f64, f64)>,
     mut commands: Commands,
 ) {
     let Some(path) = cli.screenshot.clone() else {
         return;
     };
     *frames += 1;
+    if *frames == cli.frames / 2 {
+        *half_way = (time.elapsed_secs_f64(), stats.sim_time);
+    }
     if *frames > cli.frames / 2 {
         frame_ms.push(time.delta_secs_f64() * 1e3);
     }
@@ -284,6 +293,17 @@ fn take_screenshot(
             "sandbox: median frame time {median:.1} ms ({:.1} FPS) over the last {} frames",
             1e3 / median.max(1e-9),
             frame_ms.len()
+        );
+        let (wall, simulated) = (
+            time.elapsed_secs_f64() - half_way.0,
+            stats.sim_time - half_way.1,
+        );
+        println!(
+            "sandbox: {simulated:.4} s simulated in {wall:.2} s of wall clock over those frames \
+             (real-time factor {:.4}), {} particles, {} steps in the last frame",
+            simulated / wall.max(1e-9),
+            stats.particle_count,
+            stats.frame_steps
         );
         commands
             .spawn(Screenshot::primary_window())

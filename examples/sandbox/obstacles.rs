@@ -84,14 +84,17 @@ pub fn spawn_obstacles(
 /// the walls.
 pub fn lift_gate(
     lift: Option<Res<GateLift>>,
-    params: Res<SphParams>,
-    control: Res<SphControl>,
+    stats: Res<SphStats>,
+    mut last_time: Local<f64>,
     mut gates: Query<&mut Transform, With<Gate>>,
 ) {
-    if !lift.is_some_and(|l| l.lifting) || !control.running {
+    // The simulated time since the last frame: the gate keeps pace with the water whatever the
+    // substeps or the real-time mode (GPU: the clock as read back).
+    let frame_time = (stats.sim_time - *last_time).max(0.0) as f32;
+    *last_time = stats.sim_time;
+    if !lift.is_some_and(|l| l.lifting) {
         return;
     }
-    let frame_time = params.time_step * control.substeps as f32;
     for mut t in &mut gates {
         if t.translation.y < 2.0 * WALL_HEIGHT {
             t.translation.y += GATE_SPEED * frame_time;

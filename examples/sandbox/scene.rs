@@ -36,6 +36,7 @@ pub fn enter_running(
     commands.insert_resource(SphControl {
         running: true,
         substeps: 2,
+        real_time: config.real_time.then(SphRealTime::default),
         ..default()
     });
     let container = BoxContainer::from_floor(Vec3::ZERO, FLOOR_SIZE, WALL_HEIGHT);

@@ -134,6 +134,10 @@ pub fn setup_panel(
                 slider(&mut config.time_step, ranges::TIME_STEP, "time step [s]").logarithmic(true),
             );
             ui.checkbox(&mut config.adaptive_time_step, "adaptive dt (CFL)");
+            ui.checkbox(
+                &mut config.real_time,
+                "real time: each frame advances the water by the frame's own time",
+            );
             ui.horizontal(|ui| {
                 ui.label("neighbour search");
                 ui.radio_value(
@@ -283,11 +287,35 @@ pub fn runtime_panel(
                 &mut control.rollback.enabled,
                 "roll back unstable steps (retry at half the dt)",
             );
-            ui.add(
-                egui::Slider::new(&mut control.substeps, 1..=16)
-                    .text("substeps / frame")
-                    .clamping(SliderClamping::Always),
+            let mut real_time = control.real_time.is_some();
+            ui.checkbox(
+                &mut real_time,
+                "real time: each frame advances the water by the frame's own time",
             );
+            match (real_time, control.real_time) {
+                (true, None) => control.real_time = Some(SphRealTime::default()),
+                (false, Some(_)) => control.real_time = None,
+                _ => {}
+            }
+            if let Some(limits) = control.real_time.as_mut() {
+                ui.add(
+                    egui::Slider::new(&mut limits.max_frame_time, 0.005..=0.2)
+                        .text("largest frame time [s]")
+                        .logarithmic(true)
+                        .clamping(SliderClamping::Always),
+                );
+                ui.add(
+                    egui::Slider::new(&mut limits.max_steps, 1..=MAX_SUBSTEPS)
+                        .text("most steps / frame")
+                        .clamping(SliderClamping::Always),
+                );
+            } else {
+                ui.add(
+                    egui::Slider::new(&mut control.substeps, 1..=16)
+                        .text("substeps / frame")
+                        .clamping(SliderClamping::Always),
+                );
+            }
             ui.horizontal(|ui| {
                 let label = if control.running { "Pause" } else { "Run" };
                 if ui.button(label).clicked() {
@@ -334,6 +362,10 @@ pub fn runtime_panel(
             ui.label(format!(
                 "{:?} on {} · FPS {fps:.1} · {:.0} steps/s",
                 stats.backend, stats.adapter, history.steps_per_second
+            ));
+            ui.label(format!(
+                "real-time factor {:.3} (simulated s per wall-clock s) · {} steps / frame · mean compression {:.3} %",
+                stats.real_time_factor, stats.frame_steps, stats.density_error_mean_pct
             ));
             ui.label(format!(
                 "particles {} / {} (refused {}) · t = {:.3} s · step {} · dt {:.2e} s · rollbacks {}",
