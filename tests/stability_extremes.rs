@@ -231,6 +231,34 @@ fn dfsph_setting_ends() -> Vec<(&'static str, sph_core::DfsphSettings)> {
     ]
 }
 
+/// PBF's settings at both ends of their validated ranges (the sandbox's PBF sliders included).
+fn pbf_setting_ends() -> Vec<(String, sph_core::PbfSettings)> {
+    let d = sph_core::PbfSettings::default();
+    let set = |f: &dyn Fn(&mut sph_core::PbfSettings)| {
+        let mut s = d;
+        f(&mut s);
+        s
+    };
+    vec![
+        ("iterations 1".into(), set(&|s| s.iterations = 1)),
+        ("iterations 100".into(), set(&|s| s.iterations = 100)),
+        ("relaxation 1e-6".into(), set(&|s| s.relaxation = 1e-6)),
+        ("relaxation 10".into(), set(&|s| s.relaxation = 10.0)),
+        ("s_corr_k 0".into(), set(&|s| s.s_corr_k = 0.0)),
+        ("s_corr_k 1".into(), set(&|s| s.s_corr_k = 1.0)),
+        ("s_corr_n 1".into(), set(&|s| s.s_corr_n = 1)),
+        ("s_corr_n 8".into(), set(&|s| s.s_corr_n = 8)),
+        ("s_corr_dq 1e-3".into(), set(&|s| s.s_corr_dq = 1e-3)),
+        ("s_corr_dq 0.9".into(), set(&|s| s.s_corr_dq = 0.9)),
+        ("xsph_c 0".into(), set(&|s| s.xsph_c = 0.0)),
+        ("xsph_c 1".into(), set(&|s| s.xsph_c = 1.0)),
+        (
+            "vorticity_epsilon 1".into(),
+            set(&|s| s.vorticity_epsilon = 1.0),
+        ),
+    ]
+}
+
 #[test]
 fn dfsph_and_pbf_at_both_ends_of_every_slider_and_setting_stay_stable() {
     for (preset, base) in preset_scenes() {
@@ -256,6 +284,13 @@ fn dfsph_and_pbf_at_both_ends_of_every_slider_and_setting_stay_stable() {
             p.use_solver(sph_core::Solver::Dfsph);
             p.dfsph = settings;
             runs.push((format!("DFSPH, {name}"), p));
+        }
+        for (name, settings) in pbf_setting_ends() {
+            let mut p = base.params;
+            p.use_solver(sph_core::Solver::Pbf);
+            p.pbf = settings;
+            assert_eq!(p.validate(), Ok(()), "{name} is in range");
+            runs.push((format!("PBF, {name}"), p));
         }
         for (what, params) in runs {
             let scene = Scene {

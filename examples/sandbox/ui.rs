@@ -268,6 +268,18 @@ pub fn runtime_panel(
                 "surface tension γ",
             ));
             ui.add(slider(&mut p.wall_damping, ranges::WALL_DAMPING, "wall damping"));
+            if p.solver == sph_core::Solver::Pbf {
+                ui.add(
+                    egui::Slider::new(&mut p.pbf.iterations, 1..=20)
+                        .text("PBF iterations / step")
+                        .clamping(SliderClamping::Always),
+                );
+                ui.add(slider(
+                    &mut p.pbf.vorticity_epsilon,
+                    0.0..=1.0,
+                    "PBF vorticity confinement ε [m/s]",
+                ));
+            }
             ui.add(slider(&mut p.gravity.y, ranges::GRAVITY_Y, "gravity y [m/s²]"));
             let dt_label = if p.adaptive_time_step {
                 "largest dt [s]"

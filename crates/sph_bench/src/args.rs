@@ -134,6 +134,10 @@ fn pbf_iterations(text: &str) -> Result<u32, String> {
     number(text, |v: u32| (1..=100).contains(&v), "1..=100 iterations")
 }
 
+fn vorticity(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| (0.0..=1.0).contains(&v), "[0, 1] m/s")
+}
+
 fn solver() -> impl TypedValueParser<Value = Solver> {
     named(&SOLVERS)
 }
@@ -249,6 +253,9 @@ pub struct RunArgs {
     /// PBF: Jacobi iterations of the density constraint per step [default: 4].
     #[arg(long, value_name = "N", value_parser = pbf_iterations)]
     pub pbf_iterations: Option<u32>,
+    /// PBF: vorticity confinement ε [m/s] (0 skips the stage) [default: 0].
+    #[arg(long, value_name = "M_PER_S", value_parser = vorticity)]
+    pub pbf_vorticity: Option<f32>,
     /// DFSPH: warm-start each solve from the previous step's stiffness.
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub warm_start: bool,
@@ -317,6 +324,7 @@ impl Default for RunArgs {
             divergence_error: None,
             warm_start: true,
             pbf_iterations: None,
+            pbf_vorticity: None,
             particles: 8_192,
             a: 0.146,
             integrator: Integrator::KickDriftKick,

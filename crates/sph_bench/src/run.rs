@@ -64,6 +64,9 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
             if let Some(n) = args.pbf_iterations {
                 p.pbf.iterations = n;
             }
+            if let Some(epsilon) = args.pbf_vorticity {
+                p.pbf.vorticity_epsilon = epsilon;
+            }
         }
     }
     s.rollback = rollback(args.rollback);

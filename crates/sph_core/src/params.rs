@@ -488,6 +488,14 @@ impl PbfSettings {
             0.9,
             "(0, 0.9] h",
         )?;
-        check_range("pbf.xsph_c", self.xsph_c, 0.0, true, 1.0, "[0, 1]")
+        check_range("pbf.xsph_c", self.xsph_c, 0.0, true, 1.0, "[0, 1]")?;
+        check_range(
+            "pbf.vorticity_epsilon",
+            self.vorticity_epsilon,
+            0.0,
+            true,
+            1.0,
+            "[0, 1] m/s",
+        )
     }
 }

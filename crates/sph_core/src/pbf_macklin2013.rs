@@ -1,7 +1,7 @@
 //! Position-based fluids (Macklin & Müller 2013, "Position based fluids"): the density
 //! constraint C_i = ρ_i/ρ0 - 1 on predicted positions, solved by Jacobi iterations of λ_i and
 //! position corrections Δp_i, with the artificial pressure s_corr against tensile clumping and
-//! XSPH viscosity. The step that strings them together is `CpuSolver`'s (`solver/pbf.rs`).
+//! XSPH viscosity, and optional vorticity confinement. The step that strings them together is `CpuSolver`'s (`solver/pbf.rs`).
 //!
 //! The passes read the neighbour indices of [`NeighborLists`] (built on the predicted positions
 //! once per step) and evaluate the kernel at the current predicted positions, which move with
@@ -37,6 +37,8 @@ pub struct PbfContext {
     pub inverse_w_dq: f32,
     /// XSPH c.
     pub xsph_c: f32,
+    /// Vorticity confinement ε [m/s] (0: the stage is skipped).
+    pub vorticity_epsilon: f32,
     /// The longest correction of one iteration [m], [`MAX_CORRECTION`] h.
     pub max_correction: f32,
 }
@@ -83,6 +85,7 @@ impl PbfContext {
             s_corr_n: settings.s_corr_n as i32,
             inverse_w_dq: if w_dq > 0.0 { 1.0 / w_dq } else { 0.0 },
             xsph_c: settings.xsph_c,
+            vorticity_epsilon: settings.vorticity_epsilon,
             max_correction: MAX_CORRECTION * h,
         }
     }
@@ -224,5 +227,57 @@ pub fn xsph(
             sum += (velocity[j] - v_i) * (ctx.mass / constraint[j].density * w);
         }
         *v = v_i + sum * ctx.xsph_c;
+    });
+}
+
+/// The vorticity ω_i = ∇ × v = Σ_j (m/ρ_j) (v_j - v_i) × ∇_j W_ij with ∇_j W_ij = -∇_i W_ij
+/// (Macklin & Müller 2013, eq. 15, with the SPH volume m/ρ_j so that ω is in 1/s).
+pub fn vorticity(
+    ctx: &PbfContext,
+    lists: &NeighborLists,
+    positions: &[Vec3],
+    density: &[f32],
+    velocity: &[Vec3],
+    omega: &mut [Vec3],
+) {
+    let k = &ctx.kernel;
+    lists.update(omega, |i, pairs, w| {
+        let (x_i, v_i) = (positions[i], velocity[i]);
+        let mut curl = Vec3::ZERO;
+        for p in pairs.fluid {
+            let j = p.index as usize;
+            let r = x_i - positions[j];
+            let grad_j = -k.gradient(r, r.length());
+            curl += (velocity[j] - v_i).cross(grad_j) * (ctx.mass / density[j]);
+        }
+        *w = curl;
+    });
+}
+
+/// Vorticity confinement: v_i += dt ε (N_i × ω_i) with N = η/|η| and
+/// η_i = ∇|ω|_i = Σ_j (m/ρ_j) (|ω_j| - |ω_i|) ∇_i W_ij (Macklin & Müller 2013, eq. 16, after
+/// Fedkiw et al. 2001): the force turns the flow around the local peaks of |ω|.
+#[allow(clippy::too_many_arguments)]
+pub fn confine_vorticity(
+    ctx: &PbfContext,
+    lists: &NeighborLists,
+    positions: &[Vec3],
+    density: &[f32],
+    omega: &[Vec3],
+    dt: f32,
+    velocity_in: &[Vec3],
+    velocity_out: &mut [Vec3],
+) {
+    let k = &ctx.kernel;
+    lists.update(velocity_out, |i, pairs, v| {
+        let (x_i, w_i) = (positions[i], omega[i].length());
+        let mut eta = Vec3::ZERO;
+        for p in pairs.fluid {
+            let j = p.index as usize;
+            let r = x_i - positions[j];
+            eta += k.gradient(r, r.length()) * ((omega[j].length() - w_i) * ctx.mass / density[j]);
+        }
+        let n = eta.normalize_or_zero();
+        *v = velocity_in[i] + n.cross(omega[i]) * (ctx.vorticity_epsilon * dt);
     });
 }

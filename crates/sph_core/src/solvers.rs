@@ -108,10 +108,15 @@ pub struct PbfSettings {
     pub s_corr_dq: f32,
     /// XSPH viscosity c: v_i += c Σ_j (m/ρ_j) (v_j - v_i) W_ij.
     pub xsph_c: f32,
+    /// Vorticity confinement ε [m/s]: a_i = ε (N_i × ω_i) puts back the swirl that damping
+    /// loses (Macklin & Müller 2013 §5 after Fedkiw et al. 2001). 0 (the default) skips the
+    /// stage: it costs nothing.
+    pub vorticity_epsilon: f32,
 }
 
 impl Default for PbfSettings {
-    /// 4 iterations, relaxation 0.01, s_corr k 0.1, n 4, Δq 0.2 h (the paper's), XSPH c 0.01.
+    /// 4 iterations, relaxation 0.01, s_corr k 0.1, n 4, Δq 0.2 h (the paper's), XSPH c 0.01,
+    /// no vorticity confinement.
     fn default() -> Self {
         Self {
             iterations: 4,
@@ -120,6 +125,7 @@ impl Default for PbfSettings {
             s_corr_n: 4,
             s_corr_dq: 0.2,
             xsph_c: 0.01,
+            vorticity_epsilon: 0.0,
         }
     }
 }

@@ -4,7 +4,9 @@
 
 use sph_core::glam::Vec3;
 use sph_core::neighbor_lists::{ListSource, NeighborLists};
-use sph_core::pbf_macklin2013::{compute_corrections, compute_lambdas, Constraint, PbfContext};
+use sph_core::pbf_macklin2013::{
+    compute_corrections, compute_lambdas, vorticity, Constraint, PbfContext,
+};
 use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Neighbors, PbfSettings, Solver, SphParams};
 
 fn pbf_params() -> SphParams {
@@ -142,6 +144,20 @@ fn bad_settings_name_the_field() {
             "pbf.s_corr_dq",
         ),
         (PbfSettings { xsph_c: -0.1, ..d }, "pbf.xsph_c"),
+        (
+            PbfSettings {
+                vorticity_epsilon: 1.5,
+                ..d
+            },
+            "pbf.vorticity_epsilon",
+        ),
+        (
+            PbfSettings {
+                vorticity_epsilon: f32::NAN,
+                ..d
+            },
+            "pbf.vorticity_epsilon",
+        ),
     ] {
         let mut p = pbf_params();
         p.pbf = settings;
@@ -171,4 +187,60 @@ fn the_extremes_stay_finite() {
             positions.len()
         );
     }
+}
+
+#[test]
+fn vorticity_is_the_curl_of_a_shear_flow() {
+    // v = (a y, 0, 0) has ω = ∇ × v = (0, 0, -a) everywhere.
+    let (params, positions, lists) = squeezed_block();
+    let ctx = PbfContext::of(&params);
+    let a = 3.0;
+    let velocity: Vec<Vec3> = positions
+        .iter()
+        .map(|x| Vec3::new(a * x.y, 0.0, 0.0))
+        .collect();
+    // The block's own densities weigh the volumes, as in the step.
+    let mut density = vec![0.0; positions.len()];
+    sph_core::pbf_macklin2013::compute_densities(&ctx, &lists, &positions, None, &mut density);
+    let mut omega = vec![Vec3::ZERO; positions.len()];
+    vorticity(&ctx, &lists, &positions, &density, &velocity, &mut omega);
+    let centre: Vec3 = positions.iter().copied().sum::<Vec3>() / positions.len() as f32;
+    let h = params.smoothing_radius;
+    let mut interior = 0;
+    for (x, w) in positions.iter().zip(&omega) {
+        if ((*x - centre).abs().max_element()) < 0.5 * h {
+            interior += 1;
+            assert!(
+                (*w - Vec3::new(0.0, 0.0, -a)).length() < 0.05 * a,
+                "ω = {w} at {x}"
+            );
+        }
+    }
+    assert!(interior > 0);
+}
+
+#[test]
+fn vorticity_confinement_puts_energy_back_and_is_off_by_default() {
+    assert_eq!(PbfSettings::default().vorticity_epsilon, 0.0);
+    let energy = |epsilon: f32| {
+        let mut params = pbf_params();
+        params.pbf.vorticity_epsilon = epsilon;
+        let dx = params.spacing();
+        let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.6, 0.4, 0.2));
+        let positions = BlockSpawn::new(Vec3::ZERO, Vec3::new(0.2, 0.2, 0.2), dx).positions();
+        let mut solver = CpuSolver::new(params, container, positions.len()).unwrap();
+        solver.spawn(&positions, Vec3::ZERO);
+        while solver.time() < 0.4 {
+            solver.step();
+        }
+        let d = solver.diagnostics();
+        assert_eq!((d.non_finite_count, d.outside_count), (0, 0));
+        d.kinetic_energy
+    };
+    // Measured: +7 % at ε = 0.5 m/s, +29 % at 1 m/s after 0.4 s.
+    let (off, on) = (energy(0.0), energy(1.0));
+    assert!(
+        on > 1.1 * off,
+        "kinetic energy {on} J with confinement, {off} J without"
+    );
 }

@@ -16,7 +16,8 @@ use crate::guard::{Corrections, Guard};
 use crate::neighbor_lists::{ListSource, NeighborLists};
 use crate::params::SphParams;
 use crate::pbf_macklin2013::{
-    compute_corrections, compute_densities, compute_lambdas, xsph, Constraint, PbfContext,
+    compute_corrections, compute_densities, compute_lambdas, confine_vorticity, vorticity, xsph,
+    Constraint, PbfContext,
 };
 use crate::solvers::SolverStats;
 use crate::stability::largest_magnitude;
@@ -31,6 +32,8 @@ pub(super) struct PbfScratch {
     delta: Vec<Vec3>,
     velocity: Vec<Vec3>,
     list_density: Vec<f32>,
+    omega: Vec<Vec3>,
+    confined: Vec<Vec3>,
 }
 
 /// PBF's time step: `params.time_step` when fixed; with `params.adaptive_time_step`,
@@ -174,6 +177,32 @@ impl PbfStep<'_> {
             compute_densities(&ctx, &s.lists, &p.position, Some(boundary), &mut p.density);
             std::mem::swap(&mut p.velocity, &mut s.velocity);
         });
+        // s.velocity now holds the velocities before XSPH.
+        if ctx.vorticity_epsilon > 0.0 {
+            timed(&mut t.forces, || {
+                s.omega.resize(n, Vec3::ZERO);
+                s.confined.resize(n, Vec3::ZERO);
+                vorticity(
+                    &ctx,
+                    &s.lists,
+                    &p.position,
+                    &p.density,
+                    &p.velocity,
+                    &mut s.omega,
+                );
+                confine_vorticity(
+                    &ctx,
+                    &s.lists,
+                    &p.position,
+                    &p.density,
+                    &s.omega,
+                    dt,
+                    &p.velocity,
+                    &mut s.confined,
+                );
+                std::mem::swap(&mut p.velocity, &mut s.confined);
+            });
+        }
         let inverse_dt = 1.0 / dt;
         p.pressure.iter_mut().for_each(|pressure| *pressure = 0.0);
         // The step's mean acceleration, for the stability check and the diagnostics.
