@@ -8,8 +8,13 @@
 //! - A step is unstable when any speed or acceleration is not finite, or when the fastest particle
 //!   crossed more than a support radius h in one step: the neighbour search then no longer sees
 //!   the pairs it integrates, and weakly compressible SPH blows up from there.
+//! - PBF is judged by finiteness alone ([`StepExtremes::is_unstable_for`]): its neighbour search
+//!   runs on the predicted positions, so a particle that moved more than h still meets the
+//!   pairs it is corrected against, and each correction is capped at a tenth of h, so a step
+//!   cannot feed on itself. That is what lets it step at a frame's dt (1/30 s).
 
 use crate::params::SphParams;
+use crate::solvers::Solver;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -52,9 +57,21 @@ impl StepExtremes {
 
     /// Whether a step of `dt` that ended in this state went unstable (see the module docs).
     pub fn is_unstable(&self, dt: f32, smoothing_radius: f32) -> bool {
-        !self.max_speed.is_finite()
-            || !self.max_acceleration.is_finite()
-            || self.max_speed * dt > smoothing_radius
+        !self.is_finite() || self.max_speed * dt > smoothing_radius
+    }
+
+    /// [`Self::is_unstable`] for WCSPH and DFSPH; finiteness alone for PBF (see the module
+    /// docs).
+    pub fn is_unstable_for(&self, solver: Solver, dt: f32, smoothing_radius: f32) -> bool {
+        match solver {
+            Solver::Pbf => !self.is_finite(),
+            Solver::Wcsph | Solver::Dfsph => self.is_unstable(dt, smoothing_radius),
+        }
+    }
+
+    /// Whether every speed and acceleration was finite.
+    pub fn is_finite(&self) -> bool {
+        self.max_speed.is_finite() && self.max_acceleration.is_finite()
     }
 }
 

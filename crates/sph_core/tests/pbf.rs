@@ -7,7 +7,9 @@ use sph_core::neighbor_lists::{ListSource, NeighborLists};
 use sph_core::pbf_macklin2013::{
     compute_corrections, compute_lambdas, vorticity, Constraint, PbfContext,
 };
-use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Neighbors, PbfSettings, Solver, SphParams};
+use sph_core::{
+    BlockSpawn, BoxContainer, CpuSolver, Neighbors, PbfSettings, PipeEmitter, Solver, SphParams,
+};
 
 fn pbf_params() -> SphParams {
     let mut p = SphParams::water();
@@ -242,5 +244,80 @@ fn vorticity_confinement_puts_energy_back_and_is_off_by_default() {
     assert!(
         on > 1.1 * off,
         "kinetic energy {on} J with confinement, {off} J without"
+    );
+}
+
+#[test]
+fn the_walls_carry_the_weight_of_water_at_rest() {
+    let params = pbf_params();
+    let dx = params.spacing();
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.2, 0.2, 0.2));
+    let positions = BlockSpawn::new(Vec3::ZERO, Vec3::new(0.2, 0.08, 0.2), dx).positions();
+    let mut solver = CpuSolver::new(params, container, positions.len()).unwrap();
+    solver.spawn(&positions, Vec3::ZERO);
+    while solver.time() < 0.4 {
+        solver.step();
+    }
+    solver.take_collider_forces();
+    while solver.time() < 0.8 {
+        solver.step();
+    }
+    let weight = positions.len() as f32 * params.particle_mass * params.gravity;
+    let force = solver.wall_force().force;
+    assert!(
+        (force - weight).length() < 0.02 * weight.length(),
+        "the walls feel {force} N; the water weighs {weight} N"
+    );
+}
+
+/// PBF at a game frame's dt (1/30 s, one step per frame, fixed).
+fn frame_step_params() -> SphParams {
+    let mut p = pbf_params();
+    p.time_step = 1.0 / 30.0;
+    p.adaptive_time_step = false;
+    p
+}
+
+#[test]
+fn ten_thousand_frame_steps_of_a_dam_break_and_a_pipe_keep_every_particle() {
+    let params = frame_step_params();
+    let dx = params.spacing();
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.6, 0.4, 0.2));
+    // The dam break.
+    let positions = BlockSpawn::new(Vec3::ZERO, Vec3::new(0.2, 0.2, 0.2), dx).positions();
+    let mut solver = CpuSolver::new(params, container, positions.len()).unwrap();
+    solver.spawn(&positions, Vec3::ZERO);
+    for _ in 0..10_000 {
+        solver.step();
+    }
+    let d = solver.diagnostics();
+    assert_eq!(solver.unstable_step(), None);
+    assert_eq!(
+        (d.particle_count, d.non_finite_count, d.outside_count),
+        (positions.len(), 0, 0),
+        "dam break"
+    );
+    // The pipe fills the box with 2,000 particles, then the water settles.
+    let mut pipe = PipeEmitter::new(
+        Vec3::new(0.05, 0.3, 0.1),
+        Vec3::new(1.0, -0.5, 0.0),
+        0.03,
+        1.0,
+        dx,
+    );
+    pipe.total = Some(2_000);
+    let mut solver = CpuSolver::new(params, container, 2_000).unwrap();
+    for _ in 0..10_000 {
+        let emission = pipe.emit(params.time_step);
+        solver.spawn(&emission.positions, emission.velocity);
+        solver.step();
+    }
+    let d = solver.diagnostics();
+    assert_eq!(pipe.emitted, 2_000);
+    assert_eq!(solver.unstable_step(), None);
+    assert_eq!(
+        (d.particle_count, d.non_finite_count, d.outside_count),
+        (2_000, 0, 0),
+        "pipe"
     );
 }

@@ -98,6 +98,19 @@ pub struct FrameAdvance {
     pub simulated: f64,
 }
 
+/// Adds `forces` (one evaluation's force on each body) to `sums` and keeps them as the last.
+fn record_body_forces(
+    sums: &mut (Vec<BodyForceSum>, u64),
+    last: &mut Vec<BodyForceSum>,
+    forces: Vec<BodyForceSum>,
+) {
+    let (sums, evaluations) = sums;
+    sums.resize(forces.len(), BodyForceSum::default());
+    sums.iter_mut().zip(&forces).for_each(|(s, f)| s.merge(f));
+    *evaluations += 1;
+    *last = forces;
+}
+
 /// Checks a particle capacity (1 ..= 2^26).
 pub fn validate_capacity(capacity: usize) -> Result<(), ParamError> {
     if (1..=1 << 26).contains(&capacity) {
@@ -521,11 +534,11 @@ impl CpuSolver {
                     let forces = timed(&mut t.forces, || {
                         compute_accelerations(ctx, neighbors, &input, &mut p.acceleration)
                     });
-                    let (sums, evaluations) = &mut self.body_force_sums;
-                    sums.resize(forces.len(), BodyForceSum::default());
-                    sums.iter_mut().zip(&forces).for_each(|(s, f)| s.merge(f));
-                    *evaluations += 1;
-                    self.last_body_forces = forces;
+                    record_body_forces(
+                        &mut self.body_force_sums,
+                        &mut self.last_body_forces,
+                        forces,
+                    );
                 }
                 // Placed by the integrator around the evaluations (see `advance`).
                 CpuStage::TimeStep | CpuStage::Integrate => {}
@@ -554,7 +567,7 @@ impl CpuSolver {
         let dt = self.advance(step_dt);
         let p = &self.particles;
         let after = StepExtremes::measure(&p.velocity, &p.acceleration);
-        let unstable = after.is_unstable(dt, self.params.smoothing_radius);
+        let unstable = after.is_unstable_for(self.params.solver, dt, self.params.smoothing_radius);
         match self.rollback_state.after_check(&self.rollback, unstable) {
             Verdict::Stable => {
                 self.last_dt = dt;
@@ -722,13 +735,7 @@ impl CpuSolver {
         let stale = self.forces_stale;
         let (parts, scratch, _) = self.split();
         let outcome = dfsph::DfsphStep { parts, scratch }.advance(step_dt, stale, &guard);
-        let (sums, evaluations) = &mut self.body_force_sums;
-        sums.resize(outcome.forces.len(), BodyForceSum::default());
-        sums.iter_mut()
-            .zip(&outcome.forces)
-            .for_each(|(s, f)| s.merge(f));
-        *evaluations += 1;
-        self.last_body_forces = outcome.forces;
+        self.record_body_forces(outcome.forces);
         self.solver_stats = outcome.stats;
         self.forces_stale = false;
         self.boundary_corrections += outcome.corrections;
@@ -741,10 +748,20 @@ impl CpuSolver {
         let guard = self.guard(&colliders);
         let (parts, _, scratch) = self.split();
         let outcome = pbf::PbfStep { parts, scratch }.advance(step_dt, &guard);
+        self.record_body_forces(outcome.forces);
         self.solver_stats = outcome.stats;
         self.forces_stale = true;
         self.boundary_corrections += outcome.corrections;
         outcome.dt
+    }
+
+    /// Adds one evaluation's (or one DFSPH or PBF step's) force on each body to the sums.
+    fn record_body_forces(&mut self, forces: Vec<BodyForceSum>) {
+        record_body_forces(
+            &mut self.body_force_sums,
+            &mut self.last_body_forces,
+            forces,
+        );
     }
 
     /// What the pressure solves of the last step did (zeros with WCSPH).

@@ -10,14 +10,14 @@
 //! viscosity), and the collider forces are not summed (see docs/pbf.md).
 
 use super::state::{timed, ParticleData, SolverParts};
-use crate::boundary::Boundary;
+use crate::boundary::{BodyForceSum, Boundary};
 use crate::frame_budget::StepDt;
 use crate::guard::{Corrections, Guard};
 use crate::neighbor_lists::{ListSource, NeighborLists};
 use crate::params::SphParams;
 use crate::pbf_macklin2013::{
-    compute_corrections, compute_densities, compute_lambdas, confine_vorticity, vorticity, xsph,
-    Constraint, PbfContext,
+    boundary_reactions, compute_corrections, compute_densities, compute_lambdas, confine_vorticity,
+    vorticity, xsph, Constraint, PbfContext,
 };
 use crate::solvers::SolverStats;
 use crate::stability::largest_magnitude;
@@ -69,6 +69,8 @@ pub(super) struct PbfStep<'a> {
 pub(super) struct PbfOutcome {
     pub dt: f32,
     pub corrections: Corrections,
+    /// The fluid's force on each boundary body over the step.
+    pub forces: Vec<BodyForceSum>,
     pub stats: SolverStats,
 }
 
@@ -127,6 +129,7 @@ impl PbfStep<'_> {
         // 3. The constraint's Jacobi iterations.
         let iterations = params.pbf.iterations;
         let mut error = 0.0;
+        let mut forces = vec![BodyForceSum::default(); boundary.body_count()];
         timed(&mut t.pressure_solve, || {
             for _ in 0..iterations {
                 error = compute_lambdas(
@@ -144,6 +147,12 @@ impl PbfStep<'_> {
                     &s.constraint,
                     &mut s.delta,
                 );
+                let reactions =
+                    boundary_reactions(&ctx, &s.lists, &p.position, boundary, &s.constraint, dt);
+                forces
+                    .iter_mut()
+                    .zip(&reactions)
+                    .for_each(|(f, r)| f.merge(r));
                 p.position
                     .par_iter_mut()
                     .zip(s.delta.par_iter())
@@ -215,6 +224,7 @@ impl PbfStep<'_> {
         PbfOutcome {
             dt,
             corrections,
+            forces,
             stats: SolverStats {
                 density_iterations: iterations,
                 divergence_iterations: 0,
