@@ -2,7 +2,8 @@
 //! solver holding the same colliders (a rotated box, a sphere and a no-slip kinematic capsule in
 //! a jittered block), a collider moved, added and removed at run time changes the boundary
 //! without touching the particle buffers or losing a particle, no particle ends inside a
-//! collider, the CPU backend writes the water's force into `SphColliderForce`, and a bad collider
+//! collider, both backends write the water's force into `SphColliderForce` (the GPU's summed on
+//! the device and matching the CPU solver's), and a bad collider
 //! is refused by entity and field while the simulation goes on.
 
 mod common;
@@ -99,7 +100,7 @@ fn one_gpu_step_with_colliders_matches_the_cpu_solver() {
     assert!(report.inside_colliders > 0);
     cpu.step();
 
-    let (mut app, _, n) = app_with_colliders(SphBackend::Gpu);
+    let (mut app, entities, n) = app_with_colliders(SphBackend::Gpu);
     assert_eq!(n, report.spawned, "both backends skip the same particles");
     assert!(app.world().resource::<SphStats>().boundary_samples > 0);
     step_to(&mut app, 1);
@@ -124,6 +125,36 @@ fn one_gpu_step_with_colliders_matches_the_cpu_solver() {
         worst.0, worst.1
     );
     assert!(worst.0 < 1e-4 && worst.1 < 1e-3, "{worst:?}");
+    // The water's force on each collider, summed on the device and read back (the snapshot's
+    // frames gave the readback time to arrive).
+    let cpu_forces: Vec<sph_core::BodyForce> = cpu
+        .colliders()
+        .map(|(id, _)| cpu.collider_force(id).unwrap())
+        .collect();
+    let scale = cpu_forces
+        .iter()
+        .map(|f| f.force.length())
+        .fold(0.0, f32::max);
+    assert!(
+        scale > 0.1,
+        "the water pushes the colliders: {cpu_forces:?}"
+    );
+    for (entity, expected) in entities.iter().zip(&cpu_forces) {
+        let got = *app.world().get::<SphColliderForce>(*entity).unwrap();
+        eprintln!("collider force GPU {got:?}, CPU {expected:?}");
+        assert!(
+            (got.force - expected.force).length() < 2e-3 * scale,
+            "force {} against {}",
+            got.force,
+            expected.force
+        );
+        assert!(
+            (got.torque - expected.torque).length() < 2e-3 * scale * 0.5,
+            "torque {} against {}",
+            got.torque,
+            expected.torque
+        );
+    }
 }
 
 fn run_and_edit(backend: SphBackend) {
@@ -189,10 +220,11 @@ fn run_and_edit(backend: SphBackend) {
         let now = app.world().resource::<SphGpuBuffers>().position.id();
         assert_eq!(now, id, "the particle buffer was reallocated");
     }
-    if backend == SphBackend::Cpu {
-        let f = app.world().get::<SphColliderForce>(entities[0]).unwrap();
-        assert!(f.force.length() > 0.0, "no force on the submerged box");
-    }
+    let f = app.world().get::<SphColliderForce>(entities[0]).unwrap();
+    assert!(
+        f.force.length() > 0.0,
+        "{backend:?}: no force on the submerged box"
+    );
 }
 
 #[test]

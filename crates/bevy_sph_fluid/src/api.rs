@@ -281,9 +281,10 @@ impl SphCollider {
 }
 
 /// The water's force and torque on a collider (about the entity's origin), averaged over the
-/// steps of the last frame that stepped: for game code or a physics engine to apply to a dynamic
-/// body. Written on the CPU backend; on the GPU backend it stays zero for now (the reduction
-/// of the reaction forces on the device is not built yet).
+/// force evaluations of the last frame that stepped: for game code or a physics engine to apply
+/// to a dynamic body. The CPU backend writes it every frame; the GPU backend sums it on the
+/// device and writes it when the readback arrives, a frame or two later (the walls and the
+/// first 31 collider slots are summed).
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq, Reflect)]
 #[reflect(Component)]
 pub struct SphColliderForce {
@@ -402,6 +403,10 @@ pub struct SphGpuBuffers {
     /// `SphClock` ([`sph_core::gpu_layout::GpuClock`]): dt, steps, simulated time, the last
     /// step's extremes and the instability freeze. Read back every frame into [`SphStats`].
     pub clock: Handle<ShaderBuffer>,
+    /// `SphBodyForces` ([`sph_core::gpu_layout::GpuBodyForces`]): the fluid's force on each
+    /// body summed over a frame's steps on the device. Read back every frame into
+    /// [`SphColliderForce`].
+    pub body_forces: Handle<ShaderBuffer>,
 }
 
 impl SphGpuBuffers {
@@ -422,6 +427,7 @@ impl SphGpuBuffers {
             density: make(4 * n),
             neighbor_count: make(4 * n),
             clock: make(std::mem::size_of::<sph_core::gpu_layout::GpuClock>()),
+            body_forces: make(std::mem::size_of::<sph_core::gpu_layout::GpuBodyForces>()),
         }
     }
 }

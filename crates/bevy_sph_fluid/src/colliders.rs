@@ -2,13 +2,15 @@
 //! boundary ([`sph_core::Boundary`], the CPU solver's or the GPU backend's), resampled when the
 //! component changes, moved when its [`GlobalTransform`] moves (kinematic and dynamic colliders
 //! carry the velocity of that move over the frame's simulated time), removed with the
-//! component; and the water's force on each collider is written back to [`SphColliderForce`].
+//! component; and the water's force on each collider is written back to [`SphColliderForce`]
+//! (CPU: the solver's sums; GPU: the device's sums, read back asynchronously).
 
 use crate::api::*;
-use crate::shared::SphSimulation;
+use crate::shared::{BodyForceReadback, SphSimulation};
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use sph_core::collider::ColliderError;
+use sph_core::gpu_layout::GPU_BODY_SLOTS;
 use sph_core::{Collider, ColliderId, ColliderMotion, ColliderShape, Pose};
 
 /// What the boundary holds for one entity.
@@ -195,20 +197,51 @@ pub(crate) fn sph_sync_colliders(
     }
 }
 
-/// Writes the water's force on every collider (CPU backend) into its [`SphColliderForce`].
+/// Writes the water's force on every collider into its [`SphColliderForce`]: the CPU solver's
+/// mean over the frame's evaluations, or on the GPU backend the device's sums of one frame as
+/// read back (a frame or two late, never stalling).
 pub(crate) fn sph_write_collider_forces(
     map: Res<SphColliderMap>,
+    params: Res<SphParams>,
     mut sim: ResMut<SphSimulation>,
+    gpu: Option<ResMut<BodyForceReadback>>,
     mut forces: Query<(Entity, &mut SphColliderForce)>,
 ) {
-    let Some(solver) = &mut sim.cpu else {
-        return;
+    let by_id: HashMap<ColliderId, sph_core::BodyForce> = match sim.backend {
+        SphBackend::Cpu => {
+            let Some(solver) = &mut sim.cpu else {
+                return;
+            };
+            if solver.collider_force_evaluations() == 0 {
+                return;
+            }
+            solver.take_collider_forces().into_iter().collect()
+        }
+        SphBackend::Gpu => {
+            let Some(sums) = gpu.and_then(|mut g| g.latest.take()) else {
+                return;
+            };
+            let Some(boundary) = sim.gpu_boundary.as_ref() else {
+                return;
+            };
+            let mass = params.particle_mass;
+            boundary
+                .colliders()
+                .filter_map(|(id, c)| {
+                    let force = sums.mean(id.0 as usize + 1, mass, c.pose.translation);
+                    if force.is_none() {
+                        warn_once!(
+                            "SphFluidPlugin: the GPU sums the forces of {} colliders at most; \
+                             collider slot {} gets none",
+                            GPU_BODY_SLOTS - 1,
+                            id.0
+                        );
+                    }
+                    force.map(|f| (id, f))
+                })
+                .collect()
+        }
     };
-    if solver.collider_force_evaluations() == 0 {
-        return;
-    }
-    let by_id: HashMap<ColliderId, sph_core::BodyForce> =
-        solver.take_collider_forces().into_iter().collect();
     for (entity, mut out) in &mut forces {
         let Some(t) = map.tracked.get(&entity) else {
             continue;

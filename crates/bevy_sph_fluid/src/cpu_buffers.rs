@@ -48,7 +48,8 @@ fn sph_write_cpu_buffers(
                 acceleration: make(16 * n),
                 density: make(4 * n),
                 neighbor_count: make(4 * n),
-                clock: make(64),
+                clock: make(std::mem::size_of::<sph_core::gpu_layout::GpuClock>()),
+                body_forces: make(16),
             };
             commands.insert_resource(buffers.clone());
             *made_for = Some((sim.capacity, buffers.clone()));

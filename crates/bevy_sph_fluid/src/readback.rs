@@ -4,11 +4,11 @@
 
 use crate::api::*;
 use crate::sets::SphSystems;
-use crate::shared::{ClockReadback, SphSimulation};
+use crate::shared::{BodyForceReadback, ClockReadback, SphSimulation};
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
-use sph_core::gpu_layout::{w_to_id, GpuClock};
+use sph_core::gpu_layout::{w_to_id, GpuBodyForces, GpuClock};
 
 /// Which state buffer a readback entity copies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,9 +33,15 @@ struct PendingReadback {
 pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
     app.init_resource::<PendingReadback>()
         .init_resource::<ClockReadback>()
+        .init_resource::<BodyForceReadback>()
         .add_systems(
             schedule,
-            (sph_request_readback, sph_deliver_snapshot, sph_read_clock)
+            (
+                sph_request_readback,
+                sph_deliver_snapshot,
+                sph_read_clock,
+                sph_read_body_forces,
+            )
                 .chain()
                 .in_set(SphSystems::Writeback),
         );
@@ -75,6 +81,46 @@ fn sph_read_clock(
         )
         .id();
     clock.source = Some((buffers.clock.clone(), entity));
+}
+
+/// Keeps one `Readback` of the current body-force buffer alive (GPU backend); each arrival holds
+/// one frame's sums.
+fn sph_read_body_forces(
+    sim: Res<SphSimulation>,
+    mut forces: ResMut<BodyForceReadback>,
+    mut commands: Commands,
+) {
+    let Some(buffers) = sim.frame.buffers.as_ref() else {
+        return;
+    };
+    if sim.backend != SphBackend::Gpu
+        || forces
+            .source
+            .as_ref()
+            .is_some_and(|(handle, _)| *handle == buffers.body_forces)
+    {
+        return;
+    }
+    if let Some((_, entity)) = forces.source.take() {
+        commands.entity(entity).despawn();
+    }
+    forces.latest = None;
+    let entity = commands
+        .spawn(Readback::buffer(buffers.body_forces.clone()))
+        .observe(
+            |event: On<ReadbackComplete>, mut forces: ResMut<BodyForceReadback>| {
+                let size = std::mem::size_of::<GpuBodyForces>();
+                if event.data.len() >= size {
+                    let sums: GpuBodyForces = bytemuck::pod_read_unaligned(&event.data[..size]);
+                    // A frame without steps leaves the last forces in place.
+                    if sums.evaluations > 0 {
+                        forces.latest = Some(sums);
+                    }
+                }
+            },
+        )
+        .id();
+    forces.source = Some((buffers.body_forces.clone(), entity));
 }
 
 fn sph_request_readback(

@@ -334,6 +334,16 @@ impl SphRenderFeedback {
     }
 }
 
+/// The fluid's force on each body as last read back (GPU backend, every frame, asynchronously):
+/// the sums of one frame's force evaluations.
+#[derive(Resource, Default)]
+pub struct BodyForceReadback {
+    /// The buffer being read and the entity reading it.
+    pub(crate) source: Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>,
+    /// The latest sums that arrived and were not yet written to the colliders.
+    pub latest: Option<sph_core::gpu_layout::GpuBodyForces>,
+}
+
 /// The GPU clock as last read back (every frame, asynchronously, 32 bytes).
 #[derive(Resource, Default)]
 pub struct ClockReadback {

@@ -170,10 +170,10 @@ pub struct Report {
     /// The gate scenario: |left level - right level| at the end [m].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub level_difference_end: Option<f32>,
-    /// The water's force on each collider over the last 40 % of the run (CPU backend; the GPU
-    /// backend does not reduce collider forces yet, so the list is empty there).
+    /// The water's force on each collider over the last 40 % of the run: the mean over every
+    /// force evaluation (CPU backend) or over the frames read back from the device (GPU).
     pub collider_forces: Vec<ColliderForceReport>,
-    /// The buoyancy scenario's figures (CPU backend).
+    /// The buoyancy scenario's figures.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub buoyancy: Option<BuoyancyFigures>,
     /// Dam-break scenarios: the front and its error against the experiment.

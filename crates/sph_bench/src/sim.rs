@@ -85,7 +85,8 @@ pub trait Simulation {
     /// Particles left out of the spawns because they lay inside a collider.
     fn spawns_inside_colliders(&self) -> u64;
     /// The water's force on each of the setup's colliders averaged since the last call, with
-    /// the number of force evaluations averaged (CPU; the GPU has no collider forces yet).
+    /// the number of force evaluations averaged (CPU), or the last frame's as read back from
+    /// the device, weighted as one (GPU).
     fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)>;
     /// The pressure solver's iterations so far.
     fn iterations(&self) -> IterationTotals;
@@ -454,8 +455,25 @@ impl Simulation for GpuSimulation {
         self.stats().spawns_inside_colliders
     }
 
+    /// The latest frame's forces as the plugin wrote them into `SphColliderForce` (summed on
+    /// the device, read back a frame or two late), weighted as one sample.
     fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)> {
-        None
+        let world = self.app.world();
+        let forces = self
+            .colliders
+            .iter()
+            .map(|(_, entity)| {
+                let f = world
+                    .get::<SphColliderForce>(*entity)
+                    .copied()
+                    .unwrap_or_default();
+                sph_core::BodyForce {
+                    force: f.force,
+                    torque: f.torque,
+                }
+            })
+            .collect();
+        Some((forces, 1))
     }
 
     fn iterations(&self) -> IterationTotals {

@@ -78,11 +78,15 @@ pub enum Buf {
     BoundaryCellStart,
     /// The colliders (`GpuCollider`), for the guard.
     Colliders,
+    /// Each boundary sample's body (0 the walls, k + 1 collider slot k).
+    BoundaryBody,
+    /// The fluid's force on each body over the frame (`GpuBodyForces`), read back.
+    BodyForces,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 28] = [
+    pub const ALL: [Buf; 30] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -111,6 +115,8 @@ impl Buf {
         Buf::BoundaryVelocity,
         Buf::BoundaryCellStart,
         Buf::Colliders,
+        Buf::BoundaryBody,
+        Buf::BodyForces,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -149,6 +155,8 @@ impl Buf {
             Buf::BoundaryVelocity => "sph_boundary_velocity",
             Buf::BoundaryCellStart => "sph_boundary_cell_start",
             Buf::Colliders => "sph_colliders",
+            Buf::BoundaryBody => "sph_boundary_body",
+            Buf::BodyForces => "sph_body_forces",
         }
     }
 }
@@ -233,7 +241,7 @@ fn allocate(
     capacity: u32,
     grid_dims: UVec3,
     key: VariantKey,
-    readable: [Buffer; 6],
+    readable: [Buffer; 7],
 ) -> GpuBuffers {
     let n = capacity as u64;
     let cells = (grid_dims.x * grid_dims.y * grid_dims.z) as u64;
@@ -245,7 +253,7 @@ fn allocate(
         0
     };
     let normals = if key.surface_tension { 16 * n } else { 0 };
-    let [position, velocity, acceleration, density, neighbor_count, clock] = readable;
+    let [position, velocity, acceleration, density, neighbor_count, clock, body_forces] = readable;
     let size = |buf: Buf| -> u64 {
         match buf {
             Buf::Normal => normals,
@@ -257,7 +265,7 @@ fn allocate(
             Buf::Checkpoint => 3 * 16 * n,
             // Sized by the samples when they are uploaded (`upload_boundary`); an empty boundary
             // has no samples in any cell.
-            Buf::BoundaryPosition | Buf::BoundaryVelocity => 16,
+            Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::BoundaryBody => 16,
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
             _ => 16 * n,
@@ -272,6 +280,7 @@ fn allocate(
             Buf::Density => density.clone(),
             Buf::NeighborCount => neighbor_count.clone(),
             Buf::Clock => clock.clone(),
+            Buf::BodyForces => body_forces.clone(),
             _ => storage_buffer(device, buf.label(), size(buf)),
         })
         .collect();
@@ -349,9 +358,10 @@ pub(crate) fn prepare_sph_buffers(
         &handles.density,
         &handles.neighbor_count,
         &handles.clock,
+        &handles.body_forces,
     ]
     .map(|h| assets.get(h).map(|b| b.buffer.clone()));
-    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(neighbor_count), Some(clock)] =
+    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(neighbor_count), Some(clock), Some(body_forces)] =
         readable
     else {
         state.status = Some("gpu: preparing buffers".into());
@@ -389,6 +399,7 @@ pub(crate) fn prepare_sph_buffers(
                 density,
                 neighbor_count,
                 clock,
+                body_forces,
             ],
         );
         let bytes_per_particle = (buffers.bytes / frame.capacity.max(1) as u64) as u32;
@@ -413,6 +424,15 @@ pub(crate) fn prepare_sph_buffers(
             buffers.at(Buf::Clock),
             0,
             bytemuck::bytes_of(&GpuClock::default()),
+        );
+    }
+    if frame.steps > 0 {
+        // This frame's sums of the fluid's force on each body start from zero; the readback
+        // copies them after the frame's passes.
+        queue.write_buffer(
+            buffers.at(Buf::BodyForces),
+            0,
+            bytemuck::bytes_of(&sph_core::gpu_layout::GpuBodyForces::default()),
         );
     }
     for (offset, positions, velocities) in std::mem::take(&mut state.pending_spawns) {
@@ -484,15 +504,18 @@ fn upload_boundary(
     let collider_bytes =
         (std::mem::size_of::<GpuCollider>() * samples.colliders.len().max(1)) as u64;
     let mut grown = false;
+    let body_bytes = (4 * samples.body.len() as u64).max(16);
     for (buf, need) in [
         (Buf::BoundaryPosition, need),
         (Buf::BoundaryVelocity, need),
         (Buf::Colliders, collider_bytes),
+        (Buf::BoundaryBody, body_bytes),
     ] {
         if buffers.at(buf).size() < need {
             let old = buffers.at(buf).size();
             // Room for growth, so a collider added at run time rarely reallocates.
-            let bytes = need + need / 4;
+            // Storage bindings are sized in multiples of 4 bytes; 16 keeps vec4 arrays whole.
+            let bytes = (need + need / 4).next_multiple_of(16);
             buffers.storage[buf as usize - 1] = storage_buffer(device, buf.label(), bytes);
             buffers.bytes += bytes - old;
             grown = true;
@@ -513,6 +536,11 @@ fn upload_boundary(
             buffers.at(Buf::BoundaryVelocity),
             0,
             bytemuck::cast_slice(&samples.velocity),
+        );
+        queue.write_buffer(
+            buffers.at(Buf::BoundaryBody),
+            0,
+            bytemuck::cast_slice(&samples.body),
         );
     }
     queue.write_buffer(buffers.at(Buf::BoundaryCellStart), 0, starts);

@@ -2,7 +2,7 @@
 // position.w holds the particle id (bit-cast). `sorted_*` receive the scatter and are copied back.
 #define_import_path sph::bindings
 
-#import sph::types::{SphUniforms, SphClock, GpuCollider}
+#import sph::types::{SphUniforms, SphClock, GpuCollider, SphBodyForces}
 
 @group(0) @binding(0) var<uniform> params: SphUniforms;
 @group(0) @binding(1) var<storage, read_write> position: array<vec4<f32>>;
@@ -43,3 +43,7 @@
 @group(0) @binding(27) var<storage, read_write> boundary_cell_start: array<u32>;
 // The colliders, for the guard (params.flags.w of them).
 @group(0) @binding(28) var<storage, read_write> colliders: array<GpuCollider>;
+// Each boundary sample's body (0 the walls, k + 1 collider slot k), in the samples' order.
+@group(0) @binding(29) var<storage, read_write> boundary_body: array<u32>;
+// The fluid's force on each body over the frame (written by the forces pass, read back).
+@group(0) @binding(30) var<storage, read_write> body_forces: SphBodyForces;

@@ -9,7 +9,7 @@ use sph_core::gpu_layout::WORKGROUP_SIZE;
 use sph_core::CpuStage;
 
 /// Pressure, viscosity, surface tension, the boundary samples' pressure and friction, and gravity
-/// for every particle. Roles: plain,
+/// for every particle, and the reaction on each boundary body summed over the frame. Roles: plain,
 /// kick-drift-kick closing kick, leapfrog first evaluation (keep a0), leapfrog second (kick).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_forces",
@@ -32,6 +32,8 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BoundaryPosition,
         Buf::BoundaryVelocity,
         Buf::BoundaryCellStart,
+        Buf::BoundaryBody,
+        Buf::BodyForces,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[
