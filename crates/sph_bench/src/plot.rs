@@ -20,12 +20,26 @@ pub const PALETTE: [[u8; 3]; 8] = [
     [23, 190, 207],
 ];
 
-/// One series of points, drawn with its own colour and listed in the legend.
+/// The shape of a series' markers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Marker {
+    /// A filled disc.
+    #[default]
+    Circle,
+    /// A filled triangle.
+    Triangle,
+    /// A filled square.
+    Square,
+}
+
+/// One series of points, drawn with its own colour and marker and listed in the legend.
 pub struct Series {
     /// Legend text.
     pub label: String,
     /// Marker colour (RGB).
     pub color: [u8; 3],
+    /// Marker shape.
+    pub marker: Marker,
     /// (x, y) data; non-finite or non-positive values are skipped.
     pub points: Vec<(f64, f64)>,
 }
@@ -176,13 +190,21 @@ fn draw_plot<DB: DrawingBackend>(
         .draw()?;
     for s in &plot.series {
         let color = RGBColor(s.color[0], s.color[1], s.color[2]);
-        let marks = (s.points.iter().copied())
-            .filter(|p| usable(p.0) && usable(p.1))
-            .map(move |p| Circle::new(p, MARKER_RADIUS, color.filled()));
-        chart
-            .draw_series(marks)?
-            .label(s.label.as_str())
-            .legend(move |p| Circle::new(p, MARKER_RADIUS + 1, color.filled()));
+        let points = (s.points.iter().copied()).filter(|p| usable(p.0) && usable(p.1));
+        let r = MARKER_RADIUS;
+        let square = move |r: i32| Rectangle::new([(-r, -r), (r, r)], color.filled());
+        let drawn = match s.marker {
+            Marker::Circle => chart
+                .draw_series(points.map(move |p| Circle::new(p, r, color.filled())))?
+                .legend(move |p| Circle::new(p, r + 1, color.filled())),
+            Marker::Triangle => chart
+                .draw_series(points.map(move |p| TriangleMarker::new(p, r + 2, color.filled())))?
+                .legend(move |p| TriangleMarker::new(p, r + 3, color.filled())),
+            Marker::Square => chart
+                .draw_series(points.map(move |p| EmptyElement::at(p) + square(r)))?
+                .legend(move |p| EmptyElement::at(p) + square(r + 1)),
+        };
+        drawn.label(s.label.as_str());
     }
     if !plot.series.is_empty() {
         chart
@@ -267,6 +289,7 @@ mod tests {
         vec![Series {
             label: "cpu kdk".into(),
             color: RED,
+            marker: Marker::Circle,
             points,
         }]
     }
@@ -306,7 +329,14 @@ mod tests {
         series.push(Series {
             label: "gpu kdk".into(),
             color: PALETTE[0],
+            marker: Marker::Triangle,
             points: vec![(8.0, 0.05), (20.0, 0.02), (150.0, 0.01)],
+        });
+        series.push(Series {
+            label: "cpu pbf".into(),
+            color: PALETTE[2],
+            marker: Marker::Square,
+            points: vec![(2.0, 1.0)],
         });
         let plots = [plot(series), plot(vec![])];
         let (dir, keep) = plot_dir("written");
@@ -318,6 +348,17 @@ mod tests {
         let count = |c: [u8; 3]| pixels.chunks(3).filter(|p| *p == c).count();
         // Three markers and the legend's, 5 px in radius: well over 100 pixels of their colour.
         assert!(count(RED) > 100, "{} marker pixels", count(RED));
+        // The triangles and the square are drawn in their own colours.
+        assert!(
+            count(PALETTE[0]) > 100,
+            "{} triangle pixels",
+            count(PALETTE[0])
+        );
+        assert!(
+            count(PALETTE[2]) > 50,
+            "{} square pixels",
+            count(PALETTE[2])
+        );
         // Text: dark pixels besides the frame (a frame alone is about 4 × 600 pixels).
         assert!(
             count([0, 0, 0]) > 2_000,
@@ -330,7 +371,10 @@ mod tests {
             "cost per simulated second [s/s]",
             "density error [%]",
             "cpu kdk",
+            "cpu pbf",
             "<circle",
+            "<polygon",
+            "<rect",
         ] {
             assert!(svg.contains(text), "no {text:?} in the SVG");
         }

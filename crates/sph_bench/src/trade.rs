@@ -5,7 +5,7 @@
 //! second against the density error and the dam break's front error) into the output directory.
 
 use crate::args::{Backend, Duration, RunArgs, TradeArgs};
-use crate::plot::{write_stacked_png, write_stacked_svg, ScatterPlot, Series, PALETTE};
+use crate::plot::{write_stacked_png, write_stacked_svg, Marker, ScatterPlot, Series, PALETTE};
 use crate::progress::Bars;
 use crate::report::Report;
 use crate::run::{configured_setup, names, run_setup};
@@ -129,10 +129,20 @@ fn fmt_opt(v: f64) -> String {
     }
 }
 
+/// Simulated seconds per wall-clock second (the inverse of the cost), 3 significant digits.
+fn real_time_factor(r: &Report) -> String {
+    let factor = 1.0 / r.cost_per_sim_second_s;
+    if factor.is_finite() && factor > 0.0 {
+        format!("{factor:.3}")
+    } else {
+        "–".into()
+    }
+}
+
 fn table(rows: &[Row]) -> String {
     let mut s = String::from(
-        "| group | run | backend | particles | solver | integrator | search | surface tension | dt | mean dt [s] | iterations (density / divergence) | ms/step | cost per sim s [s] | density error end [%] | mean over run [%] | peak of mean [%] | RMS Z raw | RMS Z shifted | health |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| group | run | backend | particles | solver | integrator | search | surface tension | dt | mean dt [s] | iterations (density / divergence) | ms/step | cost per sim s [s] | real-time factor | density error end [%] | mean over run [%] | peak of mean [%] | RMS Z raw | RMS Z shifted | health |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for row in rows {
         let r = &row.report;
@@ -154,7 +164,7 @@ fn table(rows: &[Row]) -> String {
         }
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} | {} | {:.2} | {:.1} | {:.4} | {:.4} | {:.3} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} | {} | {:.2} | {:.1} | {} | {:.4} | {:.4} | {:.3} | {} | {} | {} |",
             row.group,
             row.label,
             r.backend,
@@ -177,6 +187,7 @@ fn table(rows: &[Row]) -> String {
             },
             r.ms_per_step_median,
             r.cost_per_sim_second_s,
+            real_time_factor(r),
             r.density_error_mean_pct,
             r.density_error_mean_run_pct,
             r.density_error_mean_max_pct,
@@ -204,6 +215,7 @@ fn plot(rows: &[Row], dir: &Path) -> Result<(), String> {
             .map(|(k, key)| Series {
                 label: key.clone(),
                 color: PALETTE[k % PALETTE.len()],
+                marker: marker_of(key),
                 points: rows
                     .iter()
                     .filter(|r| series_key(&r.report) == *key && r.report.health == "ok")
@@ -229,6 +241,17 @@ fn plot(rows: &[Row], dir: &Path) -> Result<(), String> {
     write_stacked_svg(&plots, &dir.join("trade.svg"), 1000, 640)
 }
 
+/// One marker shape per solver: discs for WCSPH, triangles for DFSPH, squares for PBF.
+fn marker_of(series_key: &str) -> Marker {
+    if series_key.ends_with("dfsph") {
+        Marker::Triangle
+    } else if series_key.ends_with("pbf") {
+        Marker::Square
+    } else {
+        Marker::Circle
+    }
+}
+
 /// The plot series of a run: backend and integrator for WCSPH, backend and solver otherwise.
 fn series_key(r: &Report) -> String {
     if r.solver == "wcsph" {
@@ -236,6 +259,103 @@ fn series_key(r: &Report) -> String {
     } else {
         format!("{} {}", r.backend, r.solver)
     }
+}
+
+/// The largest mean compression over the run a game's water may show [%].
+const GAME_COMPRESSION_PCT: f32 = 1.0;
+
+/// The largest raw RMS Z error of a front that looks right [column widths].
+const FRONT_RMS_Z: f64 = 0.10;
+
+/// One pick of the advice: the row, with the figures that decided it.
+fn describe(row: &Row) -> String {
+    let r = &row.report;
+    let rms = r
+        .dam_break
+        .as_ref()
+        .map_or("–".to_string(), |d| format!("{:.3}", d.rms_z_raw));
+    format!(
+        "**{}** (group `{}`: {} on the {} backend, {} particles): real-time factor {},          {:.2} % mean compression over the run, RMS Z {}",
+        row.label,
+        row.group,
+        r.solver.to_uppercase(),
+        r.backend,
+        r.particles,
+        real_time_factor(r),
+        r.density_error_mean_run_pct,
+        rms
+    )
+}
+
+/// Which solver and settings to pick, chosen from the measured rows by stated rules: for a game
+/// the fastest stable run whose mean compression over the run stays within 1 %; for a visual
+/// effect the cheapest whose dam-break front stays within RMS Z 0.10 of the experiment; for an
+/// engineering answer the least compressed of those.
+fn advice(rows: &[Row]) -> String {
+    let stable_rows: Vec<&Row> = rows.iter().filter(|r| r.report.health == "ok").collect();
+    let rms = |r: &Row| {
+        r.report
+            .dam_break
+            .as_ref()
+            .map_or(f64::INFINITY, |d| d.rms_z_raw)
+    };
+    let cost = |r: &Row| r.report.cost_per_sim_second_s;
+    let pick = |ok: &dyn Fn(&Row) -> bool, better: &dyn Fn(&Row, &Row) -> bool| {
+        stable_rows
+            .iter()
+            .copied()
+            .filter(|r| ok(r))
+            .fold(None, |best: Option<&Row>, r| match best {
+                Some(b) if !better(r, b) => Some(b),
+                _ => Some(r),
+            })
+    };
+    let game = pick(
+        &|r| r.report.density_error_mean_run_pct <= GAME_COMPRESSION_PCT,
+        &|a, b| cost(a) < cost(b),
+    );
+    let effect = pick(&|r| rms(r) <= FRONT_RMS_Z, &|a, b| cost(a) < cost(b));
+    let engineering = pick(&|r| rms(r) <= FRONT_RMS_Z, &|a, b| {
+        a.report.density_error_mean_run_pct < b.report.density_error_mean_run_pct
+    });
+    let line = |what: &str, rule: String, row: Option<&Row>| match row {
+        Some(row) => format!("- **{what}** ({rule}): {}.\n", describe(row)),
+        None => format!("- **{what}** ({rule}): no run of this study qualifies.\n"),
+    };
+    let mut s = String::from(
+        "Picked from the rows above by the rules in brackets; only stable runs count. \
+         The rules are in `trade.rs`.\n\n",
+    );
+    s += &line(
+        "For a game",
+        format!(
+            "the highest real-time factor with at most {GAME_COMPRESSION_PCT} % mean compression over the run"
+        ),
+        game,
+    );
+    s += &line(
+        "For a visual effect",
+        format!("the lowest cost whose dam-break front stays within RMS Z {FRONT_RMS_Z} of the experiment"),
+        effect,
+    );
+    s += &line(
+        "For an engineering answer",
+        format!(
+            "the least compression among the runs whose front stays within RMS Z {FRONT_RMS_Z}"
+        ),
+        engineering,
+    );
+    s += "\nIn general:\n\
+          - PBF steps at the frame's rate and is the cheapest per simulated second, at the price \
+          of compression that depends on its iterations and of a front further from the \
+          experiment;\n\
+          - DFSPH holds the density to its tolerance at any step the flow allows and is the \
+          accurate end;\n\
+          - WCSPH sits between them: it is cheap per step but its steps are bound by the speed \
+          of sound.\n\
+          With real-time stepping (`SphControl::real_time`, docs/real_time.md), a solver that \
+          cannot keep pace runs slower than real time rather than taking unstable steps.\n";
+    s
 }
 
 /// Milliseconds per step of the row matching `pred`.
@@ -346,6 +466,38 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
             "PBF, own dt rule",
             RunArgs {
                 solver: Solver::Pbf,
+                ..cpu.clone()
+            },
+        ),
+        (
+            "PBF, 2 iterations",
+            RunArgs {
+                solver: Solver::Pbf,
+                pbf_iterations: Some(2),
+                ..cpu.clone()
+            },
+        ),
+        (
+            "PBF, 8 iterations",
+            RunArgs {
+                solver: Solver::Pbf,
+                pbf_iterations: Some(8),
+                ..cpu.clone()
+            },
+        ),
+        (
+            "PBF, vorticity confinement 0.2 m/s",
+            RunArgs {
+                solver: Solver::Pbf,
+                pbf_vorticity: Some(0.2),
+                ..cpu.clone()
+            },
+        ),
+        (
+            "PBF, a frame's dt: 1/60 s fixed",
+            RunArgs {
+                solver: Solver::Pbf,
+                dt: Some(1.0 / 60.0),
                 ..cpu.clone()
             },
         ),
@@ -552,6 +704,7 @@ pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
          rolled back and retried at half the dt (the health column counts the rollbacks). Hardware: 2 CPU \
          cores; the GPU backend runs on lavapipe (Mesa's software Vulkan) on the same 2 cores.\n\n\
          ![cost against accuracy](trade.png) ([SVG](trade.svg))\n\n\
+         ## Which solver to pick\n\n{}\n\
          ## Runs\n\n{}\n\
          ## Largest stable time step\n\n\
          Bisection in log(dt) between the derived step and 0.01 s on the CPU, {SWEEP_PARTICLES} particles, \
@@ -566,6 +719,7 @@ pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
          (18 s for 0.5 s: 36 s per simulated second); salva 0.11 DFSPH 192.6 ms per step (97 s: 194 s \
          per simulated second); SPlisHSPlasH's WCSPH blew up at every dt down to 1e-4. Our rows are in \
          the `dambreak32k` group above.\n",
+        advice(&rows),
         table(&rows),
         limits,
         stage_cost_table(&rows, &args.backends, largest)
@@ -600,12 +754,57 @@ mod tests {
             substeps: 10,
         };
         let plan = plan(&args);
-        // 12 integrator × dt, 4 DFSPH variants and PBF; per backend 2 counts, search, surface
+        // 12 integrator × dt, 4 DFSPH and 5 PBF variants; per backend 2 counts, search, surface
         // tension, viscosity, tank, 2 dambreak32k; the CPU adds 2 α, 2 DFSPH counts, a DFSPH
         // tank and 3 DFSPH and 1 PBF dambreak32k runs.
-        assert_eq!(plan.len(), 12 + 5 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 4);
+        assert_eq!(plan.len(), 12 + 9 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 4);
         assert!(plan
             .iter()
             .all(|p| configured_setup(&p.args).rollback.enabled));
+    }
+
+    fn row(label: &str, solver: &str, cost: f64, compression: f32, rms: f64, ok: bool) -> Row {
+        Row {
+            group: "solver",
+            label: label.into(),
+            report: Report {
+                solver: solver.into(),
+                backend: "cpu".into(),
+                cost_per_sim_second_s: cost,
+                density_error_mean_run_pct: compression,
+                health: if ok { "ok" } else { "unstable" }.into(),
+                dam_break: Some(crate::report::DamBreakFigures {
+                    rms_z_raw: rms,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            },
+        }
+    }
+
+    #[test]
+    fn the_advice_follows_its_rules_on_the_measured_rows() {
+        let rows = vec![
+            row("fast but unstable", "pbf", 0.5, 0.5, 0.05, false),
+            row("pbf", "pbf", 3.0, 0.9, 0.22, true),
+            row("pbf squeezed", "pbf", 2.0, 4.0, 0.30, true),
+            row("wcsph", "wcsph", 20.0, 0.1, 0.08, true),
+            row("dfsph", "dfsph", 40.0, 0.01, 0.09, true),
+        ];
+        let text = advice(&rows);
+        let pick = |what: &str| {
+            text.lines()
+                .find(|l| l.starts_with(&format!("- **{what}**")))
+                .unwrap()
+                .to_string()
+        };
+        assert!(pick("For a game").contains("**pbf** ("), "{text}");
+        assert!(pick("For a visual effect").contains("**wcsph**"), "{text}");
+        assert!(
+            pick("For an engineering answer").contains("**dfsph**"),
+            "{text}"
+        );
+        let none = advice(&rows[..1]);
+        assert!(none.contains("no run of this study qualifies"));
     }
 }
