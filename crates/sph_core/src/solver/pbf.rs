@@ -83,7 +83,7 @@ impl PbfStep<'_> {
             self.parts.particles,
             self.parts.boundary,
         ));
-        let ctx = PbfContext::of(params);
+        let ctx = PbfContext::of(params).for_step(params.gravity.length(), dt);
         let (p, t, s) = (
             &mut *self.parts.particles,
             &mut *self.parts.timings,
