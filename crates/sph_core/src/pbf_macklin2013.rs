@@ -39,7 +39,8 @@ pub struct PbfContext {
     pub xsph_c: f32,
     /// Vorticity confinement ε [m/s] (0: the stage is skipped).
     pub vorticity_epsilon: f32,
-    /// The longest correction of one iteration [m], [`MAX_CORRECTION`] h.
+    /// The longest correction of one iteration [m]: [`MAX_CORRECTION`] h, or what gravity moves
+    /// a particle in the step when that is longer ([`PbfContext::for_step`]).
     pub max_correction: f32,
 }
 
@@ -189,7 +190,7 @@ pub fn compute_densities(
 
 /// Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b λ_i ∇W_ib with
 /// s_corr = -k (W(r_ij) / W(Δq))^n (Macklin & Müller 2013, the position update and the
-/// artificial pressure), at most [`MAX_CORRECTION`] h long.
+/// artificial pressure), at most `ctx.max_correction` long.
 pub fn compute_corrections(
     ctx: &PbfContext,
     lists: &NeighborLists,

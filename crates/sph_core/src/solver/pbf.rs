@@ -4,10 +4,11 @@
 //! 1. v += dt g; predicted positions x* = x + dt v; the guard;
 //! 2. neighbour sort and lists on the predicted positions;
 //! 3. `iterations` times: λ_i, then the corrections Δp_i, x* += Δp;
-//! 4. v = (x* - x) / dt, the guard, XSPH viscosity; x = x*.
+//! 4. v = (x* - x) / dt, the guard, XSPH viscosity; x = x*;
+//! 5. optionally, vorticity confinement.
 //!
 //! Viscosity and surface tension of the WCSPH forces pass are not applied (XSPH stands for the
-//! viscosity), and the collider forces are not summed (see docs/pbf.md).
+//! viscosity); the boundary's reactions are summed for the colliders every iteration.
 
 use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::{BodyForceSum, Boundary};
