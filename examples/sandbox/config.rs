@@ -57,6 +57,8 @@ pub struct SandboxConfig {
     pub gate: bool,
     /// Real-time mode: each frame advances the water by the frame's own time.
     pub real_time: bool,
+    /// A scene file under `assets/` to run instead of the panel's scene.
+    pub scene: Option<String>,
 }
 
 impl Default for SandboxConfig {
@@ -75,6 +77,7 @@ impl Default for SandboxConfig {
             box_obstacle: false,
             gate: false,
             real_time: false,
+            scene: None,
         };
         config.apply_preset_defaults();
         config

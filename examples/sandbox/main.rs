@@ -14,6 +14,7 @@ mod obstacles;
 mod particles;
 mod ranges;
 mod scene;
+mod scene_file;
 mod ui;
 
 use bevy::diagnostic::FrameTimeDiagnosticsPlugin;
@@ -50,6 +51,9 @@ struct Cli {
     obstacles: bool,
     /// `--real-time`: each frame advances the water by the frame's own time.
     real_time: bool,
+    /// `--scene FILE`: a scene file under `assets/` (e.g. `scenes/dam_break.ron`), reloaded when
+    /// it changes.
+    scene: Option<String>,
     /// `--solver dfsph|pbf`: that solver on the CPU backend (their GPU passes are not built yet).
     solver: Option<sph_core::Solver>,
 }
@@ -95,6 +99,11 @@ fn parse_cli() -> Result<Cli, String> {
             "--adaptive" => cli.adaptive = true,
             "--obstacles" => cli.obstacles = true,
             "--real-time" => cli.real_time = true,
+            "--scene" => {
+                cli.scene = Some(value()?);
+                cli.start = true;
+                k += 1;
+            }
             "--solver" => {
                 cli.solver = match value()?.as_str() {
                     "wcsph" => None,
@@ -118,7 +127,7 @@ fn main() {
             eprintln!(
                 "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
                  [--hide-particles] [--no-gpu-timings] [--debug] [--adaptive] \
-                 [--obstacles] [--solver wcsph|dfsph|pbf] [--real-time] [--screenshot FILE --frames N]"
+                 [--obstacles] [--solver wcsph|dfsph|pbf] [--real-time] [--scene FILE] [--screenshot FILE --frames N]"
             );
             std::process::exit(2);
         }
@@ -131,14 +140,38 @@ fn main() {
     }
     config.adaptive_time_step = cli.adaptive;
     config.real_time = cli.real_time;
+    config.scene = cli.scene.clone();
     // DFSPH and PBF run on the CPU backend until their GPU passes exist.
-    let backend = match cli.solver {
+    let mut backend = match cli.solver {
         Some(solver) => {
             config.solver = solver;
             SphBackend::Cpu
         }
         None => SphBackend::Gpu,
     };
+    if let Some(path) = &cli.scene {
+        // Read once here to choose the backend (DFSPH and PBF run on the CPU) and to refuse a
+        // broken file before the window opens; the asset system loads and watches it.
+        let file = format!("{}/assets/{path}", env!("CARGO_MANIFEST_DIR"));
+        let built = std::fs::read_to_string(&file)
+            .map_err(|e| format!("{file}: {e}"))
+            .and_then(|text| {
+                sph_core::scene_file::SceneFile::parse(&text, path)
+                    .and_then(|scene| scene.build(path, &text))
+                    .map_err(|e| e.to_string())
+            });
+        match built {
+            Ok(setup) if setup.params.solver != sph_core::Solver::Wcsph => {
+                config.solver = setup.params.solver;
+                backend = SphBackend::Cpu;
+            }
+            Ok(_) => {}
+            Err(e) => {
+                eprintln!("sandbox: --scene: {e}");
+                std::process::exit(2);
+            }
+        }
+    }
     if cli.obstacles {
         config.sphere_obstacle = true;
         config.box_obstacle = true;
@@ -158,6 +191,8 @@ fn main() {
             // The example's own shader, found however the binary is started.
             .set(AssetPlugin {
                 file_path: concat!(env!("CARGO_MANIFEST_DIR"), "/assets").into(),
+                // Edit a scene file and the sandbox reloads it.
+                watch_for_changes_override: Some(true),
                 ..default()
             }),
     );
@@ -199,6 +234,7 @@ fn main() {
             take_screenshot,
             apply_cli_toggles,
             obstacles::lift_gate,
+            scene_file::dress_scene_members,
         )
             .run_if(in_state(AppState::Running)),
     )

@@ -27,18 +27,24 @@ pub fn pipe(container: &BoxContainer) -> (Vec3, Vec3) {
 pub fn enter_running(
     mut commands: Commands,
     config: Res<SandboxConfig>,
+    assets: Res<AssetServer>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<FlatMaterial>>,
 ) {
     let params = config.params();
     commands.insert_resource(SphCapacity(config.budget));
-    commands.insert_resource(SphParams(params));
     commands.insert_resource(SphControl {
         running: true,
         substeps: 2,
         real_time: config.real_time.then(SphRealTime::default),
         ..default()
     });
+    if let Some(path) = &config.scene {
+        // The file brings its parameters, container, colliders and water.
+        commands.spawn((SphScene(assets.load(path.clone())), SceneEntity));
+        return;
+    }
+    commands.insert_resource(SphParams(params));
     let container = BoxContainer::from_floor(Vec3::ZERO, FLOOR_SIZE, WALL_HEIGHT);
     commands.spawn((SphContainer(container), SceneEntity));
 

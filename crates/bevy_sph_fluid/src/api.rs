@@ -231,6 +231,9 @@ pub struct SphStats {
     pub diagnostics: Option<Diagnostics>,
     /// Why the simulation is not stepping (invalid parameter, no container, shaders compiling...).
     pub error: Option<String>,
+    /// The last scene file that failed to load or validate, by file, line and field (the
+    /// running scene stays); cleared when a scene loads.
+    pub scene_error: Option<String>,
 }
 
 /// The container: a box standing on a floor plate. Exactly one entity should carry it.

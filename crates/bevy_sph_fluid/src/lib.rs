@@ -32,17 +32,20 @@ pub mod headless;
 mod plugin;
 mod readback;
 pub mod render;
+pub mod scene_asset;
 mod sets;
 pub mod shared;
 mod simulation;
 
 pub use api::*;
 pub use plugin::SphFluidPlugin;
+pub use scene_asset::{SphScene, SphSceneAsset, SphSceneMember};
 pub use sets::{SphGraphSystems, SphStep, SphSystems};
 
 /// Commonly used items.
 pub mod prelude {
     pub use crate::api::*;
     pub use crate::plugin::SphFluidPlugin;
+    pub use crate::scene_asset::{SphScene, SphSceneAsset, SphSceneMember};
     pub use crate::sets::SphSystems;
 }

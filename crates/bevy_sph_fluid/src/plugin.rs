@@ -4,7 +4,7 @@
 use crate::api::*;
 use crate::sets::SphSystems;
 use crate::shared::SphSimulation;
-use crate::{cpu_buffers, readback, render, simulation};
+use crate::{cpu_buffers, readback, render, scene_asset, simulation};
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 
@@ -65,6 +65,7 @@ impl Plugin for SphFluidPlugin {
         simulation::add_systems(app, self.schedule);
         readback::add_systems(app, self.schedule);
         cpu_buffers::add_systems(app, self.schedule);
+        scene_asset::add_systems(app, self.schedule);
         // Spawns consumed by the render world are cleared before the next frame's spawners run.
         app.add_systems(First, simulation::clear_frame);
         render::build(app);

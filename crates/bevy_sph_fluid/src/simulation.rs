@@ -355,8 +355,12 @@ fn sph_plan_step(
                 stats.pressure_iterations_max = most;
                 stats.divergence_iterations_mean = divergence as f32 / steps as f32;
             }
-            // A refused collider stays reported while it is refused.
-            stats.error = stats.collider_errors.first().map(ToString::to_string);
+            // A refused collider or scene file stays reported while it is refused.
+            stats.error = stats
+                .collider_errors
+                .first()
+                .map(ToString::to_string)
+                .or_else(|| stats.scene_error.clone());
         }
         SphBackend::Gpu => {
             if params.solver != sph_core::Solver::Wcsph {

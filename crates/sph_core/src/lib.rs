@@ -42,6 +42,7 @@ pub mod rng;
 pub mod rollback;
 pub mod sampling;
 pub mod scenario;
+pub mod scene_file;
 pub mod solver;
 pub mod solvers;
 pub mod spawn;

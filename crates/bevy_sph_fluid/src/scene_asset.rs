@@ -1,0 +1,188 @@
+//! Water scenes as assets: a RON file of `sph_core::scene_file` loaded through Bevy's asset
+//! system becomes the parameters, the container, the colliders, the blocks and the emitters of
+//! the simulation. Spawn an entity with [`SphScene`]; when the file changes on disk (with Bevy's
+//! `file_watcher` feature) the scene is rebuilt, and a file that fails to load or validate is
+//! reported in [`SphStats::scene_error`], [`SphStats::error`] and the log while the running
+//! scene stays.
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use bevy_sph_fluid::prelude::*;
+//!
+//! fn setup(mut commands: Commands, assets: Res<AssetServer>) {
+//!     commands.spawn(SphScene(assets.load("scenes/dam_break.ron")));
+//! }
+//! ```
+
+use crate::api::*;
+use bevy::asset::io::Reader;
+use bevy::asset::{AssetLoadError, AssetLoadFailedEvent, AssetLoader, LoadContext};
+use bevy::prelude::*;
+use sph_core::scene_file::{SceneError, SceneFile, SceneSetup};
+
+/// A water scene read from a RON file (`assets/scenes/*.ron`), validated.
+#[derive(Asset, TypePath, Clone, Debug, PartialEq)]
+pub struct SphSceneAsset(pub SceneSetup);
+
+/// Loads [`SphSceneAsset`]s from `.ron` files.
+#[derive(Default, TypePath)]
+pub struct SphSceneLoader;
+
+impl AssetLoader for SphSceneLoader {
+    type Asset = SphSceneAsset;
+    type Settings = ();
+    type Error = SceneError;
+
+    async fn load(
+        &self,
+        reader: &mut dyn Reader,
+        _settings: &(),
+        load_context: &mut LoadContext<'_>,
+    ) -> Result<SphSceneAsset, SceneError> {
+        let file = load_context.path().to_string();
+        let fail = |message: String| SceneError {
+            file: file.clone(),
+            line: 0,
+            column: 0,
+            field: "-".into(),
+            message,
+        };
+        let mut bytes = Vec::new();
+        reader
+            .read_to_end(&mut bytes)
+            .await
+            .map_err(|e| fail(format!("cannot read the file: {e}")))?;
+        let text = String::from_utf8(bytes).map_err(|e| fail(format!("not UTF-8: {e}")))?;
+        let scene = SceneFile::parse(&text, &file)?;
+        Ok(SphSceneAsset(scene.build(&file, &text)?))
+    }
+
+    fn extensions(&self) -> &[&str] {
+        &["ron"]
+    }
+}
+
+/// Put on an entity to run a scene file: the entities of the scene are spawned when it loads
+/// and rebuilt when it changes (their particles are reset). Despawning this entity leaves the
+/// scene's entities in place; despawn those carrying [`SphSceneMember`] to clear it.
+#[derive(Component, Clone, Debug, PartialEq, Eq)]
+pub struct SphScene(pub Handle<SphSceneAsset>);
+
+/// On every entity a scene spawned: the [`SphScene`] entity it belongs to.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SphSceneMember(pub Entity);
+
+/// A kinematic collider's path from a scene file: `(time, position)` waypoints, followed by
+/// simulated time ([`SphStats::sim_time`]).
+#[derive(Component, Clone, Debug, PartialEq)]
+pub struct SphColliderPath(pub sph_core::scene_file::SceneCollider);
+
+pub(crate) fn add_systems(app: &mut App, schedule: bevy::ecs::schedule::InternedScheduleLabel) {
+    app.init_asset::<SphSceneAsset>()
+        .init_asset_loader::<SphSceneLoader>()
+        .add_systems(
+            schedule,
+            (sph_apply_scenes, sph_follow_paths)
+                .chain()
+                .before(crate::sets::SphSystems::Prepare),
+        );
+}
+
+/// Builds a scene's entities when its asset loads or changes; reports files that fail.
+#[allow(clippy::too_many_arguments)]
+fn sph_apply_scenes(
+    mut commands: Commands,
+    mut events: MessageReader<AssetEvent<SphSceneAsset>>,
+    mut failures: MessageReader<AssetLoadFailedEvent<SphSceneAsset>>,
+    scenes: Query<(Entity, &SphScene)>,
+    members: Query<(Entity, &SphSceneMember)>,
+    assets: Res<Assets<SphSceneAsset>>,
+    mut params: ResMut<SphParams>,
+    mut control: ResMut<SphControl>,
+    mut stats: ResMut<SphStats>,
+) {
+    for failure in failures.read() {
+        // The loader's own error (file, line, field, value, allowed) without the wrapping.
+        let scene_error = match &failure.error {
+            AssetLoadError::AssetLoaderError(e) => e.error().downcast_ref::<SceneError>(),
+            _ => None,
+        };
+        let error = match scene_error {
+            Some(e) => format!("scene {e}"),
+            None => format!("scene {}: {}", failure.path, failure.error),
+        };
+        warn!("SphFluidPlugin: {error}; the running scene stays");
+        stats.scene_error = Some(error.clone());
+        stats.error = Some(error);
+    }
+    for event in events.read() {
+        let (AssetEvent::LoadedWithDependencies { id } | AssetEvent::Modified { id }) = event
+        else {
+            continue;
+        };
+        let Some(asset) = assets.get(*id) else {
+            continue;
+        };
+        for (root, scene) in &scenes {
+            if scene.0.id() != *id {
+                continue;
+            }
+            for (entity, member) in &members {
+                if member.0 == root {
+                    commands.entity(entity).despawn();
+                }
+            }
+            let setup = &asset.0;
+            params.0 = setup.params;
+            control.reset = true;
+            let member = SphSceneMember(root);
+            commands.spawn((SphContainer(setup.container), member));
+            for c in &setup.colliders {
+                let pose = c.collider.pose;
+                let transform =
+                    Transform::from_translation(pose.translation).with_rotation(pose.rotation);
+                let mut entity = commands.spawn((
+                    SphCollider {
+                        shape: c.collider.shape,
+                        motion: c.collider.motion,
+                        slip: c.collider.slip,
+                    },
+                    transform,
+                    // In place this frame, before transform propagation: the scene's blocks
+                    // spawn around it in the same frame.
+                    GlobalTransform::from(transform),
+                    Name::new(c.name.clone()),
+                    member,
+                ));
+                if !c.path.is_empty() {
+                    entity.insert(SphColliderPath(c.clone()));
+                }
+            }
+            for &(block, velocity) in &setup.blocks {
+                commands.spawn((SphBlockSpawn { block, velocity }, member));
+            }
+            for emitter in &setup.emitters {
+                commands.spawn((SphEmitter(emitter.clone()), member));
+            }
+            if stats.scene_error.take().is_some()
+                && stats
+                    .error
+                    .as_deref()
+                    .is_some_and(|e| e.starts_with("scene "))
+            {
+                stats.error = None;
+            }
+        }
+    }
+}
+
+/// Moves the scene's kinematic colliders along their paths by the simulated time.
+fn sph_follow_paths(stats: Res<SphStats>, mut paths: Query<(&SphColliderPath, &mut Transform)>) {
+    let t = stats.sim_time as f32;
+    for (path, mut transform) in &mut paths {
+        let at = path.0.position_at(t);
+        if transform.translation != at {
+            transform.translation = at;
+        }
+    }
+}

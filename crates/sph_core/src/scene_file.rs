@@ -1,0 +1,572 @@
+//! Water scenes as data: the RON format of `assets/scenes/*.ron`, read by the Bevy plugin's
+//! asset loader and by `sph-bench run --scene FILE`.
+//!
+//! A file names a parameter preset with overrides, the solver, the container, colliders (static,
+//! or kinematic along a path of timed waypoints), fluid blocks and pipe emitters:
+//!
+//! ```
+//! let text = r#"(
+//!     spacing: 0.02,
+//!     solver: Pbf(iterations: 4),
+//!     container: (min: (0.0, 0.0, 0.0), max: (0.8, 0.5, 0.3)),
+//!     colliders: [(name: "ball", shape: Sphere(radius: 0.06), position: (0.5, 0.06, 0.15))],
+//!     blocks: [(min: (0.0, 0.0, 0.0), max: (0.2, 0.3, 0.3))],
+//! )"#;
+//! let scene = sph_core::scene_file::SceneFile::parse(text, "doc.ron").unwrap();
+//! let setup = scene.build("doc.ron", text).unwrap();
+//! assert_eq!(setup.colliders.len(), 1);
+//! ```
+//!
+//! Every error names the file, the line and column, the field, the value and what is allowed
+//! ([`SceneError`]); the parser refuses unknown fields, so a misspelt key is an error too.
+//! Optional values are written bare (RON's `implicit_some`): `spacing: 0.02`, `total: 8000`.
+
+use crate::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
+use crate::container::BoxContainer;
+use crate::params::{ParamError, SpacingDerivation, SphParams};
+use crate::solvers::{DfsphSettings, PbfSettings, Solver};
+use crate::spawn::{BlockSpawn, PipeEmitter};
+use glam::{EulerRot, Quat, Vec3};
+use serde::Deserialize;
+
+/// A vector written as a tuple `(x, y, z)`.
+pub type Vector = (f32, f32, f32);
+
+fn v(x: Vector) -> Vec3 {
+    Vec3::new(x.0, x.1, x.2)
+}
+
+/// The parameter table a scene starts from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum Preset {
+    /// SI water derived from the spacing ([`SphParams::from_spacing`]).
+    #[default]
+    Water,
+    /// The design's seed table ([`SphParams::seed`]).
+    Design,
+}
+
+/// Changes to the preset's parameters; every field is optional.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Overrides {
+    /// Artificial viscosity α (sets μ).
+    pub viscosity_alpha: Option<f32>,
+    /// Surface tension γ.
+    pub surface_tension: Option<f32>,
+    /// Gravity [m/s²].
+    pub gravity: Option<Vector>,
+    /// The time step, or the largest one with the adaptive rule [s].
+    pub time_step: Option<f32>,
+    /// The adaptive (CFL) time step.
+    pub adaptive_time_step: Option<bool>,
+    /// CFL factor λ.
+    pub cfl_factor: Option<f32>,
+}
+
+/// The pressure solver with its settings (omitted settings keep their defaults).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum SolverSpec {
+    /// Weakly compressible SPH.
+    #[default]
+    Wcsph,
+    /// Divergence-free SPH.
+    Dfsph {
+        /// Largest mean density error [%].
+        max_density_error_pct: Option<f32>,
+        /// Largest mean divergence error [%/s].
+        max_divergence_error_pct: Option<f32>,
+        /// Warm starts.
+        warm_start: Option<bool>,
+    },
+    /// Position-based fluids.
+    Pbf {
+        /// Constraint iterations per step.
+        iterations: Option<u32>,
+        /// XSPH viscosity c.
+        xsph_c: Option<f32>,
+        /// Vorticity confinement ε [m/s].
+        vorticity_epsilon: Option<f32>,
+    },
+}
+
+/// The container: an axis-aligned box standing on its floor.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContainerSpec {
+    /// Minimum corner [m].
+    pub min: Vector,
+    /// Maximum corner [m].
+    pub max: Vector,
+}
+
+/// A collider's shape (y is the axis of capsules and cylinders).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+pub enum ShapeSpec {
+    /// A box with half extents [m].
+    Cuboid {
+        /// Half extents [m].
+        half_extents: Vector,
+    },
+    /// A ball.
+    Sphere {
+        /// Radius [m].
+        radius: f32,
+    },
+    /// A capsule along y.
+    Capsule {
+        /// Radius [m].
+        radius: f32,
+        /// Half length of the axis segment [m].
+        half_length: f32,
+    },
+    /// A cylinder along y.
+    Cylinder {
+        /// Radius [m].
+        radius: f32,
+        /// Half length [m].
+        half_length: f32,
+    },
+}
+
+/// How a collider moves.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+pub enum MotionSpec {
+    /// Never moves.
+    #[default]
+    Static,
+    /// Moves along a path: `(time [s], position)` waypoints, linear in between, held before the
+    /// first and after the last.
+    Kinematic {
+        /// The waypoints, in time order.
+        path: Vec<(f32, Vector)>,
+    },
+}
+
+/// A collider of a scene file.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColliderSpec {
+    /// A name for errors, logs and game code.
+    pub name: String,
+    /// The shape.
+    pub shape: ShapeSpec,
+    /// The centre [m].
+    pub position: Vector,
+    /// Rotation as XYZ Euler angles [degrees].
+    #[serde(default)]
+    pub rotation_degrees: Vector,
+    /// Static or kinematic.
+    #[serde(default)]
+    pub motion: MotionSpec,
+    /// No-slip friction factor; omitted: free slip.
+    #[serde(default)]
+    pub no_slip_friction: Option<f32>,
+}
+
+/// A block of water on the lattice.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BlockSpec {
+    /// Minimum corner [m].
+    pub min: Vector,
+    /// Maximum corner [m].
+    pub max: Vector,
+    /// Initial velocity [m/s].
+    #[serde(default)]
+    pub velocity: Vector,
+}
+
+/// A pipe emitter.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EmitterSpec {
+    /// Centre of the pipe mouth [m].
+    pub position: Vector,
+    /// Jet direction.
+    pub direction: Vector,
+    /// Pipe radius [m].
+    pub radius: f32,
+    /// Exit speed [m/s].
+    pub speed: f32,
+    /// Stop after this many particles; omitted: forever.
+    #[serde(default)]
+    pub total: Option<u64>,
+}
+
+/// A scene file as written.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// The parameter table.
+    #[serde(default)]
+    pub preset: Preset,
+    /// Particle spacing Δx [m] (the water preset derives h, m, c0 and dt from it); default 0.02.
+    #[serde(default)]
+    pub spacing: Option<f32>,
+    /// Changes to the preset.
+    #[serde(default)]
+    pub overrides: Overrides,
+    /// The pressure solver.
+    #[serde(default)]
+    pub solver: SolverSpec,
+    /// The container.
+    pub container: ContainerSpec,
+    /// Solids in the water.
+    #[serde(default)]
+    pub colliders: Vec<ColliderSpec>,
+    /// Water at the start.
+    #[serde(default)]
+    pub blocks: Vec<BlockSpec>,
+    /// Pipes.
+    #[serde(default)]
+    pub emitters: Vec<EmitterSpec>,
+}
+
+/// A collider of a built scene, with its name and path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneCollider {
+    /// The file's name for it.
+    pub name: String,
+    /// The collider at time 0.
+    pub collider: Collider,
+    /// Kinematic waypoints `(time, position)`; empty for a static collider.
+    pub path: Vec<(f32, Vec3)>,
+}
+
+impl SceneCollider {
+    /// The position at simulated time `t` [s]: linear between waypoints, held outside them.
+    pub fn position_at(&self, t: f32) -> Vec3 {
+        let Some(&(t0, first)) = self.path.first() else {
+            return self.collider.pose.translation;
+        };
+        if t <= t0 {
+            return first;
+        }
+        for pair in self.path.windows(2) {
+            let ((ta, a), (tb, b)) = (pair[0], pair[1]);
+            if t <= tb {
+                let s = if tb > ta { (t - ta) / (tb - ta) } else { 1.0 };
+                return a.lerp(b, s);
+            }
+        }
+        self.path.last().map_or(first, |p| p.1)
+    }
+}
+
+/// A scene ready to run: validated parameters and the things to spawn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneSetup {
+    /// Validated parameters (the solver's own time-step rule unless overridden).
+    pub params: SphParams,
+    /// The container.
+    pub container: BoxContainer,
+    /// The colliders.
+    pub colliders: Vec<SceneCollider>,
+    /// The blocks with their initial velocities.
+    pub blocks: Vec<(BlockSpawn, Vec3)>,
+    /// The emitters.
+    pub emitters: Vec<PipeEmitter>,
+}
+
+/// Why a scene file was refused: where, which field, the value and what is allowed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SceneError {
+    /// The file.
+    pub file: String,
+    /// 1-based line (0 when unknown).
+    pub line: usize,
+    /// 1-based column (0 when unknown).
+    pub column: usize,
+    /// The field, e.g. `colliders[1].shape.radius`.
+    pub field: String,
+    /// The offending value and what is allowed, or the parser's message.
+    pub message: String,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}:{}:{}: `{}`: {}",
+            self.file, self.line, self.column, self.field, self.message
+        )
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// The 1-based line and column of the first `key:` of `text` at or after `from`, else (0, 0).
+fn locate(text: &str, key: &str, from: usize) -> (usize, usize) {
+    let needle = format!("{key}:");
+    let mut seen = 0;
+    for (k, line) in text.lines().enumerate() {
+        if let Some(col) = line.find(&needle) {
+            if seen >= from {
+                return (k + 1, col + 1);
+            }
+            seen += 1;
+        }
+    }
+    (0, 0)
+}
+
+impl SceneFile {
+    /// Parses `text` (the contents of `file`); a syntax error or an unknown, missing or
+    /// mistyped field is refused with its line and column.
+    pub fn parse(text: &str, file: &str) -> Result<Self, SceneError> {
+        // Optional values are written bare (`spacing: 0.02`, not `Some(0.02)`).
+        let options = ron::Options::default()
+            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+        options
+            .from_str(text)
+            .map_err(|e: ron::error::SpannedError| {
+                use ron::error::Error as E;
+                let field = match &e.code {
+                    E::NoSuchStructField { found, .. } => found.clone(),
+                    E::MissingStructField { field, .. } => field.to_string(),
+                    E::DuplicateStructField { field, .. } => field.to_string(),
+                    E::NoSuchEnumVariant { found, .. } => found.clone(),
+                    _ => "-".into(),
+                };
+                SceneError {
+                    file: file.into(),
+                    line: e.span.start.line,
+                    column: e.span.start.col,
+                    field,
+                    message: e.code.to_string(),
+                }
+            })
+    }
+
+    /// Builds and validates the scene; `text` (the file's contents) locates a refused value.
+    pub fn build(&self, file: &str, text: &str) -> Result<SceneSetup, SceneError> {
+        // A refused value: the field's key on its line, the nth time the key appears.
+        let refuse = |field: String, key: &str, nth: usize, e: ParamError| {
+            let (line, column) = locate(text, key, nth);
+            SceneError {
+                file: file.into(),
+                line,
+                column,
+                field,
+                message: format!("{} is not allowed: {}", e.value, e.allowed),
+            }
+        };
+        let mut params = match self.preset {
+            Preset::Water => SphParams::from_spacing(SpacingDerivation {
+                spacing: self.spacing.unwrap_or(SpacingDerivation::default().spacing),
+                ..SpacingDerivation::default()
+            }),
+            Preset::Design => SphParams::seed(),
+        };
+        let solver = match self.solver {
+            SolverSpec::Wcsph => Solver::Wcsph,
+            SolverSpec::Dfsph { .. } => Solver::Dfsph,
+            SolverSpec::Pbf { .. } => Solver::Pbf,
+        };
+        params.use_solver(solver);
+        match self.solver {
+            SolverSpec::Wcsph => {}
+            SolverSpec::Dfsph {
+                max_density_error_pct,
+                max_divergence_error_pct,
+                warm_start,
+            } => {
+                let base = DfsphSettings::default();
+                params.dfsph = DfsphSettings {
+                    max_density_error: max_density_error_pct
+                        .map_or(base.max_density_error, |p| p / 100.0),
+                    max_divergence_error: max_divergence_error_pct
+                        .map_or(base.max_divergence_error, |p| p / 100.0),
+                    warm_start: warm_start.unwrap_or(base.warm_start),
+                    ..base
+                };
+            }
+            SolverSpec::Pbf {
+                iterations,
+                xsph_c,
+                vorticity_epsilon,
+            } => {
+                let base = PbfSettings::default();
+                params.pbf = PbfSettings {
+                    iterations: iterations.unwrap_or(base.iterations),
+                    xsph_c: xsph_c.unwrap_or(base.xsph_c),
+                    vorticity_epsilon: vorticity_epsilon.unwrap_or(base.vorticity_epsilon),
+                    ..base
+                };
+            }
+        }
+        let o = &self.overrides;
+        if let Some(alpha) = o.viscosity_alpha {
+            params.set_artificial_viscosity_alpha(alpha);
+        }
+        if let Some(gamma) = o.surface_tension {
+            params.surface_tension = gamma;
+        }
+        if let Some(g) = o.gravity {
+            params.gravity = v(g);
+        }
+        if let Some(dt) = o.time_step {
+            params.time_step = dt;
+        }
+        if let Some(adaptive) = o.adaptive_time_step {
+            params.adaptive_time_step = adaptive;
+        }
+        if let Some(cfl) = o.cfl_factor {
+            params.cfl_factor = cfl;
+        }
+        params.validate().map_err(|e| {
+            let key = e.field.rsplit('.').next().unwrap_or(e.field);
+            refuse(e.field.to_string(), key, 0, e)
+        })?;
+        let container = BoxContainer::from_min_max(v(self.container.min), v(self.container.max));
+        container
+            .validate()
+            .map_err(|e| refuse(format!("container.{}", e.field), "container", 0, e))?;
+        let mut colliders = Vec::with_capacity(self.colliders.len());
+        for (k, c) in self.colliders.iter().enumerate() {
+            colliders.push(self.collider(k, c, file, text)?);
+        }
+        let spacing = params.spacing();
+        let mut blocks = Vec::with_capacity(self.blocks.len());
+        for (k, b) in self.blocks.iter().enumerate() {
+            let block = BlockSpawn::new(v(b.min), v(b.max), spacing);
+            block
+                .validate()
+                .map_err(|e| refuse(format!("blocks[{k}].{}", e.field), "min", k, e))?;
+            blocks.push((block, v(b.velocity)));
+        }
+        let mut emitters = Vec::with_capacity(self.emitters.len());
+        for (k, e) in self.emitters.iter().enumerate() {
+            let mut pipe =
+                PipeEmitter::new(v(e.position), v(e.direction), e.radius, e.speed, spacing);
+            pipe.total = e.total;
+            pipe.validate()
+                .map_err(|err| refuse(format!("emitters[{k}].{}", err.field), "radius", k, err))?;
+            emitters.push(pipe);
+        }
+        Ok(SceneSetup {
+            params,
+            container,
+            colliders,
+            blocks,
+            emitters,
+        })
+    }
+
+    fn collider(
+        &self,
+        k: usize,
+        c: &ColliderSpec,
+        file: &str,
+        text: &str,
+    ) -> Result<SceneCollider, SceneError> {
+        let at = |key: &str| {
+            // The collider's own line for its key: the k-th `name:` starts its entry.
+            let (name_line, _) = locate(text, "name", k);
+            text.lines()
+                .enumerate()
+                .skip(name_line.saturating_sub(1))
+                .find_map(|(n, line)| line.find(&format!("{key}:")).map(|col| (n + 1, col + 1)))
+                .unwrap_or((name_line, 1))
+        };
+        let error = |key: &str, field: String, message: String| {
+            let (line, column) = at(key);
+            SceneError {
+                file: file.into(),
+                line,
+                column,
+                field: format!("colliders[{k}] ({:?}).{field}", c.name),
+                message,
+            }
+        };
+        let shape = match c.shape {
+            ShapeSpec::Cuboid { half_extents } => ColliderShape::Cuboid {
+                half_extents: v(half_extents),
+            },
+            ShapeSpec::Sphere { radius } => ColliderShape::Sphere { radius },
+            ShapeSpec::Capsule {
+                radius,
+                half_length,
+            } => ColliderShape::Capsule {
+                radius,
+                half_length,
+            },
+            ShapeSpec::Cylinder {
+                radius,
+                half_length,
+            } => ColliderShape::Cylinder {
+                radius,
+                half_length,
+            },
+        };
+        let r = c.rotation_degrees;
+        let rotation = Quat::from_euler(
+            EulerRot::XYZ,
+            r.0.to_radians(),
+            r.1.to_radians(),
+            r.2.to_radians(),
+        );
+        let path: Vec<(f32, Vec3)> = match &c.motion {
+            MotionSpec::Static => Vec::new(),
+            MotionSpec::Kinematic { path } => path.iter().map(|&(t, p)| (t, v(p))).collect(),
+        };
+        if let MotionSpec::Kinematic { .. } = c.motion {
+            if path.is_empty() {
+                return Err(error(
+                    "path",
+                    "motion.path".into(),
+                    "an empty path is not allowed: at least one (time, position) waypoint".into(),
+                ));
+            }
+            for (n, pair) in path.windows(2).enumerate() {
+                // NaN times are refused too.
+                let ordered = pair[1].0.partial_cmp(&pair[0].0);
+                if !matches!(
+                    ordered,
+                    Some(std::cmp::Ordering::Greater | std::cmp::Ordering::Equal)
+                ) {
+                    return Err(error(
+                        "path",
+                        format!("motion.path[{}].time", n + 1),
+                        format!(
+                            "{} is not allowed: waypoint times must not decrease (the previous is {})",
+                            pair[1].0, pair[0].0
+                        ),
+                    ));
+                }
+            }
+        }
+        let mut collider = Collider::new(
+            shape,
+            Pose {
+                translation: v(c.position),
+                rotation,
+            },
+        );
+        collider.motion = if path.is_empty() {
+            ColliderMotion::Static
+        } else {
+            ColliderMotion::Kinematic
+        };
+        collider.slip = match c.no_slip_friction {
+            Some(friction) => Slip::NoSlip { friction },
+            None => Slip::Free,
+        };
+        collider.validate().map_err(|e| {
+            error(
+                "shape",
+                e.field.to_string(),
+                format!("{} is not allowed: {}", e.value, e.allowed),
+            )
+        })?;
+        let mut scene_collider = SceneCollider {
+            name: c.name.clone(),
+            collider,
+            path,
+        };
+        scene_collider.collider.pose.translation = scene_collider.position_at(0.0);
+        Ok(scene_collider)
+    }
+}

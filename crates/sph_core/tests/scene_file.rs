@@ -1,0 +1,117 @@
+//! Scene files (`assets/scenes/*.ron`): the shipped scenes parse and build, and bad files are
+//! refused with the file, the line, the field, the value and what is allowed.
+
+use sph_core::glam::Vec3;
+use sph_core::scene_file::{SceneError, SceneFile, SceneSetup};
+use sph_core::Solver;
+
+fn load(name: &str) -> (String, Result<SceneSetup, SceneError>) {
+    let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let built = SceneFile::parse(&text, name).and_then(|s| s.build(name, &text));
+    (text, built)
+}
+
+fn build(text: &str) -> Result<SceneSetup, SceneError> {
+    SceneFile::parse(text, "test.ron").and_then(|s| s.build("test.ron", text))
+}
+
+#[test]
+fn the_shipped_scenes_build() {
+    let (_, dam) = load("dam_break.ron");
+    let dam = dam.unwrap();
+    assert_eq!(dam.params.solver, Solver::Wcsph);
+    assert_eq!(dam.colliders.len(), 2);
+    assert_eq!(dam.blocks[0].0.count(), 10 * 20 * 15);
+    let (_, pipe) = load("pipe_fill.ron");
+    let pipe = pipe.unwrap();
+    assert_eq!(pipe.params.solver, Solver::Pbf);
+    assert_eq!(pipe.emitters[0].total, Some(8000));
+    let (_, gate) = load("gate.ron");
+    let gate = gate.unwrap();
+    assert_eq!(gate.params.solver, Solver::Dfsph);
+    let lift = &gate.colliders[0];
+    assert_eq!(lift.position_at(0.0), Vec3::new(0.4, 0.25, 0.05));
+    assert!((lift.position_at(0.7) - Vec3::new(0.4, 0.5, 0.05)).length() < 1e-6);
+    assert_eq!(lift.position_at(5.0), Vec3::new(0.4, 0.75, 0.05));
+}
+
+#[test]
+fn overrides_and_settings_reach_the_parameters() {
+    let s = build(
+        "(spacing: 0.01, solver: Pbf(iterations: 7, vorticity_epsilon: 0.1), \
+         overrides: (gravity: (0.0, -5.0, 0.0), surface_tension: 0.5), \
+         container: (min: (0.0, 0.0, 0.0), max: (0.3, 0.3, 0.3)))",
+    )
+    .unwrap();
+    assert!((s.params.spacing() - 0.01).abs() < 1e-7);
+    assert_eq!(s.params.pbf.iterations, 7);
+    assert_eq!(s.params.pbf.vorticity_epsilon, 0.1);
+    assert_eq!(s.params.gravity, Vec3::new(0.0, -5.0, 0.0));
+    assert_eq!(s.params.surface_tension, 0.5);
+    let d = build(
+        "(solver: Dfsph(max_density_error_pct: 0.05), container: (min: (0.0, 0.0, 0.0), max: (0.3, 0.3, 0.3)))",
+    )
+    .unwrap();
+    assert!((d.params.dfsph.max_density_error - 5e-4).abs() < 1e-9);
+}
+
+#[test]
+fn bad_files_name_the_line_the_field_and_what_is_allowed() {
+    // A misspelt key.
+    let e =
+        build("(\n  container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)),\n  colider: [],\n)")
+            .unwrap_err();
+    assert_eq!((e.line, e.field.as_str()), (3, "colider"), "{e}");
+    assert!(
+        e.message.contains("colliders"),
+        "the allowed fields are listed: {e}"
+    );
+    // A missing container.
+    let e = build("(spacing: 0.02)").unwrap_err();
+    assert_eq!(e.field, "container", "{e}");
+    // A mistyped value.
+    let e = build("(container: (min: (0.0, 0.0, 0.0), max: \"big\"))").unwrap_err();
+    assert_eq!(e.line, 1, "{e}");
+    // Values out of range, with the field, the value and the range, on their line.
+    let e = build(
+        "(\n  container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)),\n  colliders: [\n    (name: \"a\", shape: Sphere(radius: 0.1), position: (0.5, 0.5, 0.5)),\n    (name: \"b\", shape: Sphere(radius: -0.1), position: (0.5, 0.5, 0.5)),\n  ],\n)",
+    )
+    .unwrap_err();
+    assert_eq!(e.line, 5, "{e}");
+    assert!(
+        e.field.contains("colliders[1]") && e.field.contains("radius"),
+        "{e}"
+    );
+    assert!(e.message.contains("-0.1"), "{e}");
+    let e = build(
+        "(\n  solver: Pbf(iterations: 0),\n  container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)),\n)",
+    )
+    .unwrap_err();
+    assert_eq!((e.line, e.field.as_str()), (2, "pbf.iterations"), "{e}");
+    assert!(e.message.contains("[1, 100]"), "{e}");
+    let e = build(
+        "(container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)), colliders: [(name: \"gate\", \
+         shape: Sphere(radius: 0.1), position: (0.5, 0.5, 0.5), \
+         motion: Kinematic(path: [(1.0, (0.0, 0.0, 0.0)), (0.5, (0.0, 1.0, 0.0))]))])",
+    )
+    .unwrap_err();
+    assert!(e.field.contains("motion.path[1].time"), "{e}");
+    // The display names the file.
+    assert!(e.to_string().starts_with("test.ron:1:"), "{e}");
+}
+
+#[test]
+fn the_readme_example_builds() {
+    let readme =
+        std::fs::read_to_string(format!("{}/../../README.md", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let start = readme
+        .find("```ron\n")
+        .expect("a RON example in the README")
+        + 7;
+    let end = start + readme[start..].find("```").unwrap();
+    let s = build(&readme[start..end]).unwrap();
+    assert_eq!(s.params.solver, Solver::Dfsph);
+    assert_eq!(s.colliders[0].name, "gate");
+    assert_eq!(s.emitters[0].total, Some(2000));
+}

@@ -1,0 +1,65 @@
+//! `--scene FILE`: the sandbox runs a scene file (`assets/scenes/*.ron`) instead of the start
+//! panel's scene, and dresses the scene's entities: a floor plate and glass walls for the
+//! container, a flat-shaded mesh for each collider. Editing the file while the sandbox runs
+//! reloads the scene (Bevy's file watcher).
+
+use crate::flat_material::FlatMaterial;
+use crate::scene::SceneEntity;
+use bevy::prelude::*;
+use bevy_sph_fluid::prelude::*;
+use sph_core::ColliderShape;
+
+/// A scene's entity as it appears: which scene, and what it is.
+type NewMember<'a> = (
+    Entity,
+    &'a SphSceneMember,
+    Option<&'a SphCollider>,
+    Option<&'a SphContainer>,
+);
+
+/// Meshes and tags every entity a scene file spawned, when it appears.
+pub fn dress_scene_members(
+    mut commands: Commands,
+    added: Query<NewMember, Added<SphSceneMember>>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<FlatMaterial>>,
+) {
+    // `try_insert`: a reload in the same frame may have despawned the entity already.
+    for (entity, member, collider, container) in &added {
+        commands.entity(entity).try_insert(SceneEntity);
+        if let Some(collider) = collider {
+            let mesh = match collider.shape {
+                ColliderShape::Cuboid { half_extents } => {
+                    meshes.add(Cuboid::from_size(2.0 * half_extents))
+                }
+                ColliderShape::Sphere { radius } => meshes.add(Sphere::new(radius)),
+                ColliderShape::Capsule {
+                    radius,
+                    half_length,
+                } => meshes.add(Capsule3d::new(radius, 2.0 * half_length)),
+                ColliderShape::Cylinder {
+                    radius,
+                    half_length,
+                } => meshes.add(Cylinder::new(radius, 2.0 * half_length)),
+            };
+            let colour = materials.add(FlatMaterial::new(Color::srgb(0.8, 0.45, 0.2)));
+            commands
+                .entity(entity)
+                .try_insert((Mesh3d(mesh), MeshMaterial3d(colour)));
+        }
+        if let Some(container) = container {
+            let (lo, hi) = (container.min(), container.max());
+            let size = hi - lo;
+            let t = 0.02;
+            let floor = meshes.add(Cuboid::new(size.x + 2.0 * t, t, size.z + 2.0 * t));
+            let plate = materials.add(FlatMaterial::new(Color::srgb(0.55, 0.5, 0.45)));
+            // A member of the same scene: a reload removes it with the container.
+            commands.spawn((
+                Mesh3d(floor),
+                MeshMaterial3d(plate),
+                Transform::from_translation(container.floor_center - Vec3::Y * (t / 2.0)),
+                *member,
+            ));
+        }
+    }
+}
