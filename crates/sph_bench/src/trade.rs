@@ -261,6 +261,9 @@ fn series_key(r: &Report) -> String {
     }
 }
 
+/// The groups the advice compares: the same CPU dam break at the sweep's resolution.
+const ADVICE_GROUPS: [&str; 2] = ["integrator × dt", "solver"];
+
 /// The largest mean compression over the run a game's water may show [%].
 const GAME_COMPRESSION_PCT: f32 = 1.0;
 
@@ -275,7 +278,8 @@ fn describe(row: &Row) -> String {
         .as_ref()
         .map_or("–".to_string(), |d| format!("{:.3}", d.rms_z_raw));
     format!(
-        "**{}** (group `{}`: {} on the {} backend, {} particles): real-time factor {},          {:.2} % mean compression over the run, RMS Z {}",
+        "**{}** (group `{}`: {} on the {} backend, {} particles): real-time factor {}, {:.2} % mean \
+         compression over the run, RMS Z {}",
         row.label,
         row.group,
         r.solver.to_uppercase(),
@@ -292,7 +296,11 @@ fn describe(row: &Row) -> String {
 /// effect the cheapest whose dam-break front stays within RMS Z 0.10 of the experiment; for an
 /// engineering answer the least compressed of those.
 fn advice(rows: &[Row]) -> String {
-    let stable_rows: Vec<&Row> = rows.iter().filter(|r| r.report.health == "ok").collect();
+    // One scene at one resolution: the CPU dam breaks of the integrator and solver sweeps.
+    let stable_rows: Vec<&Row> = rows
+        .iter()
+        .filter(|r| ADVICE_GROUPS.contains(&r.group) && r.report.health == "ok")
+        .collect();
     let rms = |r: &Row| {
         r.report
             .dam_break
@@ -323,8 +331,9 @@ fn advice(rows: &[Row]) -> String {
         None => format!("- **{what}** ({rule}): no run of this study qualifies.\n"),
     };
     let mut s = String::from(
-        "Picked from the rows above by the rules in brackets; only stable runs count. \
-         The rules are in `trade.rs`.\n\n",
+        "Picked by the rules in brackets from the stable runs of one scene at one resolution: \
+         the CPU dam breaks of the groups `integrator × dt` and `solver` below. The rules are in \
+         `trade.rs`.\n\n",
     );
     s += &line(
         "For a game",
@@ -346,9 +355,8 @@ fn advice(rows: &[Row]) -> String {
         engineering,
     );
     s += "\nIn general:\n\
-          - PBF steps at the frame's rate and is the cheapest per simulated second, at the price \
-          of compression that depends on its iterations and of a front further from the \
-          experiment;\n\
+          - PBF takes the largest steps and is the cheapest per simulated second, at the price \
+          of compression that depends on its iterations;\n\
           - DFSPH holds the density to its tolerance at any step the flow allows and is the \
           accurate end;\n\
           - WCSPH sits between them: it is cheap per step but its steps are bound by the speed \
@@ -790,6 +798,11 @@ mod tests {
             row("pbf squeezed", "pbf", 2.0, 4.0, 0.30, true),
             row("wcsph", "wcsph", 20.0, 0.1, 0.08, true),
             row("dfsph", "dfsph", 40.0, 0.01, 0.09, true),
+            // Another scene or resolution: never compared.
+            Row {
+                group: "dambreak32k",
+                ..row("elsewhere", "pbf", 0.1, 0.001, 0.01, true)
+            },
         ];
         let text = advice(&rows);
         let pick = |what: &str| {
