@@ -115,16 +115,21 @@ fn sph_apply_scenes(
         stats.scene_error = Some(error.clone());
         stats.error = Some(error);
     }
+    // A load or reload may send both events in one frame: each scene is rebuilt once.
+    let mut changed: Vec<AssetId<SphSceneAsset>> = Vec::new();
     for event in events.read() {
-        let (AssetEvent::LoadedWithDependencies { id } | AssetEvent::Modified { id }) = event
-        else {
-            continue;
-        };
-        let Some(asset) = assets.get(*id) else {
+        if let AssetEvent::LoadedWithDependencies { id } | AssetEvent::Modified { id } = event {
+            if !changed.contains(id) {
+                changed.push(*id);
+            }
+        }
+    }
+    for id in changed {
+        let Some(asset) = assets.get(id) else {
             continue;
         };
         for (root, scene) in &scenes {
-            if scene.0.id() != *id {
+            if scene.0.id() != id {
                 continue;
             }
             for (entity, member) in &members {

@@ -297,19 +297,26 @@ impl std::fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// The 1-based line and column of the first `key:` of `text` at or after `from`, else (0, 0).
-fn locate(text: &str, key: &str, from: usize) -> (usize, usize) {
+/// The 1-based line and column of the `nth` (0-based) `key:` of `text`, else (0, 0).
+fn locate(text: &str, key: &str, nth: usize) -> (usize, usize) {
+    locate_after(text, None, key, nth)
+}
+
+/// As [`locate`], counting only from the line of `section:` on (when given and found).
+fn locate_after(text: &str, section: Option<&str>, key: &str, nth: usize) -> (usize, usize) {
+    let start = section
+        .and_then(|section| {
+            let needle = format!("{section}:");
+            text.lines().position(|line| line.contains(&needle))
+        })
+        .unwrap_or(0);
     let needle = format!("{key}:");
-    let mut seen = 0;
-    for (k, line) in text.lines().enumerate() {
-        if let Some(col) = line.find(&needle) {
-            if seen >= from {
-                return (k + 1, col + 1);
-            }
-            seen += 1;
-        }
-    }
-    (0, 0)
+    text.lines()
+        .enumerate()
+        .skip(start)
+        .filter_map(|(k, line)| line.find(&needle).map(|col| (k + 1, col + 1)))
+        .nth(nth)
+        .unwrap_or((0, 0))
 }
 
 impl SceneFile {
@@ -343,16 +350,17 @@ impl SceneFile {
     /// Builds and validates the scene; `text` (the file's contents) locates a refused value.
     pub fn build(&self, file: &str, text: &str) -> Result<SceneSetup, SceneError> {
         // A refused value: the field's key on its line, the nth time the key appears.
-        let refuse = |field: String, key: &str, nth: usize, e: ParamError| {
-            let (line, column) = locate(text, key, nth);
-            SceneError {
-                file: file.into(),
-                line,
-                column,
-                field,
-                message: format!("{} is not allowed: {}", e.value, e.allowed),
-            }
-        };
+        let refuse =
+            |field: String, (section, key): (Option<&str>, &str), nth: usize, e: ParamError| {
+                let (line, column) = locate_after(text, section, key, nth);
+                SceneError {
+                    file: file.into(),
+                    line,
+                    column,
+                    field,
+                    message: format!("{} is not allowed: {}", e.value, e.allowed),
+                }
+            };
         let mut params = match self.preset {
             Preset::Water => SphParams::from_spacing(SpacingDerivation {
                 spacing: self.spacing.unwrap_or(SpacingDerivation::default().spacing),
@@ -418,12 +426,12 @@ impl SceneFile {
         }
         params.validate().map_err(|e| {
             let key = e.field.rsplit('.').next().unwrap_or(e.field);
-            refuse(e.field.to_string(), key, 0, e)
+            refuse(e.field.to_string(), (None, key), 0, e)
         })?;
         let container = BoxContainer::from_min_max(v(self.container.min), v(self.container.max));
         container
             .validate()
-            .map_err(|e| refuse(format!("container.{}", e.field), "container", 0, e))?;
+            .map_err(|e| refuse(format!("container.{}", e.field), (None, "container"), 0, e))?;
         let mut colliders = Vec::with_capacity(self.colliders.len());
         for (k, c) in self.colliders.iter().enumerate() {
             colliders.push(self.collider(k, c, file, text)?);
@@ -432,9 +440,14 @@ impl SceneFile {
         let mut blocks = Vec::with_capacity(self.blocks.len());
         for (k, b) in self.blocks.iter().enumerate() {
             let block = BlockSpawn::new(v(b.min), v(b.max), spacing);
-            block
-                .validate()
-                .map_err(|e| refuse(format!("blocks[{k}].{}", e.field), "min", k, e))?;
+            block.validate().map_err(|e| {
+                refuse(
+                    format!("blocks[{k}].{}", e.field),
+                    (Some("blocks"), "min"),
+                    k,
+                    e,
+                )
+            })?;
             blocks.push((block, v(b.velocity)));
         }
         let mut emitters = Vec::with_capacity(self.emitters.len());
@@ -442,8 +455,14 @@ impl SceneFile {
             let mut pipe =
                 PipeEmitter::new(v(e.position), v(e.direction), e.radius, e.speed, spacing);
             pipe.total = e.total;
-            pipe.validate()
-                .map_err(|err| refuse(format!("emitters[{k}].{}", err.field), "radius", k, err))?;
+            pipe.validate().map_err(|err| {
+                refuse(
+                    format!("emitters[{k}].{}", err.field),
+                    (Some("emitters"), "radius"),
+                    k,
+                    err,
+                )
+            })?;
             emitters.push(pipe);
         }
         Ok(SceneSetup {

@@ -97,8 +97,25 @@ fn bad_files_name_the_line_the_field_and_what_is_allowed() {
     )
     .unwrap_err();
     assert!(e.field.contains("motion.path[1].time"), "{e}");
+    // Blocks and emitters are located in their own sections, past the container's `min` and a
+    // collider's `radius`.
+    let e = build(
+        "(\n  container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)),\n  colliders: [(name: \"a\", shape: Sphere(radius: 0.1), position: (0.5, 0.5, 0.5))],\n  blocks: [\n    (min: (0.0, 0.0, 0.0), max: (0.1, 0.1, 0.1)),\n    (min: (0.0, 0.0, 0.0), max: (0.1, NaN, 0.1)),\n  ],\n  emitters: [(position: (0.5, 0.9, 0.5), direction: (1.0, 0.0, 0.0), radius: -1.0, speed: 1.0)],\n)",
+    )
+    .unwrap_err();
+    assert!(e.field.starts_with("blocks[1]"), "{e}");
+    assert_eq!(e.line, 6, "{e}");
+    let e = build(
+        "(\n  container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)),\n  colliders: [(name: \"a\", shape: Sphere(radius: 0.1), position: (0.5, 0.5, 0.5))],\n  emitters: [(position: (0.5, 0.9, 0.5), direction: (1.0, 0.0, 0.0), radius: -1.0, speed: 1.0)],\n)",
+    )
+    .unwrap_err();
+    assert_eq!(
+        (e.line, e.field.as_str()),
+        (4, "emitters[0].emitter.radius"),
+        "{e}"
+    );
     // The display names the file.
-    assert!(e.to_string().starts_with("test.ron:1:"), "{e}");
+    assert!(e.to_string().starts_with("test.ron:4:"), "{e}");
 }
 
 #[test]
