@@ -47,40 +47,53 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
         );
 }
 
+/// The readback entity of a small GPU buffer that is read every frame, and its buffer.
+type ReadbackSource = Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>;
+
+/// Keeps one `Readback` of `handle` alive in `source` (GPU backend): when the buffer changed,
+/// the old reader goes and a new one is spawned, returned for the caller's observer.
+fn retarget<'a>(
+    commands: &'a mut Commands,
+    source: &mut ReadbackSource,
+    handle: &Handle<bevy::render::storage::ShaderBuffer>,
+) -> Option<EntityCommands<'a>> {
+    if source.as_ref().is_some_and(|(h, _)| h == handle) {
+        return None;
+    }
+    if let Some((_, entity)) = source.take() {
+        commands.entity(entity).despawn();
+    }
+    let reader = commands.spawn(Readback::buffer(handle.clone()));
+    *source = Some((handle.clone(), reader.id()));
+    Some(reader)
+}
+
 /// Keeps one `Readback` of the current clock buffer alive (GPU backend).
 fn sph_read_clock(
     sim: Res<SphSimulation>,
     mut clock: ResMut<ClockReadback>,
     mut commands: Commands,
 ) {
-    let Some(buffers) = sim.frame.buffers.as_ref() else {
+    let Some(buffers) = sim
+        .frame
+        .buffers
+        .as_ref()
+        .filter(|_| sim.backend == SphBackend::Gpu)
+    else {
         return;
     };
-    if sim.backend != SphBackend::Gpu
-        || clock
-            .source
-            .as_ref()
-            .is_some_and(|(handle, _)| *handle == buffers.clock)
-    {
-        return;
-    }
-    if let Some((_, entity)) = clock.source.take() {
-        commands.entity(entity).despawn();
-    }
-    clock.latest = None;
-    let entity = commands
-        .spawn(Readback::buffer(buffers.clock.clone()))
-        .observe(
+    let clock = &mut *clock;
+    if let Some(mut reader) = retarget(&mut commands, &mut clock.source, &buffers.clock) {
+        clock.latest = None;
+        reader.observe(
             |event: On<ReadbackComplete>, mut clock: ResMut<ClockReadback>| {
-                if event.data.len() >= std::mem::size_of::<GpuClock>() {
-                    clock.latest = Some(bytemuck::pod_read_unaligned(
-                        &event.data[..std::mem::size_of::<GpuClock>()],
-                    ));
+                let size = std::mem::size_of::<GpuClock>();
+                if event.data.len() >= size {
+                    clock.latest = Some(bytemuck::pod_read_unaligned(&event.data[..size]));
                 }
             },
-        )
-        .id();
-    clock.source = Some((buffers.clock.clone(), entity));
+        );
+    }
 }
 
 /// Keeps one `Readback` of the current body-force buffer alive (GPU backend); each arrival holds
@@ -90,24 +103,18 @@ fn sph_read_body_forces(
     mut forces: ResMut<BodyForceReadback>,
     mut commands: Commands,
 ) {
-    let Some(buffers) = sim.frame.buffers.as_ref() else {
+    let Some(buffers) = sim
+        .frame
+        .buffers
+        .as_ref()
+        .filter(|_| sim.backend == SphBackend::Gpu)
+    else {
         return;
     };
-    if sim.backend != SphBackend::Gpu
-        || forces
-            .source
-            .as_ref()
-            .is_some_and(|(handle, _)| *handle == buffers.body_forces)
-    {
-        return;
-    }
-    if let Some((_, entity)) = forces.source.take() {
-        commands.entity(entity).despawn();
-    }
-    forces.latest = None;
-    let entity = commands
-        .spawn(Readback::buffer(buffers.body_forces.clone()))
-        .observe(
+    let forces = &mut *forces;
+    if let Some(mut reader) = retarget(&mut commands, &mut forces.source, &buffers.body_forces) {
+        forces.latest = None;
+        reader.observe(
             |event: On<ReadbackComplete>, mut forces: ResMut<BodyForceReadback>| {
                 let size = std::mem::size_of::<GpuBodyForces>();
                 if event.data.len() >= size {
@@ -118,9 +125,8 @@ fn sph_read_body_forces(
                     }
                 }
             },
-        )
-        .id();
-    forces.source = Some((buffers.body_forces.clone(), entity));
+        );
+    }
 }
 
 fn sph_request_readback(
