@@ -39,8 +39,8 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
             (
                 sph_request_readback,
                 sph_deliver_snapshot,
-                sph_read_clock,
-                sph_read_body_forces,
+                sph_read_every_frame::<ClockReadback>,
+                sph_read_every_frame::<BodyForceReadback>,
             )
                 .chain()
                 .in_set(SphSystems::Writeback),
@@ -50,83 +50,89 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
 /// The readback entity of a small GPU buffer that is read every frame, and its buffer.
 type ReadbackSource = Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>;
 
-/// Keeps one `Readback` of `handle` alive in `source` (GPU backend): when the buffer changed,
-/// the old reader goes and a new one is spawned, returned for the caller's observer.
-fn retarget<'a>(
-    commands: &'a mut Commands,
-    source: &mut ReadbackSource,
-    handle: &Handle<bevy::render::storage::ShaderBuffer>,
-) -> Option<EntityCommands<'a>> {
+/// A small GPU buffer read back every frame into a resource: the clock and the body forces.
+trait EveryFrame: Resource<Mutability = bevy::ecs::component::Mutable> {
+    /// The buffer's contents.
+    type Value: bytemuck::Pod;
+    /// The buffer among the state buffers.
+    fn buffer(buffers: &SphGpuBuffers) -> &Handle<bevy::render::storage::ShaderBuffer>;
+    /// The reader in place.
+    fn source(&mut self) -> &mut ReadbackSource;
+    /// Forgets the last value (a new buffer).
+    fn clear(&mut self);
+    /// Takes an arrived value.
+    fn arrived(&mut self, value: Self::Value);
+}
+
+impl EveryFrame for ClockReadback {
+    type Value = GpuClock;
+    fn buffer(buffers: &SphGpuBuffers) -> &Handle<bevy::render::storage::ShaderBuffer> {
+        &buffers.clock
+    }
+    fn source(&mut self) -> &mut ReadbackSource {
+        &mut self.source
+    }
+    fn clear(&mut self) {
+        self.latest = None;
+    }
+    fn arrived(&mut self, clock: GpuClock) {
+        self.latest = Some(clock);
+    }
+}
+
+impl EveryFrame for BodyForceReadback {
+    type Value = GpuBodyForces;
+    fn buffer(buffers: &SphGpuBuffers) -> &Handle<bevy::render::storage::ShaderBuffer> {
+        &buffers.body_forces
+    }
+    fn source(&mut self) -> &mut ReadbackSource {
+        &mut self.source
+    }
+    fn clear(&mut self) {
+        self.latest = None;
+    }
+    fn arrived(&mut self, sums: GpuBodyForces) {
+        // A frame without steps leaves the last forces in place.
+        if sums.evaluations > 0 {
+            self.latest = Some(sums);
+        }
+    }
+}
+
+/// Keeps one `Readback` of `R`'s current buffer alive (GPU backend): when the buffer changes,
+/// the old reader goes and a new one delivers every arrival to `R`.
+fn sph_read_every_frame<R: EveryFrame>(
+    sim: Res<SphSimulation>,
+    mut target: ResMut<R>,
+    mut commands: Commands,
+) {
+    let Some(buffers) = sim
+        .frame
+        .buffers
+        .as_ref()
+        .filter(|_| sim.backend == SphBackend::Gpu)
+    else {
+        return;
+    };
+    let handle = R::buffer(buffers);
+    let source = target.source();
     if source.as_ref().is_some_and(|(h, _)| h == handle) {
-        return None;
+        return;
     }
     if let Some((_, entity)) = source.take() {
         commands.entity(entity).despawn();
     }
-    let reader = commands.spawn(Readback::buffer(handle.clone()));
-    *source = Some((handle.clone(), reader.id()));
-    Some(reader)
-}
-
-/// Keeps one `Readback` of the current clock buffer alive (GPU backend).
-fn sph_read_clock(
-    sim: Res<SphSimulation>,
-    mut clock: ResMut<ClockReadback>,
-    mut commands: Commands,
-) {
-    let Some(buffers) = sim
-        .frame
-        .buffers
-        .as_ref()
-        .filter(|_| sim.backend == SphBackend::Gpu)
-    else {
-        return;
-    };
-    let clock = &mut *clock;
-    if let Some(mut reader) = retarget(&mut commands, &mut clock.source, &buffers.clock) {
-        clock.latest = None;
-        reader.observe(
-            |event: On<ReadbackComplete>, mut clock: ResMut<ClockReadback>| {
-                let size = std::mem::size_of::<GpuClock>();
-                if event.data.len() >= size {
-                    clock.latest = Some(bytemuck::pod_read_unaligned(&event.data[..size]));
-                }
-            },
-        );
-    }
-}
-
-/// Keeps one `Readback` of the current body-force buffer alive (GPU backend); each arrival holds
-/// one frame's sums.
-fn sph_read_body_forces(
-    sim: Res<SphSimulation>,
-    mut forces: ResMut<BodyForceReadback>,
-    mut commands: Commands,
-) {
-    let Some(buffers) = sim
-        .frame
-        .buffers
-        .as_ref()
-        .filter(|_| sim.backend == SphBackend::Gpu)
-    else {
-        return;
-    };
-    let forces = &mut *forces;
-    if let Some(mut reader) = retarget(&mut commands, &mut forces.source, &buffers.body_forces) {
-        forces.latest = None;
-        reader.observe(
-            |event: On<ReadbackComplete>, mut forces: ResMut<BodyForceReadback>| {
-                let size = std::mem::size_of::<GpuBodyForces>();
-                if event.data.len() >= size {
-                    let sums: GpuBodyForces = bytemuck::pod_read_unaligned(&event.data[..size]);
-                    // A frame without steps leaves the last forces in place.
-                    if sums.evaluations > 0 {
-                        forces.latest = Some(sums);
-                    }
-                }
-            },
-        );
-    }
+    let reader = commands
+        .spawn(Readback::buffer(handle.clone()))
+        .observe(|event: On<ReadbackComplete>, mut target: ResMut<R>| {
+            let size = std::mem::size_of::<R::Value>();
+            if event.data.len() >= size {
+                target.arrived(bytemuck::pod_read_unaligned(&event.data[..size]));
+            }
+        })
+        .id();
+    *target.source() = Some((handle.clone(), reader));
+    target.clear();
 }
 
 fn sph_request_readback(
