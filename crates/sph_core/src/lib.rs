@@ -38,11 +38,15 @@ pub mod neighbor;
 pub mod neighbor_lists;
 pub mod params;
 pub mod pbf_macklin2013;
+pub mod probe;
+pub mod pump;
+pub mod region;
 pub mod rng;
 pub mod rollback;
 pub mod sampling;
 pub mod scenario;
 pub mod scene_file;
+pub mod sink;
 pub mod solver;
 pub mod solvers;
 pub mod spawn;
@@ -61,7 +65,11 @@ pub use neighbor::Neighbors;
 pub use params::{
     EquationOfState, Integrator, NeighborSearch, ParamError, SpacingDerivation, SphParams,
 };
+pub use probe::{ProbeKind, ProbeReading};
+pub use pump::Pump;
+pub use region::Region;
 pub use rollback::Rollback;
+pub use sink::Sink;
 pub use solver::{CpuSolver, FrameAdvance, ParticleData, SpawnReport, StageTimings};
 pub use solvers::{DfsphSettings, PbfSettings, Solver, SolverStats};
 pub use spawn::{BlockSpawn, Emission, PipeEmitter};

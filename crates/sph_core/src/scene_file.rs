@@ -2,7 +2,8 @@
 //! asset loader and by `sph-bench run --scene FILE`.
 //!
 //! A file names a parameter preset with overrides, the solver, the container, colliders (static,
-//! or kinematic along a path of timed waypoints), fluid blocks and pipe emitters:
+//! or kinematic along a path of timed waypoints), fluid blocks, pipe emitters, drains (`sinks`),
+//! pumps and probes:
 //!
 //! ```
 //! let text = r#"(
@@ -24,6 +25,10 @@
 use crate::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 use crate::container::BoxContainer;
 use crate::params::{ParamError, SpacingDerivation, SphParams};
+use crate::probe::ProbeKind;
+use crate::pump::Pump;
+use crate::region::Region;
+use crate::sink::Sink;
 use crate::solvers::{DfsphSettings, PbfSettings, Solver};
 use crate::spawn::{BlockSpawn, PipeEmitter};
 use glam::{EulerRot, Quat, Vec3};
@@ -195,6 +200,83 @@ pub struct EmitterSpec {
     pub total: Option<u64>,
 }
 
+/// A drain: removes the water inside its box while open.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SinkSpec {
+    /// A name for errors, logs and game code.
+    pub name: String,
+    /// Minimum corner [m].
+    pub min: Vector,
+    /// Maximum corner [m].
+    pub max: Vector,
+    /// Open at the start; default true.
+    #[serde(default)]
+    pub open: Option<bool>,
+}
+
+/// A pump: pushes the water inside its box along `direction` toward `speed`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PumpSpec {
+    /// A name for errors, logs and game code.
+    pub name: String,
+    /// Minimum corner [m].
+    pub min: Vector,
+    /// Maximum corner [m].
+    pub max: Vector,
+    /// The direction it pushes in.
+    pub direction: Vector,
+    /// Target speed [m/s], 0 ..= 100.
+    pub speed: f32,
+    /// Relaxation rate toward the target speed [1/s], 0 ..= 1000.
+    pub strength: f32,
+}
+
+/// What a probe measures.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+pub enum ProbeSpec {
+    /// The water level at (x, z) [m].
+    Level {
+        /// World x [m].
+        x: f32,
+        /// World z [m].
+        z: f32,
+        /// Column radius [m]; default two spacings.
+        #[serde(default)]
+        radius: Option<f32>,
+    },
+    /// The flux through a rectangle [m³/s].
+    Flux {
+        /// Centre [m].
+        position: Vector,
+        /// The normal the flux is counted along.
+        normal: Vector,
+        /// Half width and half height [m].
+        half_size: (f32, f32),
+    },
+    /// The particles in a box.
+    Count {
+        /// Minimum corner [m].
+        min: Vector,
+        /// Maximum corner [m].
+        max: Vector,
+    },
+}
+
+/// A probe of a scene file.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeEntry {
+    /// A name for readings, plots and JSON.
+    pub name: String,
+    /// What it measures.
+    pub kind: ProbeSpec,
+    /// Steps between readings; default 1 (every frame that steps).
+    #[serde(default)]
+    pub every_steps: Option<u32>,
+}
+
 /// A scene file as written.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -222,6 +304,26 @@ pub struct SceneFile {
     /// Pipes.
     #[serde(default)]
     pub emitters: Vec<EmitterSpec>,
+    /// Drains.
+    #[serde(default)]
+    pub sinks: Vec<SinkSpec>,
+    /// Pumps.
+    #[serde(default)]
+    pub pumps: Vec<PumpSpec>,
+    /// Probes.
+    #[serde(default)]
+    pub probes: Vec<ProbeEntry>,
+}
+
+/// A probe of a built scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneProbe {
+    /// The file's name for it.
+    pub name: String,
+    /// What it measures.
+    pub kind: ProbeKind,
+    /// Steps between readings (≥ 1).
+    pub every_steps: u32,
 }
 
 /// A collider of a built scene, with its name and path.
@@ -268,6 +370,12 @@ pub struct SceneSetup {
     pub blocks: Vec<(BlockSpawn, Vec3)>,
     /// The emitters.
     pub emitters: Vec<PipeEmitter>,
+    /// The drains with their names.
+    pub sinks: Vec<(String, Sink)>,
+    /// The pumps with their names.
+    pub pumps: Vec<(String, Pump)>,
+    /// The probes.
+    pub probes: Vec<SceneProbe>,
 }
 
 /// Why a scene file was refused: where, which field, the value and what is allowed.
@@ -297,12 +405,8 @@ impl std::fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// The 1-based line and column of the `nth` (0-based) `key:` of `text`, else (0, 0).
-fn locate(text: &str, key: &str, nth: usize) -> (usize, usize) {
-    locate_after(text, None, key, nth)
-}
-
-/// As [`locate`], counting only from the line of `section:` on (when given and found).
+/// The 1-based line and column of the `nth` (0-based) `key:` of `text`, else (0, 0), counting
+/// only from the line of `section:` on (when given and found).
 fn locate_after(text: &str, section: Option<&str>, key: &str, nth: usize) -> (usize, usize) {
     let start = section
         .and_then(|section| {
@@ -465,12 +569,106 @@ impl SceneFile {
             })?;
             emitters.push(pipe);
         }
+        let refuse_named = |section: &str, k: usize, name: &str, e: ParamError| {
+            let (line, column) = locate_after(text, Some(section), "name", k);
+            SceneError {
+                file: file.into(),
+                line,
+                column,
+                field: format!("{section}[{k}] ({name:?}).{}", e.field),
+                message: format!("{} is not allowed: {}", e.value, e.allowed),
+            }
+        };
+        let mut sinks = Vec::with_capacity(self.sinks.len());
+        for (k, s) in self.sinks.iter().enumerate() {
+            let sink = Sink {
+                region: Region::from_min_max(v(s.min), v(s.max)),
+                open: s.open.unwrap_or(true),
+            };
+            sink.validate()
+                .map_err(|e| refuse_named("sinks", k, &s.name, e))?;
+            sinks.push((s.name.clone(), sink));
+        }
+        let mut pumps = Vec::with_capacity(self.pumps.len());
+        for (k, p) in self.pumps.iter().enumerate() {
+            let pump = Pump {
+                region: Region::from_min_max(v(p.min), v(p.max)),
+                direction: v(p.direction),
+                speed: p.speed,
+                strength: p.strength,
+            };
+            pump.validate()
+                .map_err(|e| refuse_named("pumps", k, &p.name, e))?;
+            pumps.push((p.name.clone(), pump));
+        }
+        let mut probes = Vec::with_capacity(self.probes.len());
+        for (k, p) in self.probes.iter().enumerate() {
+            let kind = match p.kind {
+                ProbeSpec::Level { x, z, radius } => ProbeKind::Level {
+                    x,
+                    z,
+                    radius: radius.unwrap_or(2.0 * spacing),
+                },
+                ProbeSpec::Flux {
+                    position,
+                    normal,
+                    half_size,
+                } => {
+                    let n = v(normal);
+                    if !(n.is_finite() && n.length_squared() > 1e-12) {
+                        return Err(refuse_named(
+                            "probes",
+                            k,
+                            &p.name,
+                            ParamError {
+                                field: "kind.normal",
+                                value: format!("{normal:?}"),
+                                allowed: "a finite, non-zero vector",
+                            },
+                        ));
+                    }
+                    ProbeKind::Flux {
+                        pose: Pose {
+                            translation: v(position),
+                            rotation: Quat::from_rotation_arc(Vec3::Z, n.normalize()),
+                        },
+                        half_size: [half_size.0, half_size.1],
+                    }
+                }
+                ProbeSpec::Count { min, max } => ProbeKind::Count {
+                    region: Region::from_min_max(v(min), v(max)),
+                },
+            };
+            kind.validate()
+                .map_err(|e| refuse_named("probes", k, &p.name, e))?;
+            let every_steps = p.every_steps.unwrap_or(1);
+            if every_steps == 0 {
+                return Err(refuse_named(
+                    "probes",
+                    k,
+                    &p.name,
+                    ParamError {
+                        field: "every_steps",
+                        value: "0".into(),
+                        allowed: ">= 1 step",
+                    },
+                ));
+            }
+            probes.push(SceneProbe {
+                name: p.name.clone(),
+                kind,
+                every_steps,
+            });
+        }
         Ok(SceneSetup {
             params,
             container,
             colliders,
             blocks,
             emitters,
+            sinks,
+            pumps,
+            probes,
         })
     }
 
@@ -483,7 +681,7 @@ impl SceneFile {
     ) -> Result<SceneCollider, SceneError> {
         let at = |key: &str| {
             // The collider's own line for its key: the k-th `name:` starts its entry.
-            let (name_line, _) = locate(text, "name", k);
+            let (name_line, _) = locate_after(text, Some("colliders"), "name", k);
             text.lines()
                 .enumerate()
                 .skip(name_line.saturating_sub(1))

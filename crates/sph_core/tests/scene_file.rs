@@ -132,3 +132,69 @@ fn the_readme_example_builds() {
     assert_eq!(s.colliders[0].name, "gate");
     assert_eq!(s.emitters[0].total, Some(2000));
 }
+
+#[test]
+fn sinks_pumps_and_probes_are_built_and_bad_ones_refused_by_name() {
+    let s = build(
+        r#"(
+    container: (min: (0.0, 0.0, 0.0), max: (1.0, 0.5, 0.3)),
+    sinks: [(name: "drain", min: (0.9, 0.0, 0.0), max: (1.0, 0.1, 0.3), open: false)],
+    pumps: [(name: "crank", min: (0.1, 0.0, 0.0), max: (0.3, 0.2, 0.3),
+             direction: (1.0, 0.0, 0.0), speed: 0.4, strength: 5.0)],
+    probes: [
+        (name: "level", kind: Level(x: 0.5, z: 0.15)),
+        (name: "channel", kind: Flux(position: (0.5, 0.1, 0.15), normal: (1.0, 0.0, 0.0),
+                                     half_size: (0.15, 0.1)), every_steps: 10),
+        (name: "basin", kind: Count(min: (0.0, 0.0, 0.0), max: (0.5, 0.5, 0.3))),
+    ],
+)"#,
+    )
+    .unwrap();
+    assert_eq!(s.sinks[0].0, "drain");
+    assert!(!s.sinks[0].1.open);
+    assert!(s.sinks[0].1.region.contains(Vec3::new(0.95, 0.05, 0.1)));
+    assert_eq!(s.pumps[0].1.speed, 0.4);
+    assert_eq!(s.probes.len(), 3);
+    assert_eq!(s.probes[1].every_steps, 10);
+    match s.probes[0].kind {
+        sph_core::ProbeKind::Level { radius, .. } => {
+            assert!((radius - 2.0 * s.params.spacing()).abs() < 1e-7)
+        }
+        other => panic!("{other:?}"),
+    }
+    // A flux rectangle with normal +x turns local z onto x.
+    match s.probes[1].kind {
+        sph_core::ProbeKind::Flux { pose, .. } => {
+            assert!((pose.rotation * Vec3::Z - Vec3::X).length() < 1e-6)
+        }
+        other => panic!("{other:?}"),
+    }
+    let bad = |section: &str| {
+        format!("(\n    container: (min: (0.0, 0.0, 0.0), max: (1.0, 0.5, 0.3)),\n    {section}\n)")
+    };
+    let e = build(&bad(
+        r#"pumps: [(name: "p", min: (0.0, 0.0, 0.0), max: (0.1, 0.1, 0.1), direction: (1.0, 0.0, 0.0), speed: -2.0, strength: 1.0)],"#,
+    ))
+    .unwrap_err();
+    assert_eq!(
+        (e.line, e.field.as_str()),
+        (3, "pumps[0] (\"p\").pump.speed"),
+        "{e}"
+    );
+    assert!(
+        e.message.contains("-2") && e.message.contains("[0, 100]"),
+        "{e}"
+    );
+    let e = build(&bad(
+        r#"sinks: [(name: "d", min: (0.5, 0.0, 0.0), max: (0.1, 0.1, 0.1))],"#,
+    ))
+    .unwrap_err();
+    assert!(e.field.starts_with("sinks[0] (\"d\")"), "{e}");
+    let e = build(&bad(
+        r#"probes: [(name: "q", kind: Level(x: 0.5, z: 0.1), every_steps: 0)],"#,
+    ))
+    .unwrap_err();
+    assert_eq!(e.field, "probes[0] (\"q\").every_steps", "{e}");
+    let e = build(&bad(r#"probes: [(name: "q", kind: Volume(x: 0.5))],"#)).unwrap_err();
+    assert_eq!((e.line, e.field.as_str()), (3, "Volume"), "{e}");
+}

@@ -14,7 +14,9 @@ use crate::guard::{Corrections, Guard};
 use crate::integrate;
 use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
+use crate::pump::{apply_pumps, Pump};
 use crate::rollback::{Rollback, RollbackState, Verdict};
+use crate::sink::{drained_by_any, Sink};
 use crate::solvers::{Solver, SolverStats};
 use crate::stability::{adaptive_time_step, StepExtremes};
 use crate::stage::{evaluation_stages, CpuStage, StageContext};
@@ -86,6 +88,8 @@ pub struct CpuSolver {
     solver_stats: SolverStats,
     /// What is left of the frame [s] while [`CpuSolver::advance_by`] steps.
     frame_remaining: Option<f32>,
+    /// The pumps every step applies ([`crate::pump`]).
+    pumps: Vec<Pump>,
 }
 
 /// What [`CpuSolver::advance_by`] did.
@@ -149,6 +153,7 @@ impl CpuSolver {
             pbf: pbf::PbfScratch::default(),
             solver_stats: SolverStats::default(),
             frame_remaining: None,
+            pumps: Vec::new(),
             params,
             container,
             capacity,
@@ -408,6 +413,51 @@ impl CpuSolver {
         }
     }
 
+    /// The pumps applied at the end of every step (validated; on error the previous pumps stay
+    /// and the error names the pump and the field).
+    pub fn set_pumps(&mut self, pumps: &[Pump]) -> Result<(), ParamError> {
+        for pump in pumps {
+            pump.validate()?;
+        }
+        self.pumps.clear();
+        self.pumps.extend_from_slice(pumps);
+        Ok(())
+    }
+
+    /// The pumps in use.
+    pub fn pumps(&self) -> &[Pump] {
+        &self.pumps
+    }
+
+    /// Removes every particle inside an open sink and returns how many: from the state and from
+    /// the rollback checkpoint, so a rollback never brings a drained particle back.
+    pub fn drain(&mut self, sinks: &[Sink]) -> usize {
+        if sinks.iter().all(|s| !s.open) || self.particles.is_empty() {
+            return 0;
+        }
+        let doomed: Vec<bool> = self
+            .particles
+            .position
+            .par_iter()
+            .map(|&x| drained_by_any(sinks, x))
+            .collect();
+        let removed_ids = self.particles.remove_flagged(&doomed);
+        if removed_ids.is_empty() {
+            return 0;
+        }
+        let removed: std::collections::HashSet<u32> = removed_ids.iter().copied().collect();
+        let in_checkpoint: Vec<bool> = self
+            .checkpoint
+            .id
+            .iter()
+            .map(|id| removed.contains(id))
+            .collect();
+        self.checkpoint.remove_flagged(&in_checkpoint);
+        self.forces_stale = true;
+        self.rollback_state.save_requested = true;
+        removed_ids.len()
+    }
+
     /// Removes every particle, resets time and clears an instability freeze, the checkpoint and
     /// the rollback counters.
     pub fn clear(&mut self) {
@@ -565,7 +615,8 @@ impl CpuSolver {
             remaining: self.frame_remaining,
         };
         let dt = self.advance(step_dt);
-        let p = &self.particles;
+        let p = &mut self.particles;
+        apply_pumps(&self.pumps, &p.position, &mut p.velocity, dt);
         let after = StepExtremes::measure(&p.velocity, &p.acceleration);
         let unstable = after.is_unstable_for(self.params.solver, dt, self.params.smoothing_radius);
         match self.rollback_state.after_check(&self.rollback, unstable) {

@@ -97,6 +97,50 @@ impl ParticleData {
         self.position_previous.clone_from(&other.position_previous);
     }
 
+    /// Removes the particles whose `flag` is set (`flag.len()` must equal [`Self::len`]; extra
+    /// particles are kept), keeping the others' order; returns the removed particles' ids.
+    pub(crate) fn remove_flagged(&mut self, flag: &[bool]) -> Vec<u32> {
+        let removed: Vec<u32> = self
+            .id
+            .iter()
+            .zip(flag)
+            .filter(|(_, &f)| f)
+            .map(|(&id, _)| id)
+            .collect();
+        if removed.is_empty() {
+            return removed;
+        }
+        fn keep<T: Copy>(field: &mut Vec<T>, flag: &[bool]) {
+            let mut k = 0;
+            field.retain(|_| {
+                let drop = flag.get(k).copied().unwrap_or(false);
+                k += 1;
+                !drop
+            });
+        }
+        for field in [
+            &mut self.position,
+            &mut self.velocity,
+            &mut self.velocity_predicted,
+            &mut self.acceleration,
+            &mut self.acceleration_start,
+            &mut self.normal,
+            &mut self.position_previous,
+        ] {
+            keep(field, flag);
+        }
+        for field in [
+            &mut self.density,
+            &mut self.pressure,
+            &mut self.stiffness_density,
+            &mut self.stiffness_divergence,
+        ] {
+            keep(field, flag);
+        }
+        keep(&mut self.id, flag);
+        removed
+    }
+
     /// Gathers every per-particle array by `order` (sorted slot k takes particle order[k]).
     pub(crate) fn reorder(&mut self, order: &[u32], scratch: &mut Vec<Vec3>) {
         for field in [
