@@ -77,7 +77,7 @@ impl Pump {
 
 /// Applies every pump to every particle over a step of `dt` [s].
 pub fn apply_pumps(pumps: &[Pump], position: &[Vec3], velocity: &mut [Vec3], dt: f32) {
-    if pumps.is_empty() || !(dt > 0.0) {
+    if pumps.is_empty() || dt.is_nan() || dt <= 0.0 {
         return;
     }
     velocity
