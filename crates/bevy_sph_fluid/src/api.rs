@@ -231,9 +231,27 @@ pub struct SphStats {
     pub diagnostics: Option<Diagnostics>,
     /// Why the simulation is not stepping (invalid parameter, no container, shaders compiling...).
     pub error: Option<String>,
+    /// Particles the block spawners added since the last reset.
+    pub particles_initial: u64,
+    /// Particles the emitters added since the last reset.
+    pub particles_emitted: u64,
+    /// Particles the drains ([`crate::flow::SphSink`]) removed since the last reset.
+    pub particles_drained: u64,
+    /// The last drain, pump or probe refused (by entity, field and value) or not run on this
+    /// backend; the simulation goes on without it.
+    pub flow_error: Option<String>,
     /// The last scene file that failed to load or validate, by file, line and field (the
     /// running scene stays); cleared when a scene loads.
     pub scene_error: Option<String>,
+}
+
+impl SphStats {
+    /// initial + emitted − drained − live: 0 while no particle is lost or duplicated.
+    pub fn particle_balance(&self) -> i64 {
+        self.particles_initial as i64 + self.particles_emitted as i64
+            - self.particles_drained as i64
+            - self.particle_count as i64
+    }
 }
 
 /// The container: a box standing on a floor plate. Exactly one entity should carry it.

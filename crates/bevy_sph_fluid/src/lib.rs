@@ -28,6 +28,7 @@
 pub mod api;
 pub mod colliders;
 mod cpu_buffers;
+pub mod flow;
 pub mod headless;
 mod plugin;
 mod readback;
@@ -38,6 +39,7 @@ pub mod shared;
 mod simulation;
 
 pub use api::*;
+pub use flow::{SphProbe, SphProbeKind, SphProbeReading, SphPump, SphSink};
 pub use plugin::SphFluidPlugin;
 pub use scene_asset::{SphScene, SphSceneAsset, SphSceneMember};
 pub use sets::{SphGraphSystems, SphStep, SphSystems};
@@ -45,6 +47,7 @@ pub use sets::{SphGraphSystems, SphStep, SphSystems};
 /// Commonly used items.
 pub mod prelude {
     pub use crate::api::*;
+    pub use crate::flow::{SphProbe, SphProbeKind, SphProbeReading, SphPump, SphSink};
     pub use crate::plugin::SphFluidPlugin;
     pub use crate::scene_asset::{SphScene, SphSceneAsset, SphSceneMember};
     pub use crate::sets::SphSystems;

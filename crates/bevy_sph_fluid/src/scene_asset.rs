@@ -1,6 +1,6 @@
 //! Water scenes as assets: a RON file of `sph_core::scene_file` loaded through Bevy's asset
-//! system becomes the parameters, the container, the colliders, the blocks and the emitters of
-//! the simulation. Spawn an entity with [`SphScene`]; when the file changes on disk (with Bevy's
+//! system becomes the parameters, the container, the colliders, the blocks, the emitters, the
+//! drains, the pumps and the probes of the simulation. Spawn an entity with [`SphScene`]; when the file changes on disk (with Bevy's
 //! `file_watcher` feature) the scene is rebuilt, and a file that fails to load or validate is
 //! reported in [`SphStats::scene_error`], [`SphStats::error`] and the log while the running
 //! scene stays.
@@ -15,10 +15,12 @@
 //! ```
 
 use crate::api::*;
+use crate::flow::{SphProbe, SphProbeKind, SphPump, SphSink};
 use bevy::asset::io::Reader;
 use bevy::asset::{AssetLoadError, AssetLoadFailedEvent, AssetLoader, LoadContext};
 use bevy::prelude::*;
 use sph_core::scene_file::{SceneError, SceneFile, SceneSetup};
+use sph_core::ProbeKind;
 
 /// A water scene read from a RON file (`assets/scenes/*.ron`), validated.
 #[derive(Asset, TypePath, Clone, Debug, PartialEq)]
@@ -169,6 +171,7 @@ fn sph_apply_scenes(
             for emitter in &setup.emitters {
                 commands.spawn((SphEmitter(emitter.clone()), member));
             }
+            spawn_flow_devices(&mut commands, setup, member);
             if stats.scene_error.take().is_some()
                 && stats
                     .error
@@ -178,6 +181,70 @@ fn sph_apply_scenes(
                 stats.error = None;
             }
         }
+    }
+}
+
+/// The scene's drains, pumps and probes, named as in the file.
+fn spawn_flow_devices(commands: &mut Commands, setup: &SceneSetup, member: SphSceneMember) {
+    let placed = |pose: sph_core::Pose| {
+        let t = Transform::from_translation(pose.translation).with_rotation(pose.rotation);
+        (t, GlobalTransform::from(t))
+    };
+    for (name, sink) in &setup.sinks {
+        commands.spawn((
+            SphSink {
+                half_extents: sink.region.half_extents,
+                open: sink.open,
+            },
+            placed(sink.region.pose),
+            Name::new(name.clone()),
+            member,
+        ));
+    }
+    for (name, pump) in &setup.pumps {
+        commands.spawn((
+            SphPump {
+                half_extents: pump.region.half_extents,
+                direction: pump.region.pose.rotation.inverse() * pump.direction,
+                speed: pump.speed,
+                strength: pump.strength,
+            },
+            placed(pump.region.pose),
+            Name::new(name.clone()),
+            member,
+        ));
+    }
+    for probe in &setup.probes {
+        let (kind, pose) = match probe.kind {
+            ProbeKind::Level { x, z, radius } => (
+                SphProbeKind::Level { radius },
+                sph_core::Pose {
+                    translation: Vec3::new(x, 0.0, z),
+                    ..default()
+                },
+            ),
+            ProbeKind::Flux { pose, half_size } => (
+                SphProbeKind::Flux {
+                    half_size: Vec2::from(half_size),
+                },
+                pose,
+            ),
+            ProbeKind::Count { region } => (
+                SphProbeKind::Count {
+                    half_extents: region.half_extents,
+                },
+                region.pose,
+            ),
+        };
+        commands.spawn((
+            SphProbe {
+                kind,
+                every_steps: probe.every_steps,
+            },
+            placed(pose),
+            Name::new(probe.name.clone()),
+            member,
+        ));
     }
 }
 

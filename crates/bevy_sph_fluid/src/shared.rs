@@ -119,8 +119,14 @@ pub struct SphSimulation {
     pub backend: SphBackend,
     /// Adapter name.
     pub adapter: String,
-    /// Live particles (the main world is the authority: there are no sinks).
+    /// Live particles (the main world is the authority; the CPU backend's drains report here).
     pub particle_count: u32,
+    /// Particles the block spawners added since the last reset.
+    pub initial: u64,
+    /// Particles the emitters added since the last reset.
+    pub emitted: u64,
+    /// Particles the drains removed since the last reset.
+    pub drained: u64,
     /// Next particle id.
     pub next_id: u32,
     /// Refused particles since the last reset.
@@ -160,6 +166,9 @@ impl SphSimulation {
             backend: requested,
             adapter: String::new(),
             particle_count: 0,
+            initial: 0,
+            emitted: 0,
+            drained: 0,
             next_id: 0,
             refused: 0,
             inside_colliders: 0,
@@ -177,8 +186,8 @@ impl SphSimulation {
     }
 
     /// Queues particles for spawning; leaves out (and counts) what lies inside a collider and
-    /// refuses (and counts) what exceeds the capacity.
-    pub(crate) fn spawn(&mut self, positions: &[Vec3], velocity: Vec3) {
+    /// refuses (and counts) what exceeds the capacity. Returns the particles added.
+    pub(crate) fn spawn(&mut self, positions: &[Vec3], velocity: Vec3) -> u64 {
         let admitted: Vec<Vec3>;
         let positions = match self.boundary() {
             Some(b) if b.colliders().next().is_some() => {
@@ -212,6 +221,7 @@ impl SphSimulation {
             }
         }
         self.particle_count += take as u32;
+        take as u64
     }
 }
 

@@ -28,11 +28,15 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
             )
                 .chain()
                 .in_set(SphSystems::Prepare),
-            sph_plan_step.in_set(SphSystems::Step),
+            sph_plan_step.in_set(SphSystems::Step).in_set(StepSystem),
             (sph_update_stats, sph_write_collider_forces).in_set(SphSystems::Writeback),
         ),
     );
 }
+
+/// The system that steps (or plans the GPU's steps); drains run after it.
+#[derive(SystemSet, Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct StepSystem;
 
 /// Decides the backend: the GPU needs a render app on an adapter with compute shaders.
 pub(crate) fn resolve_backend(app: &mut App) {
@@ -154,6 +158,9 @@ fn reset_particles(
     emitters: &mut Query<&mut SphEmitter>,
 ) {
     sim.particle_count = 0;
+    sim.initial = 0;
+    sim.emitted = 0;
+    sim.drained = 0;
     sim.next_id = 0;
     sim.refused = 0;
     sim.inside_colliders = 0;
@@ -235,7 +242,7 @@ fn sph_spawn_blocks(
             stats.error = Some(e.to_string());
             continue;
         }
-        sim.spawn(&block.block.positions(), block.velocity);
+        sim.initial += sim.spawn(&block.block.positions(), block.velocity);
     }
 }
 
@@ -254,7 +261,7 @@ fn sph_emit(
             continue;
         }
         let emission = emitter.0.emit(duration);
-        sim.spawn(&emission.positions, emission.velocity);
+        sim.emitted += sim.spawn(&emission.positions, emission.velocity);
     }
 }
 
@@ -436,6 +443,9 @@ fn sph_update_stats(
     stats.particle_count = sim.particle_count;
     stats.refused_spawns = sim.refused;
     stats.spawns_inside_colliders = sim.inside_colliders;
+    stats.particles_initial = sim.initial;
+    stats.particles_emitted = sim.emitted;
+    stats.particles_drained = sim.drained;
     match (sim.backend, &sim.cpu) {
         (SphBackend::Cpu, Some(solver)) => {
             stats.step_count = solver.step_count();
