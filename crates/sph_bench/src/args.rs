@@ -236,6 +236,11 @@ pub struct RunArgs {
     /// The scene.
     #[arg(long, value_enum, value_name = "NAME", default_value = "dam-break")]
     pub scenario: Scenario,
+    /// Run a scene file (`assets/scenes/*.ron`) instead of a scenario: the file sets the
+    /// parameters and the solver; --time or --steps (default 2 s), --backend, --substeps,
+    /// --rollback and --json apply. The report adds the particle balance and the probes.
+    #[arg(long, value_name = "FILE", conflicts_with = "scenario")]
+    pub scene: Option<PathBuf>,
     /// Which solver runs the scenario.
     #[arg(long, value_enum, default_value = "cpu")]
     pub backend: Backend,
@@ -318,6 +323,7 @@ impl Default for RunArgs {
     fn default() -> Self {
         Self {
             scenario: Scenario::DamBreak,
+            scene: None,
             backend: Backend::Cpu,
             solver: Solver::Wcsph,
             density_error: None,

@@ -14,6 +14,7 @@ mod progress;
 mod report;
 mod run;
 mod scenarios;
+mod scene_run;
 mod sim;
 mod soak;
 mod trade;

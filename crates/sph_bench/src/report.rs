@@ -73,6 +73,21 @@ pub struct BuoyancyFigures {
     pub error_pct: f64,
 }
 
+/// A probe's readings over the run (`--scene FILE`).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct ProbeSeries {
+    /// The probe's name in the file.
+    pub name: String,
+    /// "level" [m], "flux" [m³/s] or "count" [particles].
+    pub kind: String,
+    /// The mean value over the second half of the run (null when there was none).
+    pub mean_second_half: Option<f64>,
+    /// Flux: the mean speed along the normal over the second half [m/s].
+    pub mean_speed_second_half: Option<f64>,
+    /// [[t, value, particles, mean speed]] (null where the value is undefined: a dry column).
+    pub readings: Vec<[f64; 4]>,
+}
+
 /// One run's figures (the fields the issue asks for, plus context).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Report {
@@ -136,6 +151,16 @@ pub struct Report {
     pub escaped_count: usize,
     /// Particles at the end.
     pub particles_final: usize,
+    /// Particles the emitters added during the run.
+    pub particles_emitted: u64,
+    /// Particles the drains removed during the run.
+    pub particles_drained: u64,
+    /// particles + emitted − drained − final: 0 when nothing was lost or duplicated.
+    pub particle_balance: i64,
+    /// The scene file run (`--scene FILE`).
+    pub scene_file: Option<String>,
+    /// The scene file's probes, with every reading.
+    pub probes: Vec<ProbeSeries>,
     /// GPU memory per particle slot [bytes]: everything allocated / capacity (GPU backend).
     pub gpu_bytes_per_particle: u32,
     /// GPU memory of one million particles at that rate [MiB].

@@ -270,7 +270,12 @@ pub fn run_setup(
         params.time_step as f64
     };
     let left_out = sim.spawns_inside_colliders();
-    let particles = setup.scene.particle_count().max(setup.capacity) - left_out as usize;
+    // A pipe-fill's particles are its capacity; a scene file's are its blocks' (the emitters'
+    // are counted as emitted).
+    let particles = match setup.extras {
+        Some(_) => setup.scene.particle_count(),
+        None => setup.scene.particle_count().max(setup.capacity),
+    } - left_out as usize;
     let speeds: Vec<f32> = state.velocities.iter().map(|v| v.length()).collect();
     let colliders_now: Vec<sph_core::Collider> = setup
         .colliders
@@ -337,8 +342,19 @@ pub fn run_setup(
             .gate_x
             .map(|x| level_difference(&state, x, setup.scene.params.spacing())),
         collider_forces: forces.report(&setup.colliders),
+        particles_emitted: sim.flow_counts().0,
+        particles_drained: sim.flow_counts().1,
+        scene_file: setup.extras.as_ref().map(|e| e.file.clone()),
+        probes: setup
+            .extras
+            .as_ref()
+            .map(|e| sim.probe_log().report(&e.probes, sim_time))
+            .unwrap_or_default(),
         ..Default::default()
     };
+    report.particle_balance = report.particles as i64 + report.particles_emitted as i64
+        - report.particles_drained as i64
+        - report.particles_final as i64;
     if setup.scenario == crate::scenarios::Scenario::Buoyancy {
         report.buoyancy = buoyancy(setup, &report.collider_forces);
     }
@@ -425,7 +441,7 @@ impl ForceWindow {
             .iter()
             .zip(&self.sums)
             .map(|(c, (f, t))| ColliderForceReport {
-                name: c.name.into(),
+                name: c.name.clone(),
                 force: (*f / n).as_vec3().to_array(),
                 torque: (*t / n).as_vec3().to_array(),
                 evaluations: self.evaluations,
@@ -454,13 +470,23 @@ fn buoyancy(setup: &Setup, forces: &[ColliderForceReport]) -> Option<BuoyancyFig
 
 /// `sph-bench run`.
 pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
-    if args.backend == Backend::Gpu && args.solver != Solver::Wcsph {
+    let setup = match &args.scene {
+        // The file decides the parameters and the solver; the run's length, backend and
+        // rollback come from the command line.
+        Some(path) => {
+            let mut setup = crate::scene_run::setup_from_file(path)?;
+            setup.rollback = rollback(args.rollback);
+            setup
+        }
+        None => configured_setup(args),
+    };
+    let solver = setup.scene.params.solver;
+    if args.backend == Backend::Gpu && solver != Solver::Wcsph {
         return Err(format!(
             "--solver {} runs on the CPU backend only (--backend cpu): its GPU passes are not built yet",
-            args.solver.name()
+            solver.name()
         ));
     }
-    let setup = configured_setup(args);
     let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
     run_setup(&setup, args.backend, args.substeps, duration, bars)
 }
@@ -517,5 +543,57 @@ mod tests {
         assert_eq!(off.health, "unstable");
         assert!(off.unstable_step.is_some());
         assert_eq!(off.dt_last, 0.003);
+    }
+
+    #[test]
+    fn a_scene_file_runs_with_its_drain_pump_and_probes_and_the_balance_holds() {
+        let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../assets/scenes/aquaplay.ron");
+        let args = RunArgs {
+            scene: Some(scene),
+            time: Some(0.3),
+            ..Default::default()
+        };
+        let report = run(&args, &Bars::new(true)).unwrap();
+        assert_eq!(report.health, "ok");
+        assert_eq!(report.particle_balance, 0, "{report:?}");
+        assert!(report.particles_emitted > 0);
+        assert_eq!(
+            report.particles + report.particles_emitted as usize
+                - report.particles_drained as usize,
+            report.particles_final
+        );
+        assert_eq!(report.probes.len(), 4);
+        assert!(report.probes.iter().all(|p| !p.readings.is_empty()));
+        // The pump has set the front channel flowing along +x.
+        let flow = &report.probes[0];
+        assert_eq!(flow.kind, "flux");
+        assert!(
+            flow.readings.last().unwrap()[1] > 0.0,
+            "{:?}",
+            flow.readings.last()
+        );
+        // The GPU backend refuses a file's pump, naming the file (before looking for an adapter).
+        let wcsph = std::env::temp_dir().join(format!("sph_bench_pump_{}.ron", std::process::id()));
+        std::fs::write(
+            &wcsph,
+            "(container: (min: (0.0, 0.0, 0.0), max: (0.4, 0.4, 0.4)), \
+             pumps: [(name: \"p\", min: (0.0, 0.0, 0.0), max: (0.1, 0.1, 0.1), \
+             direction: (1.0, 0.0, 0.0), speed: 0.5, strength: 1.0)])",
+        )
+        .unwrap();
+        let gpu = run(
+            &RunArgs {
+                backend: Backend::Gpu,
+                scene: Some(wcsph.clone()),
+                ..args.clone()
+            },
+            &Bars::new(true),
+        );
+        let error = gpu.unwrap_err();
+        assert!(
+            error.contains("CPU backend only") && error.contains(&wcsph.display().to_string()),
+            "{error}"
+        );
     }
 }

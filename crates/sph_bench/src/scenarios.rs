@@ -3,6 +3,7 @@
 use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose};
 use sph_core::glam::{Quat, Vec3};
 use sph_core::scenario::{dam_break, hydrostatic, Scene};
+use sph_core::scene_file::SceneCollider;
 use sph_core::{BlockSpawn, BoxContainer, PipeEmitter, Rollback, SpacingDerivation, SphParams};
 
 /// Gravity [m/s²] of every scenario (T = t sqrt(2g/a)).
@@ -25,6 +26,8 @@ pub enum Scenario {
     Gate,
     /// The hydrostatic tank with a static box held at mid-depth: the water's force on it.
     Buoyancy,
+    /// A scene file (`sph-bench run --scene FILE`), not a named scenario (not in [`Self::ALL`]).
+    SceneFile,
 }
 
 impl Scenario {
@@ -49,6 +52,7 @@ impl Scenario {
             Scenario::Obstacles => "obstacles",
             Scenario::Gate => "gate",
             Scenario::Buoyancy => "buoyancy",
+            Scenario::SceneFile => "scene-file",
         }
     }
 
@@ -66,6 +70,7 @@ impl Scenario {
                 "two basins (0.3 and 0.1 m) and a gate lifted at 0.5 m/s from 0.2 s, 3.2 s"
             }
             Scenario::Buoyancy => "the hydrostatic tank with a box held at mid-depth, 1 s",
+            Scenario::SceneFile => "a scene file (--scene FILE), 2 s",
         }
     }
 }
@@ -80,14 +85,16 @@ pub struct Lift {
 }
 
 /// A collider of a scenario, named in the report.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ScenarioCollider {
     /// Its name in the report.
-    pub name: &'static str,
+    pub name: String,
     /// The collider at t = 0.
     pub collider: Collider,
     /// How it moves (kinematic colliders).
     pub lift: Option<Lift>,
+    /// A scene file's kinematic path (timed waypoints).
+    pub path: Option<SceneCollider>,
 }
 
 impl ScenarioCollider {
@@ -104,7 +111,18 @@ impl ScenarioCollider {
                 Vec3::ZERO
             };
         }
+        if let Some(path) = &self.path {
+            // The velocity is the path's slope over a millisecond around t.
+            let (t, h) = (t as f32, 5e-4);
+            c.pose.translation = path.position_at(t);
+            c.linear_velocity = (path.position_at(t + h) - path.position_at(t - h)) / (2.0 * h);
+        }
         c
+    }
+
+    /// Whether the collider moves (a lift or a path).
+    pub fn moves(&self) -> bool {
+        self.lift.is_some() || self.path.is_some()
     }
 }
 
@@ -135,6 +153,8 @@ pub struct Setup {
     pub walls: bool,
     /// No-slip walls with this friction factor (None: free slip; CPU).
     pub wall_friction: Option<f32>,
+    /// What a scene file (`--scene FILE`) adds: its emitters, drains, pumps and probes.
+    pub extras: Option<crate::scene_run::SceneExtras>,
 }
 
 /// Rounds `length` to whole lattice cells of `spacing`.
@@ -165,6 +185,7 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 gate_x: None,
                 walls: true,
                 wall_friction: None,
+                extras: None,
                 scene,
             }
         }
@@ -187,6 +208,7 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 gate_x: None,
                 walls: true,
                 wall_friction: Some(1.0),
+                extras: None,
                 scene,
             }
         }
@@ -195,6 +217,8 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
         Scenario::Obstacles => obstacles(),
         Scenario::Gate => gate(),
         Scenario::Buoyancy => buoyancy(particles),
+        // Built from its file by `scene_run::setup_from_file`; here an empty dam break.
+        Scenario::SceneFile => setup(Scenario::DamBreak, particles, a),
     }
 }
 
@@ -231,6 +255,7 @@ fn pipe_fill(particles: usize) -> Setup {
         gate_x: None,
         walls: true,
         wall_friction: None,
+        extras: None,
     }
 }
 
@@ -263,6 +288,7 @@ fn dam_break_32k() -> Setup {
         gate_x: None,
         walls: true,
         wall_friction: None,
+        extras: None,
         scene,
     }
 }
@@ -292,7 +318,8 @@ fn obstacles() -> Setup {
     s.duration = 1.0;
     s.colliders = vec![
         ScenarioCollider {
-            name: "box",
+            name: "box".into(),
+            path: None,
             collider: placed(
                 ColliderShape::Cuboid {
                     half_extents: Vec3::splat(0.1),
@@ -303,7 +330,8 @@ fn obstacles() -> Setup {
             lift: None,
         },
         ScenarioCollider {
-            name: "sphere",
+            name: "sphere".into(),
+            path: None,
             collider: placed(
                 ColliderShape::Sphere { radius: 0.1 },
                 Vec3::new(1.3, 0.1, 0.35),
@@ -312,7 +340,8 @@ fn obstacles() -> Setup {
             lift: None,
         },
         ScenarioCollider {
-            name: "capsule",
+            name: "capsule".into(),
+            path: None,
             collider: placed(
                 ColliderShape::Capsule {
                     radius: 0.06,
@@ -354,7 +383,8 @@ fn gate() -> Setup {
         rollback: Rollback::default(),
         emitter: None,
         colliders: vec![ScenarioCollider {
-            name: "gate",
+            name: "gate".into(),
+            path: None,
             collider: placed(
                 ColliderShape::Cuboid {
                     half_extents: Vec3::new(0.02, 0.25, 0.08),
@@ -371,6 +401,7 @@ fn gate() -> Setup {
         gate_x: Some(gate_x),
         walls: true,
         wall_friction: None,
+        extras: None,
         scene,
     }
 }
@@ -393,7 +424,8 @@ fn buoyancy(particles: usize) -> Setup {
     );
     s.scenario = Scenario::Buoyancy;
     s.colliders = vec![ScenarioCollider {
-        name: "box",
+        name: "box".into(),
+        path: None,
         collider: placed(
             ColliderShape::Cuboid { half_extents: half },
             centre,

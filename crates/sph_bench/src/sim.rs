@@ -2,6 +2,7 @@
 //! passes in a headless app (steps in frames of `substeps`, waited for, state read back on demand).
 
 use crate::scenarios::{ScenarioCollider, Setup};
+use crate::scene_run::ProbeLog;
 use bevy::prelude::*;
 use bevy_sph_fluid::headless;
 use bevy_sph_fluid::prelude::*;
@@ -90,13 +91,23 @@ pub trait Simulation {
     fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)>;
     /// The pressure solver's iterations so far.
     fn iterations(&self) -> IterationTotals;
+    /// Particles emitted and drained since the start.
+    fn flow_counts(&self) -> (u64, u64);
+    /// The scene file's probe readings so far (empty without probes).
+    fn probe_log(&self) -> ProbeLog;
 }
 
 /// The CPU reference solver, with the scenario's emitter fed every step and its kinematic
 /// colliders moved before every step.
 pub struct CpuSimulation {
     solver: CpuSolver,
-    emitter: Option<PipeEmitter>,
+    emitters: Vec<PipeEmitter>,
+    /// The scene file's drains and probes.
+    sinks: Vec<sph_core::Sink>,
+    probes: Vec<sph_core::scene_file::SceneProbe>,
+    probe_log: ProbeLog,
+    /// Particles emitted and drained since the start.
+    flow_counts: (u64, u64),
     colliders: Vec<(ScenarioCollider, ColliderId)>,
     spawns_inside_colliders: u64,
     iterations: IterationTotals,
@@ -121,23 +132,63 @@ impl CpuSimulation {
             let id = solver
                 .add_collider(c.at(0.0))
                 .map_err(|e| format!("collider {}: {e}", c.name))?;
-            colliders.push((*c, id));
+            colliders.push((c.clone(), id));
         }
-        let report = solver.spawn(&s.positions(), Vec3::ZERO);
+        let mut inside = 0;
+        match &setup.extras {
+            Some(extras) => {
+                for (k, block) in s.blocks.iter().enumerate() {
+                    let v = extras
+                        .block_velocities
+                        .get(k)
+                        .copied()
+                        .unwrap_or(Vec3::ZERO);
+                    inside += solver.spawn(&block.positions(), v).inside_colliders;
+                }
+                solver
+                    .set_pumps(&extras.pump_list())
+                    .map_err(|e| e.to_string())?;
+            }
+            None => inside = solver.spawn(&s.positions(), Vec3::ZERO).inside_colliders,
+        }
+        let extras = setup.extras.clone().unwrap_or_default();
         Ok(Self {
             solver,
-            emitter: setup.emitter.clone(),
+            emitters: setup
+                .emitter
+                .iter()
+                .cloned()
+                .chain(extras.emitters.iter().cloned())
+                .collect(),
+            sinks: extras.sink_list(),
+            probe_log: ProbeLog::new(&extras.probes),
+            probes: extras.probes,
+            flow_counts: (0, 0),
             colliders,
-            spawns_inside_colliders: report.inside_colliders as u64,
+            spawns_inside_colliders: inside as u64,
             iterations: IterationTotals::default(),
         })
+    }
+
+    /// Reads the probes that are due.
+    fn measure_probes(&mut self) {
+        let step = self.solver.step_count();
+        let p = self.solver.particles();
+        for (k, probe) in self.probes.iter().enumerate() {
+            if self.probe_log.due(k, probe.every_steps, step) {
+                let reading = probe
+                    .kind
+                    .measure(self.solver.params(), &p.position, &p.velocity);
+                self.probe_log.record(k, step, self.solver.time(), reading);
+            }
+        }
     }
 
     /// Moves the lifted colliders to their pose at the middle of the next step.
     fn move_colliders(&mut self) {
         let t = self.solver.time() + 0.5 * self.solver.last_time_step() as f64;
         for (c, id) in &self.colliders {
-            if c.lift.is_some() {
+            if c.moves() {
                 let at = c.at(t);
                 // The pose is valid for every t (a translation along y of a valid collider).
                 let _ = self.solver.set_collider_motion(
@@ -155,10 +206,13 @@ impl Simulation for CpuSimulation {
     fn advance(&mut self, steps: u32) -> Result<(u32, f64), String> {
         let t = Instant::now();
         for _ in 0..steps {
-            if let Some(emitter) = &mut self.emitter {
+            for emitter in &mut self.emitters {
                 let dt = self.solver.last_time_step();
                 let emission = emitter.emit(dt);
-                self.solver.spawn(&emission.positions, emission.velocity);
+                self.flow_counts.0 += self
+                    .solver
+                    .spawn(&emission.positions, emission.velocity)
+                    .spawned as u64;
             }
             self.move_colliders();
             let before = self.solver.step_count();
@@ -168,6 +222,8 @@ impl Simulation for CpuSimulation {
                 self.iterations
                     .add(stats.density_iterations, stats.divergence_iterations);
             }
+            self.flow_counts.1 += self.solver.drain(&self.sinks) as u64;
+            self.measure_probes();
         }
         Ok((steps, t.elapsed().as_secs_f64() * 1e3))
     }
@@ -253,6 +309,14 @@ impl Simulation for CpuSimulation {
     fn iterations(&self) -> IterationTotals {
         self.iterations
     }
+
+    fn flow_counts(&self) -> (u64, u64) {
+        self.flow_counts
+    }
+
+    fn probe_log(&self) -> ProbeLog {
+        self.probe_log.clone()
+    }
 }
 
 /// The plugin's GPU passes in a headless app; the scenario's colliders are `SphCollider`
@@ -272,6 +336,14 @@ impl GpuSimulation {
             return Err(
                 "--walls off is CPU only (the GPU backend always samples the walls)".into(),
             );
+        }
+        if let Some(extras) = &setup.extras {
+            if !(extras.sinks.is_empty() && extras.pumps.is_empty() && extras.probes.is_empty()) {
+                return Err(format!(
+                    "{}: drains, pumps and probes run on the CPU backend only (--backend cpu): their GPU passes are not built yet",
+                    extras.file
+                ));
+            }
         }
         let adapter = headless::vulkan_adapter()?;
         let s = &setup.scene;
@@ -306,20 +378,25 @@ impl GpuSimulation {
                             .with_rotation(at.pose.rotation),
                     ))
                     .id();
-                (*c, entity)
+                (c.clone(), entity)
             })
             .collect();
         // Two frames: the colliders' transforms propagate, then the blocks spawn around them.
         app.update();
         app.update();
-        for block in &s.blocks {
+        let extras = setup.extras.clone().unwrap_or_default();
+        for (k, block) in s.blocks.iter().enumerate() {
             app.world_mut().spawn(SphBlockSpawn {
                 block: *block,
-                velocity: Vec3::ZERO,
+                velocity: extras
+                    .block_velocities
+                    .get(k)
+                    .copied()
+                    .unwrap_or(Vec3::ZERO),
             });
         }
-        if let Some(emitter) = setup.emitter.clone() {
-            app.world_mut().spawn(SphEmitter(emitter));
+        for emitter in setup.emitter.iter().chain(&extras.emitters) {
+            app.world_mut().spawn(SphEmitter(emitter.clone()));
         }
         app.update();
         Ok(Self {
@@ -359,7 +436,7 @@ impl Simulation for GpuSimulation {
             let dt = self.app.world().resource::<SphParams>().time_step as f64;
             let t = self.time() + 0.5 * k as f64 * dt;
             for (c, entity) in &self.colliders {
-                if c.lift.is_some() {
+                if c.moves() {
                     let at = c.at(t);
                     if let Some(mut transform) = self.app.world_mut().get_mut::<Transform>(*entity)
                     {
@@ -478,5 +555,14 @@ impl Simulation for GpuSimulation {
 
     fn iterations(&self) -> IterationTotals {
         IterationTotals::default()
+    }
+
+    fn flow_counts(&self) -> (u64, u64) {
+        let stats = self.stats();
+        (stats.particles_emitted, stats.particles_drained)
+    }
+
+    fn probe_log(&self) -> ProbeLog {
+        ProbeLog::default()
     }
 }

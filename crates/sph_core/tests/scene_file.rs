@@ -34,6 +34,24 @@ fn the_shipped_scenes_build() {
     assert_eq!(lift.position_at(0.0), Vec3::new(0.4, 0.25, 0.05));
     assert!((lift.position_at(0.7) - Vec3::new(0.4, 0.5, 0.05)).length() < 1e-6);
     assert_eq!(lift.position_at(5.0), Vec3::new(0.4, 0.75, 0.05));
+    let (_, lock) = load("lock.ron");
+    let lock = lock.unwrap();
+    assert_eq!((lock.colliders.len(), lock.probes.len()), (1, 3));
+    let (_, aquaplay) = load("aquaplay.ron");
+    let aquaplay = aquaplay.unwrap();
+    assert_eq!(aquaplay.sinks.len(), 1);
+    assert_eq!(aquaplay.pumps.len(), 1);
+    assert_eq!(aquaplay.probes.len(), 4);
+    assert_eq!(aquaplay.emitters.len(), 1);
+    // Every block of every shipped scene lies inside its container.
+    for scene in [&dam, &pipe, &gate, &lock, &aquaplay] {
+        for (block, _) in &scene.blocks {
+            assert!(
+                scene.container.contains(block.min, 1e-6)
+                    && scene.container.contains(block.max, 1e-6)
+            );
+        }
+    }
 }
 
 #[test]

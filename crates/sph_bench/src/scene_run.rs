@@ -1,0 +1,197 @@
+//! `sph-bench run --scene FILE`: a scene file (`sph_core::scene_file`) as a setup, with its
+//! emitters, drains, pumps and probes; the probes' readings go into the report.
+
+use crate::report::ProbeSeries;
+use crate::scenarios::{Scenario, ScenarioCollider, Setup};
+use sph_core::glam::Vec3;
+use sph_core::scenario::Scene;
+use sph_core::scene_file::{SceneFile, SceneProbe};
+use sph_core::{PipeEmitter, ProbeKind, ProbeReading, Pump, Rollback, Sink};
+use std::path::Path;
+
+/// How long a scene file runs unless `--time` or `--steps` says otherwise [s].
+pub const SCENE_DURATION: f64 = 2.0;
+
+/// What a scene file adds to a setup.
+#[derive(Clone, Debug, Default)]
+pub struct SceneExtras {
+    /// The file, as given.
+    pub file: String,
+    /// Every pipe emitter of the file.
+    pub emitters: Vec<PipeEmitter>,
+    /// Each block's initial velocity, in the order of `Setup::scene.blocks`.
+    pub block_velocities: Vec<Vec3>,
+    /// The drains with their names.
+    pub sinks: Vec<(String, Sink)>,
+    /// The pumps with their names.
+    pub pumps: Vec<(String, Pump)>,
+    /// The probes.
+    pub probes: Vec<SceneProbe>,
+}
+
+impl SceneExtras {
+    /// The drains alone.
+    pub fn sink_list(&self) -> Vec<Sink> {
+        self.sinks.iter().map(|(_, s)| *s).collect()
+    }
+
+    /// The pumps alone.
+    pub fn pump_list(&self) -> Vec<Pump> {
+        self.pumps.iter().map(|(_, p)| *p).collect()
+    }
+}
+
+/// Reads, parses and builds `path`; the error names the file, the line and the field.
+pub fn setup_from_file(path: &Path) -> Result<Setup, String> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let built = SceneFile::parse(&text, &file)
+        .and_then(|s| s.build(&file, &text))
+        .map_err(|e| e.to_string())?;
+    let scene = Scene {
+        params: built.params,
+        container: built.container,
+        blocks: built.blocks.iter().map(|(b, _)| *b).collect(),
+    };
+    let emitted: u64 = built
+        .emitters
+        .iter()
+        .map(|e| e.total.unwrap_or(20_000))
+        .sum();
+    let capacity = scene.particle_count() + emitted as usize;
+    Ok(Setup {
+        scenario: Scenario::SceneFile,
+        capacity: capacity.max(1),
+        duration: SCENE_DURATION,
+        column_width_a: None,
+        water_depth: None,
+        rollback: Rollback::default(),
+        emitter: None,
+        colliders: built
+            .colliders
+            .iter()
+            .map(|c| ScenarioCollider {
+                name: c.name.clone(),
+                collider: c.collider,
+                lift: None,
+                path: (!c.path.is_empty()).then(|| c.clone()),
+            })
+            .collect(),
+        gate_x: None,
+        walls: true,
+        wall_friction: None,
+        extras: Some(SceneExtras {
+            file,
+            emitters: built.emitters.clone(),
+            block_velocities: built.blocks.iter().map(|(_, v)| *v).collect(),
+            sinks: built.sinks.clone(),
+            pumps: built.pumps.clone(),
+            probes: built.probes.clone(),
+        }),
+        scene,
+    })
+}
+
+/// The readings of every probe, as they arrive.
+#[derive(Clone, Debug, Default)]
+pub struct ProbeLog {
+    /// Per probe: (simulated time, reading).
+    pub readings: Vec<Vec<(f64, ProbeReading)>>,
+    /// Per probe: the step of its last reading.
+    last_step: Vec<Option<u64>>,
+}
+
+impl ProbeLog {
+    /// A log for `probes`.
+    pub fn new(probes: &[SceneProbe]) -> Self {
+        Self {
+            readings: vec![Vec::new(); probes.len()],
+            last_step: vec![None; probes.len()],
+        }
+    }
+
+    /// Whether probe `k` is due at `step` (every `every_steps` steps; a step count that went
+    /// back, after a rollback, makes it due again).
+    pub fn due(&self, k: usize, every_steps: u32, step: u64) -> bool {
+        match self.last_step.get(k).copied().flatten() {
+            Some(at) => step < at || step >= at + every_steps as u64,
+            None => true,
+        }
+    }
+
+    /// Records probe `k`'s reading at `step` and `time`.
+    pub fn record(&mut self, k: usize, step: u64, time: f64, reading: ProbeReading) {
+        if let (Some(series), Some(last)) = (self.readings.get_mut(k), self.last_step.get_mut(k)) {
+            series.push((time, reading));
+            *last = Some(step);
+        }
+    }
+
+    /// The report's series, with each probe's mean over the second half of the run.
+    pub fn report(&self, probes: &[SceneProbe], end: f64) -> Vec<ProbeSeries> {
+        probes
+            .iter()
+            .zip(&self.readings)
+            .map(|(probe, series)| {
+                let late: Vec<f32> = series
+                    .iter()
+                    .filter(|(t, _)| *t >= 0.5 * end)
+                    .filter_map(|(_, r)| r.value)
+                    .collect();
+                let speeds: Vec<f32> = series
+                    .iter()
+                    .filter(|(t, _)| *t >= 0.5 * end)
+                    .filter_map(|(_, r)| r.mean_speed)
+                    .collect();
+                let mean = |v: &[f32]| {
+                    (!v.is_empty())
+                        .then(|| v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64)
+                };
+                ProbeSeries {
+                    name: probe.name.clone(),
+                    kind: match probe.kind {
+                        ProbeKind::Level { .. } => "level",
+                        ProbeKind::Flux { .. } => "flux",
+                        ProbeKind::Count { .. } => "count",
+                    }
+                    .into(),
+                    mean_second_half: mean(&late),
+                    mean_speed_second_half: mean(&speeds),
+                    readings: series
+                        .iter()
+                        .map(|(t, r)| {
+                            [
+                                *t,
+                                r.value.map_or(f64::NAN, f64::from),
+                                r.particles as f64,
+                                r.mean_speed.map_or(f64::NAN, f64::from),
+                            ]
+                        })
+                        .collect(),
+                }
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_shipped_scenes_are_setups_and_a_bad_file_names_its_line() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes");
+        let pipe = setup_from_file(&dir.join("pipe_fill.ron")).unwrap();
+        let extras = pipe.extras.as_ref().unwrap();
+        assert_eq!(extras.emitters.len(), 1);
+        assert!(pipe.capacity >= 8000);
+        let bad = std::env::temp_dir().join(format!("sph_bench_bad_{}.ron", std::process::id()));
+        std::fs::write(
+            &bad,
+            "(\n  container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)),\n  sinks: [(name: \"d\", min: (0.0, 0.0, 0.0), max: (0.0, 0.1, 0.1))],\n)",
+        )
+        .unwrap();
+        let e = setup_from_file(&bad).unwrap_err();
+        assert!(e.contains(":3:") && e.contains("sinks[0]"), "{e}");
+    }
+}
