@@ -90,6 +90,19 @@ fn dfsph_water_on_the_cpu_backend_is_drawn() {
 }
 
 #[test]
+fn the_lock_and_aquaplay_scene_files_render() {
+    for file in ["assets/scenes/lock.ron", "assets/scenes/aquaplay.ron"] {
+        let path = format!("{}/{file}", env!("CARGO_MANIFEST_DIR"));
+        let (w, _, rgb) = screenshot(&["--scene", &path, "--frames", "20"]);
+        let blue = blue_pixels(w, &rgb);
+        assert!(
+            blue >= 2_000,
+            "{file}: only {blue} blue particle pixels in the box"
+        );
+    }
+}
+
+#[test]
 fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
     let (w, h, rgb) = screenshot(&["--particles", "8192", "--frames", "30", "--obstacles"]);
     assert_eq!((w, h), (1280, 720));

@@ -1,6 +1,7 @@
 //! `--scene FILE`: the sandbox runs a scene file (`assets/scenes/*.ron`) instead of the start
 //! panel's scene, and dresses the scene's entities: a floor plate and glass walls for the
-//! container, a flat-shaded mesh for each collider. Editing the file while the sandbox runs
+//! container, a flat-shaded mesh for each collider, a dark grate at the bottom of each drain and
+//! a green plate at the bottom of each pump (thin, so the water over them stays visible). Editing the file while the sandbox runs
 //! reloads the scene (Bevy's file watcher).
 
 use crate::flat_material::FlatMaterial;
@@ -15,6 +16,7 @@ type NewMember<'a> = (
     &'a SphSceneMember,
     Option<&'a SphCollider>,
     Option<&'a SphContainer>,
+    (Option<&'a SphSink>, Option<&'a SphPump>),
 );
 
 /// Meshes and tags every entity a scene file spawned, when it appears.
@@ -25,8 +27,23 @@ pub fn dress_scene_members(
     mut materials: ResMut<Assets<FlatMaterial>>,
 ) {
     // `try_insert`: a reload in the same frame may have despawned the entity already.
-    for (entity, member, collider, container) in &added {
+    for (entity, member, collider, container, (sink, pump)) in &added {
         commands.entity(entity).try_insert(SceneEntity);
+        // A plate 5 mm thick at the bottom of the device's box, in the device's frame.
+        let plate = |half: Vec3| (Cuboid::new(2.0 * half.x, 0.005, 2.0 * half.z), -half.y);
+        let device = sink
+            .map(|s| (plate(s.half_extents), Color::srgb(0.15, 0.15, 0.17)))
+            .or(pump.map(|p| (plate(p.half_extents), Color::srgb(0.25, 0.7, 0.3))));
+        if let Some(((cuboid, bottom), colour)) = device {
+            let colour = materials.add(FlatMaterial::new(colour));
+            commands.spawn((
+                Mesh3d(meshes.add(cuboid)),
+                MeshMaterial3d(colour),
+                Transform::from_translation(Vec3::Y * bottom),
+                ChildOf(entity),
+                *member,
+            ));
+        }
         if let Some(collider) = collider {
             let mesh = match collider.shape {
                 ColliderShape::Cuboid { half_extents } => {

@@ -203,11 +203,9 @@ fn sph_sync_pumps(
         refuse(&mut stats, "SphPump", entity, e);
     }
     match (sim.backend, &mut sim.cpu) {
-        (SphBackend::Cpu, Some(solver)) => {
-            if solver.pumps() != placed.as_slice() {
-                // Validated above, so this cannot fail.
-                let _ = solver.set_pumps(&placed);
-            }
+        // Validated above, so setting them cannot fail.
+        (SphBackend::Cpu, Some(solver)) if solver.pumps() != placed.as_slice() => {
+            let _ = solver.set_pumps(&placed);
         }
         (SphBackend::Gpu, _) if !placed.is_empty() => gpu_not_built(&mut stats, "SphPump"),
         _ => {}
