@@ -389,6 +389,19 @@ pub fn runtime_panel(
                 stats.time_step,
                 stats.rollbacks
             ));
+            if stats.particles_emitted > 0 || stats.particles_drained > 0 {
+                ui.label(format!(
+                    "balance: {} initial + {} emitted − {} drained − {} live = {}",
+                    stats.particles_initial,
+                    stats.particles_emitted,
+                    stats.particles_drained,
+                    stats.particle_count,
+                    stats.particle_balance()
+                ));
+            }
+            if let Some(flow) = &stats.flow_error {
+                ui.colored_label(Color32::ORANGE, flow);
+            }
             if stats.pressure_iterations_mean > 0.0 {
                 ui.label(format!(
                     "solver iterations per step: density {:.1} (max {}), divergence {:.1}",

@@ -3,8 +3,10 @@
 use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose};
 use sph_core::glam::{Quat, Vec3};
 use sph_core::scenario::{dam_break, hydrostatic, Scene};
-use sph_core::scene_file::SceneCollider;
-use sph_core::{BlockSpawn, BoxContainer, PipeEmitter, Rollback, SpacingDerivation, SphParams};
+use sph_core::scene_file::{SceneCollider, SceneProbe};
+use sph_core::{
+    BlockSpawn, BoxContainer, PipeEmitter, Pump, Rollback, Sink, SpacingDerivation, SphParams,
+};
 
 /// Gravity [m/s²] of every scenario (T = t sqrt(2g/a)).
 pub const G: f64 = 9.81;
@@ -154,7 +156,36 @@ pub struct Setup {
     /// No-slip walls with this friction factor (None: free slip; CPU).
     pub wall_friction: Option<f32>,
     /// What a scene file (`--scene FILE`) adds: its emitters, drains, pumps and probes.
-    pub extras: Option<crate::scene_run::SceneExtras>,
+    pub extras: Option<SceneExtras>,
+}
+
+/// What a scene file adds to a setup.
+#[derive(Clone, Debug, Default)]
+pub struct SceneExtras {
+    /// The file, as given.
+    pub file: String,
+    /// Every pipe emitter of the file.
+    pub emitters: Vec<PipeEmitter>,
+    /// Each block's initial velocity, in the order of `Setup::scene.blocks`.
+    pub block_velocities: Vec<Vec3>,
+    /// The drains with their names.
+    pub sinks: Vec<(String, Sink)>,
+    /// The pumps with their names.
+    pub pumps: Vec<(String, Pump)>,
+    /// The probes.
+    pub probes: Vec<SceneProbe>,
+}
+
+impl SceneExtras {
+    /// The drains alone.
+    pub fn sink_list(&self) -> Vec<Sink> {
+        self.sinks.iter().map(|(_, s)| *s).collect()
+    }
+
+    /// The pumps alone.
+    pub fn pump_list(&self) -> Vec<Pump> {
+        self.pumps.iter().map(|(_, p)| *p).collect()
+    }
 }
 
 /// Rounds `length` to whole lattice cells of `spacing`.

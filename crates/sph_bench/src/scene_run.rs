@@ -2,44 +2,14 @@
 //! emitters, drains, pumps and probes; the probes' readings go into the report.
 
 use crate::report::ProbeSeries;
-use crate::scenarios::{Scenario, ScenarioCollider, Setup};
-use sph_core::glam::Vec3;
+use crate::scenarios::{Scenario, ScenarioCollider, SceneExtras, Setup};
 use sph_core::scenario::Scene;
 use sph_core::scene_file::{SceneFile, SceneProbe};
-use sph_core::{PipeEmitter, ProbeKind, ProbeReading, Pump, Rollback, Sink};
+use sph_core::{ProbeKind, ProbeReading, Rollback};
 use std::path::Path;
 
 /// How long a scene file runs unless `--time` or `--steps` says otherwise [s].
 pub const SCENE_DURATION: f64 = 2.0;
-
-/// What a scene file adds to a setup.
-#[derive(Clone, Debug, Default)]
-pub struct SceneExtras {
-    /// The file, as given.
-    pub file: String,
-    /// Every pipe emitter of the file.
-    pub emitters: Vec<PipeEmitter>,
-    /// Each block's initial velocity, in the order of `Setup::scene.blocks`.
-    pub block_velocities: Vec<Vec3>,
-    /// The drains with their names.
-    pub sinks: Vec<(String, Sink)>,
-    /// The pumps with their names.
-    pub pumps: Vec<(String, Pump)>,
-    /// The probes.
-    pub probes: Vec<SceneProbe>,
-}
-
-impl SceneExtras {
-    /// The drains alone.
-    pub fn sink_list(&self) -> Vec<Sink> {
-        self.sinks.iter().map(|(_, s)| *s).collect()
-    }
-
-    /// The pumps alone.
-    pub fn pump_list(&self) -> Vec<Pump> {
-        self.pumps.iter().map(|(_, p)| *p).collect()
-    }
-}
 
 /// Reads, parses and builds `path`; the error names the file, the line and the field.
 pub fn setup_from_file(path: &Path) -> Result<Setup, String> {
