@@ -43,7 +43,8 @@ fn screenshot(args: &[&str]) -> (u32, u32, Vec<u8>) {
     let shot = std::env::temp_dir().join(format!(
         "sandbox-{}-{}.png",
         std::process::id(),
-        args.join("").replace('-', "")
+        // One file name per argument list (a path's separators become underscores).
+        args.join("").replace('-', "").replace(['/', '.'], "_")
     ));
     let _ = std::fs::remove_file(&shot);
     let output = Command::new("timeout")

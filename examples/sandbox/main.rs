@@ -51,7 +51,8 @@ struct Cli {
     obstacles: bool,
     /// `--real-time`: each frame advances the water by the frame's own time.
     real_time: bool,
-    /// `--scene FILE`: a scene file under `assets/` (e.g. `scenes/dam_break.ron`), reloaded when
+    /// `--scene FILE`: a scene file under `assets/` (`scenes/dam_break.ron`,
+    /// `assets/scenes/dam_break.ron` or its absolute path), reloaded when
     /// it changes.
     scene: Option<String>,
     /// `--solver dfsph|pbf`: that solver on the CPU backend (their GPU passes are not built yet).
@@ -100,7 +101,7 @@ fn parse_cli() -> Result<Cli, String> {
             "--obstacles" => cli.obstacles = true,
             "--real-time" => cli.real_time = true,
             "--scene" => {
-                cli.scene = Some(value()?);
+                cli.scene = Some(asset_path(&value()?)?);
                 cli.start = true;
                 k += 1;
             }
@@ -118,6 +119,27 @@ fn parse_cli() -> Result<Cli, String> {
         k += 1;
     }
     Ok(cli)
+}
+
+/// The path of `file` inside the sandbox's `assets/` folder (where Bevy's asset system loads
+/// and watches it): `scenes/x.ron`, `assets/scenes/x.ron` and the absolute path all give
+/// `scenes/x.ron`; a file outside the folder is refused.
+fn asset_path(file: &str) -> Result<String, String> {
+    let assets = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"));
+    let path = std::path::Path::new(file);
+    let inside = if path.is_absolute() {
+        path.strip_prefix(assets).ok()
+    } else {
+        Some(path.strip_prefix("assets").unwrap_or(path))
+    };
+    inside
+        .map(|p| p.to_string_lossy().into_owned())
+        .ok_or_else(|| {
+            format!(
+                "--scene = {file:?}: allowed a file under {} (the asset folder Bevy loads and watches)",
+                assets.display()
+            )
+        })
 }
 
 fn main() {
