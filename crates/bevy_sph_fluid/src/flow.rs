@@ -222,13 +222,14 @@ fn gpu_not_built(stats: &mut SphStats, what: &str) {
     stats.flow_error = Some(message);
 }
 
-/// Removes the particles inside open drains after the frame's steps, and counts them.
+/// Removes the particles inside open drains after the frame's steps, and counts them (a paused
+/// frame drains nothing).
 fn sph_drain(
     sinks: Query<(Entity, &SphSink, &GlobalTransform)>,
     mut sim: ResMut<SphSimulation>,
     mut stats: ResMut<SphStats>,
 ) {
-    if sinks.is_empty() {
+    if sinks.is_empty() || sim.plan.steps == 0 {
         return;
     }
     let mut placed = Vec::new();
