@@ -2,9 +2,10 @@
 //! counts and the balance initial + emitted − drained = live holds at every frame; the pump
 //! moves the water; the probes send readings; a bad device is refused by entity and field.
 
+mod common;
+
 use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
-use std::path::PathBuf;
 
 const SCENE: &str = r#"(
     solver: Pbf(),
@@ -21,13 +22,6 @@ const SCENE: &str = r#"(
         (name: "basin", kind: Count(min: (0.0, 0.0, 0.0), max: (0.3, 0.3, 0.12)), every_steps: 4),
     ],
 )"#;
-
-fn asset_dir(text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_flow_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("scene.ron"), text).unwrap();
-    dir
-}
 
 #[derive(Resource, Default)]
 struct Readings(Vec<(String, SphProbeReading)>);
@@ -48,21 +42,9 @@ fn collect(
 
 #[test]
 fn drains_pumps_and_probes_from_a_scene_file() {
-    let dir = asset_dir(SCENE);
-    let plugins = DefaultPlugins
-        .build()
-        .disable::<bevy::winit::WinitPlugin>()
-        .set(AssetPlugin {
-            file_path: dir.to_string_lossy().into_owned(),
-            ..default()
-        });
-    let mut app = bevy_sph_fluid::headless::headless_app(plugins, 8_000, SphBackend::Cpu, false);
+    let dir = common::scene_dir("flow", SCENE);
+    let mut app = common::app_with_scene(&dir, 8_000);
     app.init_resource::<Readings>().add_systems(Last, collect);
-    let handle = app
-        .world()
-        .resource::<AssetServer>()
-        .load::<SphSceneAsset>("scene.ron");
-    app.world_mut().spawn(SphScene(handle));
     for _ in 0..500 {
         app.update();
         if app.world().resource::<SphStats>().particle_count > 0 {

@@ -9,7 +9,6 @@ use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
 use bevy_sph_fluid::scene_asset::SphColliderPath;
 use sph_core::Solver;
-use std::path::PathBuf;
 
 const GOOD: &str = r#"(
     solver: Pbf(),
@@ -25,32 +24,6 @@ const GOOD: &str = r#"(
     ],
     blocks: [(min: (0.0, 0.0, 0.0), max: (0.2, 0.2, 0.2))],
 )"#;
-
-/// A directory of its own holding `scene.ron` with `text`.
-fn asset_dir(test: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_scenes_{}_{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("scene.ron"), text).unwrap();
-    dir
-}
-
-/// A running CPU app whose assets live in `dir`, with the scene `scene.ron` spawned.
-fn app_with_scene(dir: &std::path::Path) -> App {
-    let plugins = DefaultPlugins
-        .build()
-        .disable::<bevy::winit::WinitPlugin>()
-        .set(AssetPlugin {
-            file_path: dir.to_string_lossy().into_owned(),
-            ..default()
-        });
-    let mut app = bevy_sph_fluid::headless::headless_app(plugins, 4_000, SphBackend::Cpu, false);
-    let handle = app
-        .world()
-        .resource::<AssetServer>()
-        .load::<SphSceneAsset>("scene.ron");
-    app.world_mut().spawn(SphScene(handle));
-    app
-}
 
 fn update_until(app: &mut App, what: &str, done: impl Fn(&mut App) -> bool) {
     for _ in 0..500 {
@@ -75,8 +48,8 @@ fn members(app: &mut App) -> usize {
 
 #[test]
 fn a_scene_file_spawns_reloads_and_survives_a_broken_edit() {
-    let dir = asset_dir("reload", GOOD);
-    let mut app = app_with_scene(&dir);
+    let dir = common::scene_dir("reload", GOOD);
+    let mut app = common::app_with_scene(&dir, 4_000);
     // Container, two colliders, one block.
     update_until(&mut app, "the scene spawns", |app| members(app) == 4);
     update_until(&mut app, "the block spawns", |app| {
@@ -149,8 +122,8 @@ fn a_scene_file_spawns_reloads_and_survives_a_broken_edit() {
 
 #[test]
 fn a_kinematic_collider_follows_its_path_by_simulated_time() {
-    let dir = asset_dir("path", GOOD);
-    let mut app = app_with_scene(&dir);
+    let dir = common::scene_dir("path", GOOD);
+    let mut app = common::app_with_scene(&dir, 4_000);
     app.insert_resource(SphControl {
         running: true,
         substeps: 4,

@@ -32,3 +32,30 @@ pub fn step_to(app: &mut App, steps: u64) {
 pub fn snapshot(app: &mut App) -> SphSnapshot {
     bevy_sph_fluid::headless::snapshot(app).unwrap()
 }
+
+/// A directory of its own (per process and `test`) holding `scene.ron` with `text`.
+pub fn scene_dir(test: &str, text: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("sph_scenes_{}_{test}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("scene.ron"), text).unwrap();
+    dir
+}
+
+/// A paused CPU app of `capacity` particles whose assets live in `dir`, with the scene
+/// `scene.ron` spawned (it loads over the next updates).
+pub fn app_with_scene(dir: &std::path::Path, capacity: u32) -> App {
+    let plugins = DefaultPlugins
+        .build()
+        .disable::<bevy::winit::WinitPlugin>()
+        .set(AssetPlugin {
+            file_path: dir.to_string_lossy().into_owned(),
+            ..default()
+        });
+    let mut app = bevy_sph_fluid::headless::headless_app(plugins, capacity, SphBackend::Cpu, false);
+    let handle = app
+        .world()
+        .resource::<AssetServer>()
+        .load::<SphSceneAsset>("scene.ron");
+    app.world_mut().spawn(SphScene(handle));
+    app
+}

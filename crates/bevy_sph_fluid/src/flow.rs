@@ -175,13 +175,17 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
         );
 }
 
-/// Names a refused device in [`SphStats::flow_error`] (and the log, once per message).
-fn refuse(stats: &mut SphStats, what: &str, entity: Entity, e: sph_core::ParamError) {
-    let message = format!("{what} {entity}: {e}");
+/// Puts `message` in [`SphStats::flow_error`] and the log (once while it stays the same).
+fn report(stats: &mut SphStats, message: String) {
     if stats.flow_error.as_deref() != Some(&message) {
-        warn!("SphFluidPlugin: {message}; it is left out");
+        warn!("SphFluidPlugin: {message}");
     }
     stats.flow_error = Some(message);
+}
+
+/// Names a refused device.
+fn refuse(stats: &mut SphStats, what: &str, entity: Entity, e: sph_core::ParamError) {
+    report(stats, format!("{what} {entity}: {e}; it is left out"));
 }
 
 /// Hands the pumps to the CPU solver before the frame's steps.
@@ -212,14 +216,12 @@ fn sph_sync_pumps(
     }
 }
 
+/// Names a device whose GPU pass does not exist yet.
 fn gpu_not_built(stats: &mut SphStats, what: &str) {
-    let message = format!(
-        "{what} runs on the CPU backend only (SphBackend::Cpu): its GPU pass is not built yet; the simulation goes on without it"
+    report(
+        stats,
+        format!("{what} runs on the CPU backend only (SphBackend::Cpu): its GPU pass is not built yet; the simulation goes on without it"),
     );
-    if stats.flow_error.as_deref() != Some(&message) {
-        warn!("SphFluidPlugin: {message}");
-    }
-    stats.flow_error = Some(message);
 }
 
 /// Removes the particles inside open drains after the frame's steps, and counts them (a paused
