@@ -9,7 +9,8 @@
 //! - [`SphProbe`]: the water level, the flux through a rectangle or the particles in a box,
 //!   sent as [`SphProbeReading`] messages every `every_steps` steps.
 //!
-//! These run on the CPU backend; on the GPU backend they are not built yet, which is logged
+//! Pumps run on both backends (the GPU applies up to 16 in its closing kicks). Drains and probes
+//! run on the CPU backend; on the GPU backend their passes are not built yet, which is logged
 //! once and reported in [`SphStats::flow_error`] (the simulation goes on without them).
 
 use crate::api::*;
@@ -119,6 +120,20 @@ impl SphSink {
 }
 
 impl SphPump {
+    /// The component and the transform that place `pump` (the inverse of [`Self::placed`]).
+    pub fn from_world(pump: &Pump) -> (Self, Transform) {
+        let pose = pump.region.pose;
+        (
+            Self {
+                half_extents: pump.region.half_extents,
+                direction: pose.rotation.inverse() * pump.direction,
+                speed: pump.speed,
+                strength: pump.strength,
+            },
+            Transform::from_translation(pose.translation).with_rotation(pose.rotation),
+        )
+    }
+
     /// The pump in the world.
     pub fn placed(&self, transform: &GlobalTransform) -> Pump {
         let (pose, scale) = pose_of(transform);
@@ -211,7 +226,19 @@ fn sph_sync_pumps(
         (SphBackend::Cpu, Some(solver)) if solver.pumps() != placed.as_slice() => {
             let _ = solver.set_pumps(&placed);
         }
-        (SphBackend::Gpu, _) if !placed.is_empty() => gpu_not_built(&mut stats, "SphPump"),
+        (SphBackend::Gpu, _) => {
+            let most = sph_core::gpu_layout::MAX_GPU_PUMPS;
+            if placed.len() > most {
+                report(
+                    &mut stats,
+                    format!(
+                        "{} SphPump entities: the GPU applies the first {most}",
+                        placed.len()
+                    ),
+                );
+            }
+            sim.frame.pumps = placed;
+        }
         _ => {}
     }
 }

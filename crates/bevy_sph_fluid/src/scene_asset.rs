@@ -202,14 +202,11 @@ fn spawn_flow_devices(commands: &mut Commands, setup: &SceneSetup, member: SphSc
         ));
     }
     for (name, pump) in &setup.pumps {
+        let (pump, transform) = SphPump::from_world(pump);
         commands.spawn((
-            SphPump {
-                half_extents: pump.region.half_extents,
-                direction: pump.region.pose.rotation.inverse() * pump.direction,
-                speed: pump.speed,
-                strength: pump.strength,
-            },
-            placed(pump.region.pose),
+            pump,
+            transform,
+            GlobalTransform::from(transform),
             Name::new(name.clone()),
             member,
         ));

@@ -96,6 +96,8 @@ pub struct SphFrame {
     pub rollback: sph_core::Rollback,
     /// The state buffers.
     pub buffers: Option<SphGpuBuffers>,
+    /// The pumps (the first `sph_core::gpu_layout::MAX_GPU_PUMPS` are applied).
+    pub pumps: Vec<sph_core::Pump>,
     /// The boundary samples (walls and colliders) with their generation: the render world
     /// uploads them when the generation changes.
     pub boundary: Option<(u64, Arc<GpuBoundarySamples>)>,

@@ -8,7 +8,7 @@ use naga_oil::compose::{
 };
 use std::collections::HashMap;
 
-const LIBRARY: [(&str, &str); 7] = [
+const LIBRARY: [(&str, &str); 8] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -36,6 +36,10 @@ const LIBRARY: [(&str, &str); 7] = [
     (
         "guard.wgsl",
         include_str!("../src/render/shaders/guard.wgsl"),
+    ),
+    (
+        "pumps.wgsl",
+        include_str!("../src/render/shaders/pumps.wgsl"),
     ),
 ];
 
@@ -203,5 +207,13 @@ fn clock_matches_the_rust_layout() {
     assert_eq!(
         wgsl_struct_size("sph_time_step", "SphClock"),
         std::mem::size_of::<sph_core::gpu_layout::GpuClock>()
+    );
+}
+
+#[test]
+fn pumps_match_the_rust_layout() {
+    assert_eq!(
+        wgsl_struct_size("sph_integrate", "SphPumps"),
+        std::mem::size_of::<sph_core::gpu_layout::GpuPumps>()
     );
 }

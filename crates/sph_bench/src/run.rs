@@ -573,13 +573,12 @@ mod tests {
             "{:?}",
             flow.readings.last()
         );
-        // The GPU backend refuses a file's pump, naming the file (before looking for an adapter).
-        let wcsph = std::env::temp_dir().join(format!("sph_bench_pump_{}.ron", std::process::id()));
+        // The GPU backend refuses a file's drain, naming the file (before looking for an adapter).
+        let wcsph = std::env::temp_dir().join(format!("sph_bench_sink_{}.ron", std::process::id()));
         std::fs::write(
             &wcsph,
             "(container: (min: (0.0, 0.0, 0.0), max: (0.4, 0.4, 0.4)), \
-             pumps: [(name: \"p\", min: (0.0, 0.0, 0.0), max: (0.1, 0.1, 0.1), \
-             direction: (1.0, 0.0, 0.0), speed: 0.5, strength: 1.0)])",
+             sinks: [(name: \"d\", min: (0.0, 0.0, 0.0), max: (0.1, 0.1, 0.1))])",
         )
         .unwrap();
         let gpu = run(

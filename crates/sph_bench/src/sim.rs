@@ -338,9 +338,9 @@ impl GpuSimulation {
             );
         }
         if let Some(extras) = &setup.extras {
-            if !(extras.sinks.is_empty() && extras.pumps.is_empty() && extras.probes.is_empty()) {
+            if !(extras.sinks.is_empty() && extras.probes.is_empty()) {
                 return Err(format!(
-                    "{}: drains, pumps and probes run on the CPU backend only (--backend cpu): their GPU passes are not built yet",
+                    "{}: drains and probes run on the CPU backend only (--backend cpu): their GPU passes are not built yet",
                     extras.file
                 ));
             }
@@ -397,6 +397,10 @@ impl GpuSimulation {
         }
         for emitter in setup.emitter.iter().chain(&extras.emitters) {
             app.world_mut().spawn(SphEmitter(emitter.clone()));
+        }
+        for (_, pump) in &extras.pumps {
+            app.world_mut()
+                .spawn(bevy_sph_fluid::SphPump::from_world(pump));
         }
         app.update();
         Ok(Self {

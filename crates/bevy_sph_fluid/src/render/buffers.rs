@@ -82,11 +82,13 @@ pub enum Buf {
     BoundaryBody,
     /// The fluid's force on each body over the frame (`GpuBodyForces`), read back.
     BodyForces,
+    /// The frame's pumps (`GpuPumps`).
+    Pumps,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 30] = [
+    pub const ALL: [Buf; 31] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -117,6 +119,7 @@ impl Buf {
         Buf::Colliders,
         Buf::BoundaryBody,
         Buf::BodyForces,
+        Buf::Pumps,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -157,6 +160,7 @@ impl Buf {
             Buf::Colliders => "sph_colliders",
             Buf::BoundaryBody => "sph_boundary_body",
             Buf::BodyForces => "sph_body_forces",
+            Buf::Pumps => "sph_pumps",
         }
     }
 }
@@ -268,6 +272,7 @@ fn allocate(
             Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::BoundaryBody => 16,
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
+            Buf::Pumps => std::mem::size_of::<sph_core::gpu_layout::GpuPumps>() as u64,
             _ => 16 * n,
         }
     };
@@ -427,6 +432,11 @@ pub(crate) fn prepare_sph_buffers(
         );
     }
     if frame.steps > 0 {
+        queue.write_buffer(
+            buffers.at(Buf::Pumps),
+            0,
+            bytemuck::bytes_of(&sph_core::gpu_layout::GpuPumps::of(&frame.pumps)),
+        );
         // This frame's sums of the fluid's force on each body start from zero; the readback
         // copies them after the frame's passes.
         queue.write_buffer(

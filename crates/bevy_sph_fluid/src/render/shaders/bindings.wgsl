@@ -2,7 +2,7 @@
 // position.w holds the particle id (bit-cast). `sorted_*` receive the scatter and are copied back.
 #define_import_path sph::bindings
 
-#import sph::types::{SphUniforms, SphClock, GpuCollider, SphBodyForces}
+#import sph::types::{SphUniforms, SphClock, GpuCollider, SphBodyForces, SphPumps}
 
 @group(0) @binding(0) var<uniform> params: SphUniforms;
 @group(0) @binding(1) var<storage, read_write> position: array<vec4<f32>>;
@@ -47,3 +47,5 @@
 @group(0) @binding(29) var<storage, read_write> boundary_body: array<u32>;
 // The fluid's force on each body over the frame (written by the forces pass, read back).
 @group(0) @binding(30) var<storage, read_write> body_forces: SphBodyForces;
+// The frame's pumps (see shaders/pumps.wgsl).
+@group(0) @binding(31) var<storage, read_write> pumps: SphPumps;

@@ -109,3 +109,22 @@ struct SphBodyForces {
     pad_b: u32,
     pad_c: u32,
 }
+
+// A pump (Rust twin: sph_core::gpu_layout::GpuPump): the box's centre (w = target speed
+// [m/s]), the world-to-box rotation quaternion, half extents (w = strength [1/s]) and the unit
+// direction it pushes in.
+struct GpuPump {
+    center_speed: vec4<f32>,
+    to_local: vec4<f32>,
+    half_extents_strength: vec4<f32>,
+    direction: vec4<f32>,
+}
+
+// The frame's pumps (Rust twin: sph_core::gpu_layout::GpuPumps).
+struct SphPumps {
+    count: u32,
+    pad_a: u32,
+    pad_b: u32,
+    pad_c: u32,
+    pumps: array<GpuPump, 16>,
+}

@@ -34,6 +34,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BoundaryCellStart,
         Buf::BoundaryBody,
         Buf::BodyForces,
+        Buf::Pumps,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[

@@ -9,9 +9,9 @@
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
 // and the integrator's closing phase on the particle's own velocity (neighbours read only
 // positions and predicted velocities, so this is race-free):
-// POST_KDK            v = v½ + a dt/2, wall response          (sph_core::integrate::kick)
+// POST_KDK            v = v½ + a dt/2, wall response, pumps   (sph_core::integrate::kick)
 // POST_LEAPFROG_SAVE  a0 = a                                   (first of two evaluations)
-// POST_LEAPFROG_KICK  v += (a0 + a) dt/2, wall response        (design eqs. 20-21)
+// POST_LEAPFROG_KICK  v += (a0 + a) dt/2, wall response, pumps (design eqs. 20-21)
 // |a| is recorded for the time-step pass (except by the leapfrog's second evaluation, whose
 // acceleration the next step does not start from), |v| by the closing kicks; nothing is
 // integrated or recorded while the clock is frozen.
@@ -23,6 +23,7 @@
 #import sph::kernels::{poly6, spiky_grad, viscosity_laplacian, cohesion, collide}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
+#import sph::pumps::pumped
 
 const BODY_SLOTS: u32 = 32u;
 const NO_BODY: u32 = 0xffffffffu;
@@ -234,7 +235,7 @@ fn particle(i: u32) {
     record_acceleration(a);
 #endif
 #ifdef POST_KDK
-    let v = collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v;
+    let v = pumped(x_i, collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v, dt);
     velocity[i] = vec4<f32>(v, 0.0);
     record_speed(v);
 #endif
@@ -243,7 +244,7 @@ fn particle(i: u32) {
 #endif
 #ifdef POST_LEAPFROG_KICK
     let a0 = acceleration_start[i].xyz;
-    let v = collide(x_i, velocity[i].xyz + (a0 + a) * (0.5 * dt)).v;
+    let v = pumped(x_i, collide(x_i, velocity[i].xyz + (a0 + a) * (0.5 * dt)).v, dt);
     velocity[i] = vec4<f32>(v, 0.0);
     record_speed(v);
 #endif

@@ -1,4 +1,4 @@
-// Symplectic Euler: v += a dt; x += v dt; guard (sph_core::integrate::euler). The leapfrogs'
+// Symplectic Euler: v += a dt; x += v dt; guard (sph_core::integrate::euler); pumps. The leapfrogs'
 // phases are fused into count_cells (before) and forces (after). It runs right after the
 // time-step pass, so it saves or restores the rollback checkpoint first, and does not integrate
 // a state being restored.
@@ -6,6 +6,7 @@
 #import sph::guard::guard
 #import sph::clock::{step_dt, frozen, record_speed}
 #import sph::checkpoint::{apply_checkpoint, restoring}
+#import sph::pumps::pumped
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -22,7 +23,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let v = velocity[i].xyz + a * dt;
     let drifted = position[i].xyz + v * dt;
     let moved = guard(drifted, v);
+    let pushed = pumped(moved.x, moved.v, dt);
     position[i] = vec4<f32>(moved.x, position[i].w);
-    velocity[i] = vec4<f32>(moved.v, 0.0);
-    record_speed(moved.v);
+    velocity[i] = vec4<f32>(pushed, 0.0);
+    record_speed(pushed);
 }
