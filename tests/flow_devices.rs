@@ -181,3 +181,107 @@ fn gpu_pumps_match_the_cpu_solver() {
     assert!(pushed > p.len() / 4, "the pump acted on {pushed}");
     assert!(worst < 2e-3, "worst velocity difference {worst} m/s");
 }
+
+/// The GPU's probes (summed in the closing kick, read back a frame or two later) against
+/// `sph_core::probe` on the CPU solver's state after the same three steps.
+#[test]
+fn gpu_probes_match_the_cpu_solver() {
+    let _gpu = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let params = sph_core::SphParams::water();
+    let container = sph_core::BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.5, 0.3, 0.3));
+    let block = sph_core::BlockSpawn::new(Vec3::ZERO, Vec3::new(0.3, 0.16, 0.3), params.spacing());
+    let velocity = Vec3::new(0.3, 0.0, 0.1);
+    let probes = [
+        (
+            SphProbe {
+                kind: SphProbeKind::Level { radius: 0.04 },
+                every_steps: 1,
+            },
+            Transform::from_xyz(0.1, 0.0, 0.12),
+        ),
+        (
+            SphProbe {
+                kind: SphProbeKind::Flux {
+                    half_size: Vec2::new(0.1, 0.08),
+                },
+                every_steps: 1,
+            },
+            // Normal +x: local z turned onto x.
+            Transform::from_xyz(0.15, 0.08, 0.15)
+                .with_rotation(Quat::from_rotation_y(std::f32::consts::FRAC_PI_2)),
+        ),
+        (
+            SphProbe {
+                kind: SphProbeKind::Count {
+                    half_extents: Vec3::new(0.08, 0.05, 0.1),
+                },
+                every_steps: 1,
+            },
+            Transform::from_xyz(0.2, 0.06, 0.12).with_rotation(Quat::from_rotation_y(0.5)),
+        ),
+    ];
+    const STEPS: u64 = 3;
+    let mut cpu = sph_core::CpuSolver::new(params, container, block.count()).unwrap();
+    cpu.spawn(&block.positions(), velocity);
+    for _ in 0..STEPS {
+        cpu.step();
+    }
+    let p = cpu.particles();
+    let expected: Vec<sph_core::ProbeReading> = probes
+        .iter()
+        .map(|(probe, t)| {
+            probe
+                .placed(&GlobalTransform::from(*t))
+                .measure(&params, &p.position, &p.velocity)
+        })
+        .collect();
+
+    let mut app = common::headless_app(block.count() as u32, SphBackend::Gpu);
+    app.init_resource::<Readings>().add_systems(Last, collect);
+    app.insert_resource(SphParams(params));
+    app.world_mut().spawn(SphContainer(container));
+    let entities: Vec<Entity> = probes
+        .iter()
+        .map(|&(probe, t)| app.world_mut().spawn(probe).insert(t).id())
+        .collect();
+    app.world_mut().spawn(SphBlockSpawn { block, velocity });
+    app.update();
+    common::step_to(&mut app, STEPS);
+    let last_of = |app: &App, e: Entity| {
+        app.world()
+            .resource::<Readings>()
+            .0
+            .iter()
+            .rev()
+            .find(|(_, r)| r.probe == e && r.step == STEPS)
+            .map(|(_, r)| *r)
+    };
+    for _ in 0..20 {
+        if entities.iter().all(|&e| last_of(&app, e).is_some()) {
+            break;
+        }
+        app.update();
+    }
+    assert_eq!(app.world().resource::<SphStats>().flow_error, None);
+    for (k, &e) in entities.iter().enumerate() {
+        let got = last_of(&app, e).unwrap_or_else(|| panic!("probe {k}: no reading of step 3"));
+        let want = expected[k];
+        eprintln!("probe {k}: gpu {:?}, cpu {want:?}", got.reading);
+        assert!(want.particles > 10, "probe {k} sees the water");
+        assert!(
+            got.reading.particles.abs_diff(want.particles) <= 1,
+            "probe {k}"
+        );
+        let (g, c) = (got.reading.value.unwrap(), want.value.unwrap());
+        assert!(
+            (g - c).abs() <= 1e-3 * c.abs().max(1e-3),
+            "probe {k}: {g} vs {c}"
+        );
+        assert!(
+            (got.sim_time - cpu.time()).abs() < 1e-6,
+            "{} vs {}",
+            got.sim_time,
+            cpu.time()
+        );
+    }
+}

@@ -428,6 +428,9 @@ pub struct SphGpuBuffers {
     /// body summed over a frame's steps on the device. Read back every frame into
     /// [`SphColliderForce`].
     pub body_forces: Handle<ShaderBuffer>,
+    /// `SphProbes` ([`sph_core::gpu_layout::GpuProbes`]): the frame's probes and their sums.
+    /// Read back every frame into `SphProbeReading` messages.
+    pub probes: Handle<ShaderBuffer>,
 }
 
 impl SphGpuBuffers {
@@ -449,6 +452,7 @@ impl SphGpuBuffers {
             neighbor_count: make(4 * n),
             clock: make(std::mem::size_of::<sph_core::gpu_layout::GpuClock>()),
             body_forces: make(std::mem::size_of::<sph_core::gpu_layout::GpuBodyForces>()),
+            probes: make(std::mem::size_of::<sph_core::gpu_layout::GpuProbes>()),
         }
     }
 }

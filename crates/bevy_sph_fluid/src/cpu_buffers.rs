@@ -50,6 +50,7 @@ fn sph_write_cpu_buffers(
                 neighbor_count: make(4 * n),
                 clock: make(std::mem::size_of::<sph_core::gpu_layout::GpuClock>()),
                 body_forces: make(16),
+                probes: make(16),
             };
             commands.insert_resource(buffers.clone());
             *made_for = Some((sim.capacity, buffers.clone()));

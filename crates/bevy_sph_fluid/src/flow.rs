@@ -9,17 +9,19 @@
 //! - [`SphProbe`]: the water level, the flux through a rectangle or the particles in a box,
 //!   sent as [`SphProbeReading`] messages every `every_steps` steps.
 //!
-//! Pumps run on both backends (the GPU applies up to 16 in its closing kicks). Drains and probes
-//! run on the CPU backend; on the GPU backend their passes are not built yet, which is logged
-//! once and reported in [`SphStats::flow_error`] (the simulation goes on without them).
+//! Pumps and probes run on both backends. The GPU applies up to 16 pumps in its closing kicks,
+//! and sums up to 16 probes there too, over each frame's steps (level: the highest; flux and
+//! count: the mean), read back a frame or two later without a stall. Drains run on the CPU
+//! backend; on the GPU backend their pass is not built yet, which is logged once and reported
+//! in [`SphStats::flow_error`] (the simulation goes on without them).
 
 use crate::api::*;
 use crate::sets::SphSystems;
-use crate::shared::SphSimulation;
+use crate::shared::{ProbeReadback, SphSimulation};
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use sph_core::{Pose, ProbeKind, ProbeReading, Pump, Region, Sink};
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 
 /// A drain: while `open`, every particle inside the box of `half_extents` (in the entity's
 /// frame, scaled by its transform) is removed and counted.
@@ -94,6 +96,11 @@ pub struct SphProbeReading {
     pub reading: ProbeReading,
 }
 
+/// The transform that places a device at `pose`.
+fn transform_of(pose: Pose) -> Transform {
+    Transform::from_translation(pose.translation).with_rotation(pose.rotation)
+}
+
 fn pose_of(transform: &GlobalTransform) -> (Pose, Vec3) {
     let (scale, rotation, translation) = transform.to_scale_rotation_translation();
     (
@@ -106,6 +113,17 @@ fn pose_of(transform: &GlobalTransform) -> (Pose, Vec3) {
 }
 
 impl SphSink {
+    /// The component and the transform that place `sink` (the inverse of [`Self::placed`]).
+    pub fn from_world(sink: &Sink) -> (Self, Transform) {
+        (
+            Self {
+                half_extents: sink.region.half_extents,
+                open: sink.open,
+            },
+            transform_of(sink.region.pose),
+        )
+    }
+
     /// The drain in the world.
     pub fn placed(&self, transform: &GlobalTransform) -> Sink {
         let (pose, scale) = pose_of(transform);
@@ -130,7 +148,7 @@ impl SphPump {
                 speed: pump.speed,
                 strength: pump.strength,
             },
-            Transform::from_translation(pose.translation).with_rotation(pose.rotation),
+            transform_of(pose),
         )
     }
 
@@ -150,6 +168,45 @@ impl SphPump {
 }
 
 impl SphProbe {
+    /// The component and the transform that place a probe measuring `kind` every
+    /// `every_steps` steps (the inverse of [`Self::placed`]).
+    pub fn from_world(kind: &ProbeKind, every_steps: u32) -> (Self, Transform) {
+        let (kind, pose) = match *kind {
+            ProbeKind::Level { x, z, radius } => (
+                SphProbeKind::Level { radius },
+                Pose {
+                    translation: Vec3::new(x, 0.0, z),
+                    ..default()
+                },
+            ),
+            ProbeKind::Flux { pose, half_size } => (
+                SphProbeKind::Flux {
+                    half_size: Vec2::from(half_size),
+                },
+                pose,
+            ),
+            ProbeKind::Count { region } => (
+                SphProbeKind::Count {
+                    half_extents: region.half_extents,
+                },
+                region.pose,
+            ),
+        };
+        (Self { kind, every_steps }, transform_of(pose))
+    }
+
+    /// Checks `every_steps` (≥ 1).
+    pub fn validate_every_steps(&self) -> Result<(), sph_core::ParamError> {
+        if self.every_steps == 0 {
+            return Err(sph_core::ParamError {
+                field: "SphProbe::every_steps",
+                value: "0".into(),
+                allowed: ">= 1 step",
+            });
+        }
+        Ok(())
+    }
+
     /// What the probe measures, in the world.
     pub fn placed(&self, transform: &GlobalTransform) -> ProbeKind {
         let (pose, scale) = pose_of(transform);
@@ -178,14 +235,15 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
         .register_type::<SphPump>()
         .register_type::<SphProbe>()
         .add_message::<SphProbeReading>()
+        .init_resource::<GpuProbeFrames>()
         .add_systems(
             schedule,
             (
                 sph_sync_pumps.in_set(SphSystems::Prepare),
-                sph_drain
+                (sph_drain, sph_plan_gpu_probes)
                     .in_set(SphSystems::Step)
                     .after(crate::simulation::StepSystem),
-                sph_measure_probes.in_set(SphSystems::Writeback),
+                (sph_measure_probes, sph_deliver_gpu_probes).in_set(SphSystems::Writeback),
             ),
         );
 }
@@ -293,9 +351,6 @@ fn sph_measure_probes(
         return;
     }
     let Some(solver) = sim.cpu.as_ref().filter(|_| sim.backend == SphBackend::Cpu) else {
-        if sim.backend == SphBackend::Gpu {
-            gpu_not_built(&mut stats, "SphProbe");
-        }
         return;
     };
     let step = solver.step_count();
@@ -307,21 +362,11 @@ fn sph_measure_probes(
             refuse(&mut stats, "SphProbe", entity, e);
             continue;
         }
-        if probe.every_steps == 0 {
-            let e = sph_core::ParamError {
-                field: "SphProbe::every_steps",
-                value: "0".into(),
-                allowed: ">= 1 step",
-            };
+        if let Err(e) = probe.validate_every_steps() {
             refuse(&mut stats, "SphProbe", entity, e);
             continue;
         }
-        let due = match last.get(&entity) {
-            // A reset or a rollback takes the step count back: measure again.
-            Some(&at) => step < at || step >= at + probe.every_steps as u64,
-            None => true,
-        };
-        if !due {
+        if !due(last.get(&entity).copied(), probe.every_steps, step) {
             continue;
         }
         last.insert(entity, step);
@@ -331,5 +376,105 @@ fn sph_measure_probes(
             sim_time: solver.time(),
             reading: kind.measure(solver.params(), &p.position, &p.velocity),
         });
+    }
+}
+
+/// Whether a probe last read at step `last` is due at `step` (a reset or a rollback takes the
+/// step count back: it is due again).
+fn due(last: Option<u64>, every_steps: u32, step: u64) -> bool {
+    match last {
+        Some(at) => step < at || step >= at + every_steps as u64,
+        None => true,
+    }
+}
+
+/// The GPU backend's probe entities per frame number, for the readbacks that arrive a frame or
+/// two later.
+#[derive(Resource, Default)]
+struct GpuProbeFrames(VecDeque<(u32, Vec<Entity>)>);
+
+/// Frames of probe entities kept for late readbacks.
+const PROBE_FRAMES_KEPT: usize = 8;
+
+/// Puts the valid probes into the GPU frame's plan (at most
+/// [`sph_core::gpu_layout::MAX_GPU_PROBES`]), remembering which entity each slot is.
+fn sph_plan_gpu_probes(
+    probes: Query<(Entity, &SphProbe, &GlobalTransform)>,
+    mut sim: ResMut<SphSimulation>,
+    mut frames: ResMut<GpuProbeFrames>,
+    mut stats: ResMut<SphStats>,
+) {
+    if sim.backend != SphBackend::Gpu {
+        return;
+    }
+    let mut kinds = Vec::new();
+    let mut entities = Vec::new();
+    let mut placed: Vec<_> = probes.iter().collect();
+    placed.sort_by_key(|(entity, _, _)| *entity);
+    for (entity, probe, transform) in placed {
+        let kind = probe.placed(transform);
+        match kind.validate().and(probe.validate_every_steps()) {
+            Ok(()) => {
+                kinds.push(kind);
+                entities.push(entity);
+            }
+            Err(e) => refuse(&mut stats, "SphProbe", entity, e),
+        }
+    }
+    let most = sph_core::gpu_layout::MAX_GPU_PROBES;
+    if kinds.len() > most {
+        report(
+            &mut stats,
+            format!(
+                "{} SphProbe entities: the GPU measures the first {most}",
+                kinds.len()
+            ),
+        );
+        kinds.truncate(most);
+        entities.truncate(most);
+    }
+    let number = sim.frame_number;
+    sim.frame.probes = kinds;
+    if frames.0.back().is_none_or(|(n, _)| *n != number) {
+        frames.0.push_back((number, entities));
+        while frames.0.len() > PROBE_FRAMES_KEPT {
+            frames.0.pop_front();
+        }
+    }
+}
+
+/// Turns the probes' sums as read back (GPU backend) into readings of the probes that are due.
+fn sph_deliver_gpu_probes(
+    mut readback: ResMut<ProbeReadback>,
+    frames: Res<GpuProbeFrames>,
+    probes: Query<&SphProbe>,
+    params: Res<SphParams>,
+    mut last: Local<HashMap<Entity, u64>>,
+    mut readings: MessageWriter<SphProbeReading>,
+) {
+    let Some(sums) = readback.latest.take() else {
+        return;
+    };
+    let Some((_, entities)) = frames.0.iter().find(|(n, _)| *n == sums.frame) else {
+        return;
+    };
+    let step = sums.step as u64;
+    last.retain(|entity, _| probes.contains(*entity));
+    for (k, &entity) in entities.iter().enumerate() {
+        let Ok(probe) = probes.get(entity) else {
+            continue;
+        };
+        if !due(last.get(&entity).copied(), probe.every_steps, step) {
+            continue;
+        }
+        if let Some(reading) = sums.reading(k, &params) {
+            last.insert(entity, step);
+            readings.write(SphProbeReading {
+                probe: entity,
+                step,
+                sim_time: sums.time(),
+                reading,
+            });
+        }
     }
 }

@@ -4,11 +4,11 @@
 
 use crate::api::*;
 use crate::sets::SphSystems;
-use crate::shared::{BodyForceReadback, ClockReadback, SphSimulation};
+use crate::shared::{BodyForceReadback, ClockReadback, ProbeReadback, SphSimulation};
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
-use sph_core::gpu_layout::{w_to_id, GpuBodyForces, GpuClock};
+use sph_core::gpu_layout::{w_to_id, GpuBodyForces, GpuClock, GpuProbes};
 
 /// Which state buffer a readback entity copies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,6 +34,7 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
     app.init_resource::<PendingReadback>()
         .init_resource::<ClockReadback>()
         .init_resource::<BodyForceReadback>()
+        .init_resource::<ProbeReadback>()
         .add_systems(
             schedule,
             (
@@ -41,6 +42,7 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
                 sph_deliver_snapshot,
                 sph_read_every_frame::<ClockReadback>,
                 sph_read_every_frame::<BodyForceReadback>,
+                sph_read_every_frame::<ProbeReadback>,
             )
                 .chain()
                 .in_set(SphSystems::Writeback),
@@ -50,7 +52,8 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
 /// The readback entity of a small GPU buffer that is read every frame, and its buffer.
 type ReadbackSource = Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>;
 
-/// A small GPU buffer read back every frame into a resource: the clock and the body forces.
+/// A small GPU buffer read back every frame into a resource: the clock, the body forces and the
+/// probes.
 trait EveryFrame: Resource<Mutability = bevy::ecs::component::Mutable> {
     /// The buffer's contents.
     type Value: bytemuck::Pod;
@@ -94,6 +97,25 @@ impl EveryFrame for BodyForceReadback {
     fn arrived(&mut self, sums: GpuBodyForces) {
         // A frame without steps leaves the last forces in place.
         if sums.evaluations > 0 {
+            self.latest = Some(sums);
+        }
+    }
+}
+
+impl EveryFrame for ProbeReadback {
+    type Value = GpuProbes;
+    fn buffer(buffers: &SphGpuBuffers) -> &Handle<bevy::render::storage::ShaderBuffer> {
+        &buffers.probes
+    }
+    fn source(&mut self) -> &mut ReadbackSource {
+        &mut self.source
+    }
+    fn clear(&mut self) {
+        self.latest = None;
+    }
+    fn arrived(&mut self, sums: GpuProbes) {
+        // A frame without steps (or without probes) has nothing to report.
+        if sums.samples > 0 && sums.count > 0 {
             self.latest = Some(sums);
         }
     }

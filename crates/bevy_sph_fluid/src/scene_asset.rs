@@ -15,12 +15,11 @@
 //! ```
 
 use crate::api::*;
-use crate::flow::{SphProbe, SphProbeKind, SphPump, SphSink};
+use crate::flow::{SphProbe, SphPump, SphSink};
 use bevy::asset::io::Reader;
 use bevy::asset::{AssetLoadError, AssetLoadFailedEvent, AssetLoader, LoadContext};
 use bevy::prelude::*;
 use sph_core::scene_file::{SceneError, SceneFile, SceneSetup};
-use sph_core::ProbeKind;
 
 /// A water scene read from a RON file (`assets/scenes/*.ron`), validated.
 #[derive(Asset, TypePath, Clone, Debug, PartialEq)]
@@ -186,63 +185,32 @@ fn sph_apply_scenes(
 
 /// The scene's drains, pumps and probes, named as in the file.
 fn spawn_flow_devices(commands: &mut Commands, setup: &SceneSetup, member: SphSceneMember) {
-    let placed = |pose: sph_core::Pose| {
-        let t = Transform::from_translation(pose.translation).with_rotation(pose.rotation);
-        (t, GlobalTransform::from(t))
-    };
     for (name, sink) in &setup.sinks {
-        commands.spawn((
-            SphSink {
-                half_extents: sink.region.half_extents,
-                open: sink.open,
-            },
-            placed(sink.region.pose),
-            Name::new(name.clone()),
-            member,
-        ));
+        spawn_device(commands, SphSink::from_world(sink), name, member);
     }
     for (name, pump) in &setup.pumps {
-        let (pump, transform) = SphPump::from_world(pump);
-        commands.spawn((
-            pump,
-            transform,
-            GlobalTransform::from(transform),
-            Name::new(name.clone()),
-            member,
-        ));
+        spawn_device(commands, SphPump::from_world(pump), name, member);
     }
     for probe in &setup.probes {
-        let (kind, pose) = match probe.kind {
-            ProbeKind::Level { x, z, radius } => (
-                SphProbeKind::Level { radius },
-                sph_core::Pose {
-                    translation: Vec3::new(x, 0.0, z),
-                    ..default()
-                },
-            ),
-            ProbeKind::Flux { pose, half_size } => (
-                SphProbeKind::Flux {
-                    half_size: Vec2::from(half_size),
-                },
-                pose,
-            ),
-            ProbeKind::Count { region } => (
-                SphProbeKind::Count {
-                    half_extents: region.half_extents,
-                },
-                region.pose,
-            ),
-        };
-        commands.spawn((
-            SphProbe {
-                kind,
-                every_steps: probe.every_steps,
-            },
-            placed(pose),
-            Name::new(probe.name.clone()),
-            member,
-        ));
+        let device = SphProbe::from_world(&probe.kind, probe.every_steps);
+        spawn_device(commands, device, &probe.name, member);
     }
+}
+
+/// A named scene member with its transform in place this frame, before transform propagation.
+fn spawn_device(
+    commands: &mut Commands,
+    (device, transform): (impl Bundle, Transform),
+    name: &str,
+    member: SphSceneMember,
+) {
+    commands.spawn((
+        device,
+        transform,
+        GlobalTransform::from(transform),
+        Name::new(name.to_owned()),
+        member,
+    ));
 }
 
 /// Moves the scene's kinematic colliders along their paths by the simulated time.

@@ -98,6 +98,10 @@ pub struct SphFrame {
     pub buffers: Option<SphGpuBuffers>,
     /// The pumps (the first `sph_core::gpu_layout::MAX_GPU_PUMPS` are applied).
     pub pumps: Vec<sph_core::Pump>,
+    /// The probes (the first `sph_core::gpu_layout::MAX_GPU_PROBES` are measured).
+    pub probes: Vec<sph_core::ProbeKind>,
+    /// The main world's number of this frame (`SphSimulation::frame_number`).
+    pub number: u32,
     /// The boundary samples (walls and colliders) with their generation: the render world
     /// uploads them when the generation changes.
     pub boundary: Option<(u64, Arc<GpuBoundarySamples>)>,
@@ -354,6 +358,16 @@ pub struct BodyForceReadback {
     pub(crate) source: Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>,
     /// The latest sums that arrived and were not yet written to the colliders.
     pub latest: Option<sph_core::gpu_layout::GpuBodyForces>,
+}
+
+/// The probes' sums as last read back (GPU backend, every frame, asynchronously).
+#[derive(Resource, Default)]
+pub struct ProbeReadback {
+    /// The buffer being read and the entity reading it.
+    pub(crate) source: Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>,
+    /// The latest sums that arrived with at least one step summed, not yet turned into
+    /// readings.
+    pub latest: Option<sph_core::gpu_layout::GpuProbes>,
 }
 
 /// The GPU clock as last read back (every frame, asynchronously, 32 bytes).

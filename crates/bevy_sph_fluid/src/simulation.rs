@@ -393,6 +393,7 @@ fn sph_plan_step(
             frame.capacity = capacity;
             frame.steps = plan.steps;
             frame.budget = plan.budget.map(|b| (b, number));
+            frame.number = number;
             stats.frame_steps = plan.steps;
             frame.neighbor_counts = control.record_neighbor_counts;
             frame.rollback = control.rollback;

@@ -8,7 +8,7 @@ use naga_oil::compose::{
 };
 use std::collections::HashMap;
 
-const LIBRARY: [(&str, &str); 8] = [
+const LIBRARY: [(&str, &str); 9] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -40,6 +40,10 @@ const LIBRARY: [(&str, &str); 8] = [
     (
         "pumps.wgsl",
         include_str!("../src/render/shaders/pumps.wgsl"),
+    ),
+    (
+        "probes.wgsl",
+        include_str!("../src/render/shaders/probes.wgsl"),
     ),
 ];
 
@@ -215,5 +219,13 @@ fn pumps_match_the_rust_layout() {
     assert_eq!(
         wgsl_struct_size("sph_integrate", "SphPumps"),
         std::mem::size_of::<sph_core::gpu_layout::GpuPumps>()
+    );
+}
+
+#[test]
+fn probes_match_the_rust_layout() {
+    assert_eq!(
+        wgsl_struct_size("sph_integrate", "SphProbes"),
+        std::mem::size_of::<sph_core::gpu_layout::GpuProbes>()
     );
 }

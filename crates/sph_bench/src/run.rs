@@ -573,7 +573,8 @@ mod tests {
             "{:?}",
             flow.readings.last()
         );
-        // The GPU backend refuses a file's drain, naming the file (before looking for an adapter).
+        // The GPU backend refuses a file's drain, naming the file (before looking for an
+        // adapter).
         let wcsph = std::env::temp_dir().join(format!("sph_bench_sink_{}.ron", std::process::id()));
         std::fs::write(
             &wcsph,

@@ -74,9 +74,14 @@ pub struct ProbeLog {
 impl ProbeLog {
     /// A log for `probes`.
     pub fn new(probes: &[SceneProbe]) -> Self {
+        Self::new_for(probes.len())
+    }
+
+    /// A log for `n` probes.
+    pub fn new_for(n: usize) -> Self {
         Self {
-            readings: vec![Vec::new(); probes.len()],
-            last_step: vec![None; probes.len()],
+            readings: vec![Vec::new(); n],
+            last_step: vec![None; n],
         }
     }
 

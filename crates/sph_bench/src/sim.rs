@@ -319,10 +319,23 @@ impl Simulation for CpuSimulation {
     }
 }
 
+/// Every probe reading the GPU app delivered.
+#[derive(Resource, Default)]
+struct ProbeReadings(Vec<bevy_sph_fluid::SphProbeReading>);
+
+fn collect_probe_readings(
+    mut reader: MessageReader<bevy_sph_fluid::SphProbeReading>,
+    mut out: ResMut<ProbeReadings>,
+) {
+    out.0.extend(reader.read().copied());
+}
+
 /// The plugin's GPU passes in a headless app; the scenario's colliders are `SphCollider`
 /// entities whose transforms follow their lifts frame by frame.
 pub struct GpuSimulation {
     app: App,
+    /// The scene file's probe entities, in the file's order.
+    probes: Vec<Entity>,
     adapter: String,
     substeps: u32,
     rollback: Rollback,
@@ -338,9 +351,9 @@ impl GpuSimulation {
             );
         }
         if let Some(extras) = &setup.extras {
-            if !(extras.sinks.is_empty() && extras.probes.is_empty()) {
+            if !extras.sinks.is_empty() {
                 return Err(format!(
-                    "{}: drains and probes run on the CPU backend only (--backend cpu): their GPU passes are not built yet",
+                    "{}: drains run on the CPU backend only (--backend cpu): their GPU pass is not built yet",
                     extras.file
                 ));
             }
@@ -402,9 +415,20 @@ impl GpuSimulation {
             app.world_mut()
                 .spawn(bevy_sph_fluid::SphPump::from_world(pump));
         }
+        let probes = extras
+            .probes
+            .iter()
+            .map(|p| {
+                let device = bevy_sph_fluid::SphProbe::from_world(&p.kind, p.every_steps);
+                app.world_mut().spawn(device).id()
+            })
+            .collect();
+        app.init_resource::<ProbeReadings>()
+            .add_systems(Last, collect_probe_readings);
         app.update();
         Ok(Self {
             app,
+            probes,
             adapter,
             substeps: substeps.max(1),
             rollback: setup.rollback,
@@ -567,6 +591,14 @@ impl Simulation for GpuSimulation {
     }
 
     fn probe_log(&self) -> ProbeLog {
-        ProbeLog::default()
+        let mut log = ProbeLog::new_for(self.probes.len());
+        if let Some(readings) = self.app.world().get_resource::<ProbeReadings>() {
+            for r in &readings.0 {
+                if let Some(k) = self.probes.iter().position(|&e| e == r.probe) {
+                    log.record(k, r.step, r.sim_time, r.reading);
+                }
+            }
+        }
+        log
     }
 }

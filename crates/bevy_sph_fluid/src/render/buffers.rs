@@ -84,11 +84,13 @@ pub enum Buf {
     BodyForces,
     /// The frame's pumps (`GpuPumps`).
     Pumps,
+    /// The frame's probes and their sums (`GpuProbes`), read back.
+    Probes,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 31] = [
+    pub const ALL: [Buf; 32] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -120,6 +122,7 @@ impl Buf {
         Buf::BoundaryBody,
         Buf::BodyForces,
         Buf::Pumps,
+        Buf::Probes,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -161,6 +164,7 @@ impl Buf {
             Buf::BoundaryBody => "sph_boundary_body",
             Buf::BodyForces => "sph_body_forces",
             Buf::Pumps => "sph_pumps",
+            Buf::Probes => "sph_probes",
         }
     }
 }
@@ -245,7 +249,7 @@ fn allocate(
     capacity: u32,
     grid_dims: UVec3,
     key: VariantKey,
-    readable: [Buffer; 7],
+    readable: [Buffer; 8],
 ) -> GpuBuffers {
     let n = capacity as u64;
     let cells = (grid_dims.x * grid_dims.y * grid_dims.z) as u64;
@@ -257,7 +261,8 @@ fn allocate(
         0
     };
     let normals = if key.surface_tension { 16 * n } else { 0 };
-    let [position, velocity, acceleration, density, neighbor_count, clock, body_forces] = readable;
+    let [position, velocity, acceleration, density, neighbor_count, clock, body_forces, probes] =
+        readable;
     let size = |buf: Buf| -> u64 {
         match buf {
             Buf::Normal => normals,
@@ -286,6 +291,7 @@ fn allocate(
             Buf::NeighborCount => neighbor_count.clone(),
             Buf::Clock => clock.clone(),
             Buf::BodyForces => body_forces.clone(),
+            Buf::Probes => probes.clone(),
             _ => storage_buffer(device, buf.label(), size(buf)),
         })
         .collect();
@@ -364,9 +370,10 @@ pub(crate) fn prepare_sph_buffers(
         &handles.neighbor_count,
         &handles.clock,
         &handles.body_forces,
+        &handles.probes,
     ]
     .map(|h| assets.get(h).map(|b| b.buffer.clone()));
-    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(neighbor_count), Some(clock), Some(body_forces)] =
+    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(neighbor_count), Some(clock), Some(body_forces), Some(probes)] =
         readable
     else {
         state.status = Some("gpu: preparing buffers".into());
@@ -405,6 +412,7 @@ pub(crate) fn prepare_sph_buffers(
                 neighbor_count,
                 clock,
                 body_forces,
+                probes,
             ],
         );
         let bytes_per_particle = (buffers.bytes / frame.capacity.max(1) as u64) as u32;
@@ -436,6 +444,16 @@ pub(crate) fn prepare_sph_buffers(
             buffers.at(Buf::Pumps),
             0,
             bytemuck::bytes_of(&sph_core::gpu_layout::GpuPumps::of(&frame.pumps)),
+        );
+        // The probes with zero sums; the closing kicks sum the frame's steps.
+        queue.write_buffer(
+            buffers.at(Buf::Probes),
+            0,
+            bytemuck::bytes_of(&sph_core::gpu_layout::GpuProbes::of(
+                &frame.probes,
+                frame.params.spacing(),
+                frame.number,
+            )),
         );
         // This frame's sums of the fluid's force on each body start from zero; the readback
         // copies them after the frame's passes.

@@ -28,6 +28,7 @@ pub(crate) fn build(app: &mut App) {
     load_shader_library!(app, "shaders/checkpoint.wgsl");
     load_shader_library!(app, "shaders/guard.wgsl");
     load_shader_library!(app, "shaders/pumps.wgsl");
+    load_shader_library!(app, "shaders/probes.wgsl");
     let mut embedded = Vec::new();
     for stage in stages::all_stages() {
         if !embedded.contains(&stage.name) {

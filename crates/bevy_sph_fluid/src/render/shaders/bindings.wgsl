@@ -2,7 +2,7 @@
 // position.w holds the particle id (bit-cast). `sorted_*` receive the scatter and are copied back.
 #define_import_path sph::bindings
 
-#import sph::types::{SphUniforms, SphClock, GpuCollider, SphBodyForces, SphPumps}
+#import sph::types::{SphUniforms, SphClock, GpuCollider, SphBodyForces, SphPumps, SphProbes}
 
 @group(0) @binding(0) var<uniform> params: SphUniforms;
 @group(0) @binding(1) var<storage, read_write> position: array<vec4<f32>>;
@@ -49,3 +49,5 @@
 @group(0) @binding(30) var<storage, read_write> body_forces: SphBodyForces;
 // The frame's pumps (see shaders/pumps.wgsl).
 @group(0) @binding(31) var<storage, read_write> pumps: SphPumps;
+// The frame's probes and their sums (see shaders/probes.wgsl), read back every frame.
+@group(0) @binding(32) var<storage, read_write> probes: SphProbes;

@@ -128,3 +128,28 @@ struct SphPumps {
     pad_c: u32,
     pumps: array<GpuPump, 16>,
 }
+
+// A probe (Rust twin: sph_core::gpu_layout::GpuProbe): centre (w = kind: 0 level, 1 flux,
+// 2 count), the world-to-probe rotation, half sizes (level: radius; flux: half width, half
+// height, half slab; count: half extents) and the flux normal.
+struct GpuProbe {
+    center_kind: vec4<f32>,
+    to_local: vec4<f32>,
+    half: vec4<f32>,
+    normal: vec4<f32>,
+}
+
+// The frame's probes and their sums (Rust twin: sph_core::gpu_layout::GpuProbes): per probe
+// [highest level key, particles, Σ v·n fixed point, unused] at sums[4k ..].
+struct SphProbes {
+    count: u32,
+    frame: u32,
+    samples: atomic<u32>,
+    step: u32,
+    time_ns_lo: u32,
+    time_ns_hi: u32,
+    pad_a: u32,
+    pad_b: u32,
+    probes: array<GpuProbe, 16>,
+    sums: array<atomic<u32>, 64>,
+}

@@ -35,6 +35,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BoundaryBody,
         Buf::BodyForces,
         Buf::Pumps,
+        Buf::Probes,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[

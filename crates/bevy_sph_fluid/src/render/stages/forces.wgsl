@@ -9,9 +9,9 @@
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
 // and the integrator's closing phase on the particle's own velocity (neighbours read only
 // positions and predicted velocities, so this is race-free):
-// POST_KDK            v = v½ + a dt/2, wall response, pumps   (sph_core::integrate::kick)
+// POST_KDK            v = v½ + a dt/2, wall response, pumps, probes (sph_core::integrate::kick)
 // POST_LEAPFROG_SAVE  a0 = a                                   (first of two evaluations)
-// POST_LEAPFROG_KICK  v += (a0 + a) dt/2, wall response, pumps (design eqs. 20-21)
+// POST_LEAPFROG_KICK  v += (a0 + a) dt/2, wall response, pumps, probes (design eqs. 20-21)
 // |a| is recorded for the time-step pass (except by the leapfrog's second evaluation, whose
 // acceleration the next step does not start from), |v| by the closing kicks; nothing is
 // integrated or recorded while the clock is frozen.
@@ -24,6 +24,7 @@
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
 #import sph::pumps::pumped
+#import sph::probes::record_probes
 
 const BODY_SLOTS: u32 = 32u;
 const NO_BODY: u32 = 0xffffffffu;
@@ -238,6 +239,7 @@ fn particle(i: u32) {
     let v = pumped(x_i, collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v, dt);
     velocity[i] = vec4<f32>(v, 0.0);
     record_speed(v);
+    record_probes(i, x_i, v);
 #endif
 #ifdef POST_LEAPFROG_SAVE
     acceleration_start[i] = vec4<f32>(a, 0.0);
@@ -247,5 +249,6 @@ fn particle(i: u32) {
     let v = pumped(x_i, collide(x_i, velocity[i].xyz + (a0 + a) * (0.5 * dt)).v, dt);
     velocity[i] = vec4<f32>(v, 0.0);
     record_speed(v);
+    record_probes(i, x_i, v);
 #endif
 }

@@ -24,6 +24,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Checkpoint,
         Buf::Colliders,
         Buf::Pumps,
+        Buf::Probes,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],

@@ -1,4 +1,5 @@
-// Symplectic Euler: v += a dt; x += v dt; guard (sph_core::integrate::euler); pumps. The leapfrogs'
+// Symplectic Euler: v += a dt; x += v dt; guard (sph_core::integrate::euler); pumps;
+// probes. The leapfrogs'
 // phases are fused into count_cells (before) and forces (after). It runs right after the
 // time-step pass, so it saves or restores the rollback checkpoint first, and does not integrate
 // a state being restored.
@@ -7,6 +8,7 @@
 #import sph::clock::{step_dt, frozen, record_speed}
 #import sph::checkpoint::{apply_checkpoint, restoring}
 #import sph::pumps::pumped
+#import sph::probes::record_probes
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -27,4 +29,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     position[i] = vec4<f32>(moved.x, position[i].w);
     velocity[i] = vec4<f32>(pushed, 0.0);
     record_speed(pushed);
+    record_probes(i, moved.x, pushed);
 }

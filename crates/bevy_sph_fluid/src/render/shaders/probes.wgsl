@@ -1,0 +1,54 @@
+// Probes (Rust twin: sph_core::probe, summed as sph_core::gpu_layout::GpuProbes): each closing
+// kick adds its particle to every probe it lies in. Level: the highest y within the radius of
+// the vertical line (atomicMax on an order-keeping key); flux: the particles in the slab and
+// their Σ v·n in fixed point (sph_core::gpu_layout::PROBE_SPEED_UNIT); count: the particles in
+// the box. Particle 0 counts the steps summed (the CPU averages over them) and stamps the last
+// one's step and time.
+#define_import_path sph::probes
+
+#import sph::bindings::{params, probes, clock}
+#import sph::guard::rotate
+
+const PROBE_SPEED_UNIT: f32 = 1e-4;
+
+// sph_core::gpu_layout::float_key.
+fn float_key(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    if (b & 0x80000000u) != 0u {
+        return ~b;
+    }
+    return b | 0x80000000u;
+}
+
+fn record_probes(i: u32, x: vec3<f32>, v: vec3<f32>) {
+    let count = min(probes.count, 16u);
+    if count == 0u {
+        return;
+    }
+    if i == 0u {
+        atomicAdd(&probes.samples, 1u);
+        probes.step = clock.step;
+        probes.time_ns_lo = clock.time_ns_lo;
+        probes.time_ns_hi = clock.time_ns_hi;
+    }
+    for (var k = 0u; k < count; k++) {
+        let p = probes.probes[k];
+        let kind = u32(p.center_kind.w);
+        let d = x - p.center_kind.xyz;
+        if kind == 0u {
+            if dot(d.xz, d.xz) <= p.half.x * p.half.x {
+                atomicMax(&probes.sums[4u * k], float_key(x.y));
+                atomicAdd(&probes.sums[4u * k + 1u], 1u);
+            }
+            continue;
+        }
+        if any(abs(rotate(p.to_local, d)) > p.half.xyz) {
+            continue;
+        }
+        atomicAdd(&probes.sums[4u * k + 1u], 1u);
+        if kind == 1u {
+            let flux = i32(round(dot(v, p.normal.xyz) / PROBE_SPEED_UNIT));
+            atomicAdd(&probes.sums[4u * k + 2u], bitcast<u32>(flux));
+        }
+    }
+}
