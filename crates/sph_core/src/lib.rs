@@ -45,6 +45,7 @@ pub mod rng;
 pub mod rollback;
 pub mod sampling;
 pub mod scenario;
+pub mod scene_controls;
 pub mod scene_file;
 pub mod sink;
 pub mod solver;

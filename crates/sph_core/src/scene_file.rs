@@ -28,6 +28,7 @@ use crate::params::{ParamError, SpacingDerivation, SphParams};
 use crate::probe::ProbeKind;
 use crate::pump::Pump;
 use crate::region::Region;
+use crate::scene_controls::{ControlBinding, ControlSpec, ControlTarget, SceneControl};
 use crate::sink::Sink;
 use crate::solvers::{DfsphSettings, PbfSettings, Solver};
 use crate::spawn::{BlockSpawn, PipeEmitter};
@@ -147,6 +148,14 @@ pub enum MotionSpec {
         /// The waypoints, in time order.
         path: Vec<(f32, Vector)>,
     },
+    /// Moved by a named control (see [`crate::scene_controls`]): at `position` at the start of
+    /// the control's range, at `to` at its end, linear between.
+    Controlled {
+        /// The control's name.
+        control: String,
+        /// The position at the range's end [m].
+        to: Vector,
+    },
 }
 
 /// A collider of a scene file.
@@ -213,6 +222,9 @@ pub struct SinkSpec {
     /// Open at the start; default true.
     #[serde(default)]
     pub open: Option<bool>,
+    /// A control that opens it (while its value is past the range's middle) instead of `open`.
+    #[serde(default)]
+    pub open_control: Option<String>,
 }
 
 /// A pump: pushes the water inside its box along `direction` toward `speed`.
@@ -231,6 +243,9 @@ pub struct PumpSpec {
     pub speed: f32,
     /// Relaxation rate toward the target speed [1/s], 0 ..= 1000.
     pub strength: f32,
+    /// A control whose fraction of its range multiplies the strength (a crank).
+    #[serde(default)]
+    pub strength_control: Option<String>,
 }
 
 /// What a probe measures.
@@ -313,6 +328,9 @@ pub struct SceneFile {
     /// Probes.
     #[serde(default)]
     pub probes: Vec<ProbeEntry>,
+    /// Named controls (see [`crate::scene_controls`]).
+    #[serde(default)]
+    pub controls: Vec<ControlSpec>,
 }
 
 /// A probe of a built scene.
@@ -376,6 +394,11 @@ pub struct SceneSetup {
     pub pumps: Vec<(String, Pump)>,
     /// The probes.
     pub probes: Vec<SceneProbe>,
+    /// The named controls at their starting values (the colliders, pumps and drains above are
+    /// placed for them).
+    pub controls: Vec<SceneControl>,
+    /// What each control drives.
+    pub bindings: Vec<ControlBinding>,
 }
 
 /// Why a scene file was refused: where, which field, the value and what is allowed.
@@ -404,6 +427,18 @@ impl std::fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
+
+/// The 1-based line and column of `key:` in entry `k` of `section` (from the entry's `name:`
+/// line on), else that `name:` line.
+fn locate_in_entry(text: &str, section: &str, k: usize, key: &str) -> (usize, usize) {
+    let (name_line, name_column) = locate_after(text, Some(section), "name", k);
+    let needle = format!("{key}:");
+    text.lines()
+        .enumerate()
+        .skip(name_line.saturating_sub(1))
+        .find_map(|(n, line)| line.find(&needle).map(|col| (n + 1, col + 1)))
+        .unwrap_or((name_line, name_column))
+}
 
 /// The 1-based line and column of the `nth` (0-based) `key:` of `text`, else (0, 0), counting
 /// only from the line of `section:` on (when given and found).
@@ -536,9 +571,79 @@ impl SceneFile {
         container
             .validate()
             .map_err(|e| refuse(format!("container.{}", e.field), (None, "container"), 0, e))?;
+        let in_entry = |section: &str, k: usize, key: &str, field: String, message: String| {
+            let (line, column) = locate_in_entry(text, section, k, key);
+            SceneError {
+                file: file.into(),
+                line,
+                column,
+                field,
+                message,
+            }
+        };
+        let mut controls: Vec<SceneControl> = Vec::with_capacity(self.controls.len());
+        for (k, spec) in self.controls.iter().enumerate() {
+            let control = SceneControl::of(spec).map_err(|(key, message)| {
+                in_entry(
+                    "controls",
+                    k,
+                    key,
+                    format!("controls[{k}] ({:?}).{key}", spec.name),
+                    message,
+                )
+            })?;
+            if controls.iter().any(|c| c.name == spec.name) {
+                return Err(in_entry(
+                    "controls",
+                    k,
+                    "name",
+                    format!("controls[{k}].name"),
+                    format!(
+                        "{:?} is not allowed: control names must be unique",
+                        spec.name
+                    ),
+                ));
+            }
+            controls.push(control);
+        }
+        // The index of the control `name` that entry k of `section` names under `key`.
+        let control_of = |section: &str, k: usize, entry: &str, key: &str, name: &str| {
+            controls.iter().position(|c| c.name == name).ok_or_else(|| {
+                let names: Vec<&str> = controls.iter().map(|c| c.name.as_str()).collect();
+                in_entry(
+                    section,
+                    k,
+                    key,
+                    format!("{section}[{k}] ({entry:?}).{key}"),
+                    format!("{name:?} is not allowed: one of the controls {names:?}"),
+                )
+            })
+        };
+        let mut bindings = Vec::new();
         let mut colliders = Vec::with_capacity(self.colliders.len());
         for (k, c) in self.colliders.iter().enumerate() {
-            colliders.push(self.collider(k, c, file, text)?);
+            let mut collider = self.collider(k, c, file, text)?;
+            if let MotionSpec::Controlled { control, to } = &c.motion {
+                let index = control_of("colliders", k, &c.name, "control", control)?;
+                let (from, to) = (v(c.position), v(*to));
+                if !to.is_finite() {
+                    return Err(in_entry(
+                        "colliders",
+                        k,
+                        "to",
+                        format!("colliders[{k}] ({:?}).motion.to", c.name),
+                        format!("{to:?} is not allowed: finite coordinates [m]"),
+                    ));
+                }
+                collider.collider.pose.translation =
+                    ControlTarget::position(from, to, controls[index].fraction());
+                bindings.push(ControlBinding {
+                    control: index,
+                    index: k,
+                    target: ControlTarget::Position { from, to },
+                });
+            }
+            colliders.push(collider);
         }
         let spacing = params.spacing();
         let mut blocks = Vec::with_capacity(self.blocks.len());
@@ -581,10 +686,19 @@ impl SceneFile {
         };
         let mut sinks = Vec::with_capacity(self.sinks.len());
         for (k, s) in self.sinks.iter().enumerate() {
-            let sink = Sink {
+            let mut sink = Sink {
                 region: Region::from_min_max(v(s.min), v(s.max)),
                 open: s.open.unwrap_or(true),
             };
+            if let Some(name) = &s.open_control {
+                let index = control_of("sinks", k, &s.name, "open_control", name)?;
+                sink.open = ControlTarget::drain_open(controls[index].fraction());
+                bindings.push(ControlBinding {
+                    control: index,
+                    index: k,
+                    target: ControlTarget::DrainOpen,
+                });
+            }
             sink.validate()
                 .map_err(|e| refuse_named("sinks", k, &s.name, e))?;
             sinks.push((s.name.clone(), sink));
@@ -599,6 +713,18 @@ impl SceneFile {
             };
             pump.validate()
                 .map_err(|e| refuse_named("pumps", k, &p.name, e))?;
+            let mut pump = pump;
+            if let Some(name) = &p.strength_control {
+                let index = control_of("pumps", k, &p.name, "strength_control", name)?;
+                pump.strength = p.strength * controls[index].fraction();
+                bindings.push(ControlBinding {
+                    control: index,
+                    index: k,
+                    target: ControlTarget::PumpStrength {
+                        strength: p.strength,
+                    },
+                });
+            }
             pumps.push((p.name.clone(), pump));
         }
         let mut probes = Vec::with_capacity(self.probes.len());
@@ -669,6 +795,8 @@ impl SceneFile {
             sinks,
             pumps,
             probes,
+            controls,
+            bindings,
         })
     }
 
@@ -679,15 +807,8 @@ impl SceneFile {
         file: &str,
         text: &str,
     ) -> Result<SceneCollider, SceneError> {
-        let at = |key: &str| {
-            // The collider's own line for its key: the k-th `name:` starts its entry.
-            let (name_line, _) = locate_after(text, Some("colliders"), "name", k);
-            text.lines()
-                .enumerate()
-                .skip(name_line.saturating_sub(1))
-                .find_map(|(n, line)| line.find(&format!("{key}:")).map(|col| (n + 1, col + 1)))
-                .unwrap_or((name_line, 1))
-        };
+        // The collider's own line for its key.
+        let at = |key: &str| locate_in_entry(text, "colliders", k, key);
         let error = |key: &str, field: String, message: String| {
             let (line, column) = at(key);
             SceneError {
@@ -726,7 +847,7 @@ impl SceneFile {
             r.2.to_radians(),
         );
         let path: Vec<(f32, Vec3)> = match &c.motion {
-            MotionSpec::Static => Vec::new(),
+            MotionSpec::Static | MotionSpec::Controlled { .. } => Vec::new(),
             MotionSpec::Kinematic { path } => path.iter().map(|&(t, p)| (t, v(p))).collect(),
         };
         if let MotionSpec::Kinematic { .. } = c.motion {
@@ -762,10 +883,9 @@ impl SceneFile {
                 rotation,
             },
         );
-        collider.motion = if path.is_empty() {
-            ColliderMotion::Static
-        } else {
-            ColliderMotion::Kinematic
+        collider.motion = match c.motion {
+            MotionSpec::Static => ColliderMotion::Static,
+            _ => ColliderMotion::Kinematic,
         };
         collider.slip = match c.no_slip_friction {
             Some(friction) => Slip::NoSlip { friction },

@@ -216,3 +216,65 @@ fn sinks_pumps_and_probes_are_built_and_bad_ones_refused_by_name() {
     let e = build(&bad(r#"probes: [(name: "q", kind: Volume(x: 0.5))],"#)).unwrap_err();
     assert_eq!((e.line, e.field.as_str()), (3, "Volume"), "{e}");
 }
+
+#[test]
+fn controls_drive_colliders_pumps_and_drains_and_unknown_names_are_refused() {
+    let text = r#"(
+    container: (min: (0.0, 0.0, 0.0), max: (1.0, 0.5, 0.3)),
+    controls: [
+        (name: "gate_lift", value: 0.25),
+        (name: "crank", value: 1.0, max: 2.0),
+        (name: "valve", value: 0.0),
+    ],
+    colliders: [(
+        name: "gate",
+        shape: Cuboid(half_extents: (0.02, 0.1, 0.1)),
+        position: (0.5, 0.1, 0.15),
+        motion: Controlled(control: "gate_lift", to: (0.5, 0.5, 0.15)),
+    )],
+    pumps: [(name: "pump", min: (0.0, 0.0, 0.0), max: (0.2, 0.1, 0.3),
+             direction: (1.0, 0.0, 0.0), speed: 0.5, strength: 8.0, strength_control: "crank")],
+    sinks: [(name: "drain", min: (0.9, 0.0, 0.0), max: (1.0, 0.1, 0.3), open_control: "valve")],
+)"#;
+    let s = build(text).unwrap();
+    assert_eq!(s.controls.len(), 3);
+    // A quarter of the way up, half the crank's range, the valve shut.
+    assert!((s.colliders[0].collider.pose.translation.y - 0.2).abs() < 1e-6);
+    assert_eq!(
+        s.colliders[0].collider.motion,
+        sph_core::ColliderMotion::Kinematic
+    );
+    assert!((s.pumps[0].1.strength - 4.0).abs() < 1e-6);
+    assert!(!s.sinks[0].1.open);
+    assert_eq!(s.bindings.len(), 3);
+
+    let e = build(&text.replace("strength_control: \"crank\"", "strength_control: \"crnk\""))
+        .unwrap_err();
+    assert_eq!(
+        (e.line, e.field.as_str()),
+        (15, "pumps[0] (\"pump\").strength_control"),
+        "{e}"
+    );
+    assert!(
+        e.message.contains("\"crnk\"") && e.message.contains("gate_lift"),
+        "{e}"
+    );
+    let e = build(&text.replace("control: \"gate_lift\"", "control: \"lift\"")).unwrap_err();
+    assert_eq!(
+        (e.line, e.field.as_str()),
+        (12, "colliders[0] (\"gate\").control"),
+        "{e}"
+    );
+    let e = build(&text.replace("value: 0.25", "value: 1.5")).unwrap_err();
+    assert_eq!(
+        (e.line, e.field.as_str()),
+        (4, "controls[0] (\"gate_lift\").value"),
+        "{e}"
+    );
+    let e = build(&text.replace(
+        "(name: \"valve\", value: 0.0)",
+        "(name: \"crank\", value: 0.0)",
+    ))
+    .unwrap_err();
+    assert_eq!(e.field, "controls[2].name", "{e}");
+}
