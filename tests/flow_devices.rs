@@ -285,3 +285,65 @@ fn gpu_probes_match_the_cpu_solver() {
         );
     }
 }
+
+/// A scene's named controls, set at run time through `SphSceneControls`, move the gate, turn
+/// the crank and open the drain.
+#[test]
+fn scene_controls_move_the_gate_scale_the_pump_and_open_the_drain() {
+    let text = r#"(
+    container: (min: (0.0, 0.0, 0.0), max: (0.8, 0.5, 0.12)),
+    controls: [(name: "gate_lift", value: 0.0), (name: "crank", value: 0.5), (name: "valve", value: 0.0)],
+    colliders: [(
+        name: "gate",
+        shape: Cuboid(half_extents: (0.02, 0.1, 0.08)),
+        position: (0.4, 0.1, 0.06),
+        motion: Controlled(control: "gate_lift", to: (0.4, 0.4, 0.06)),
+    )],
+    blocks: [(min: (0.0, 0.0, 0.0), max: (0.3, 0.1, 0.12))],
+    pumps: [(name: "pump", min: (0.0, 0.0, 0.0), max: (0.3, 0.1, 0.12),
+             direction: (1.0, 0.0, 0.0), speed: 0.5, strength: 8.0, strength_control: "crank")],
+    sinks: [(name: "drain", min: (0.7, 0.0, 0.0), max: (0.8, 0.1, 0.12), open_control: "valve")],
+)"#;
+    let dir = common::scene_dir("controls", text);
+    let mut app = common::app_with_scene(&dir, 4_000);
+    for _ in 0..500 {
+        app.update();
+        if app.world().resource::<SphStats>().particle_count > 0 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    let gate_y = |app: &mut App| {
+        app.world_mut()
+            .query_filtered::<&Transform, With<SphCollider>>()
+            .single(app.world())
+            .unwrap()
+            .translation
+            .y
+    };
+    let pump = |app: &mut App| {
+        *app.world_mut()
+            .query::<&SphPump>()
+            .single(app.world())
+            .unwrap()
+    };
+    let sink = |app: &mut App| {
+        *app.world_mut()
+            .query::<&SphSink>()
+            .single(app.world())
+            .unwrap()
+    };
+    assert_eq!(gate_y(&mut app), 0.1);
+    assert_eq!(pump(&mut app).strength, 4.0);
+    assert!(!sink(&mut app).open);
+
+    let mut controls = app.world_mut().query::<&mut SphSceneControls>();
+    let mut c = controls.single_mut(app.world_mut()).unwrap();
+    c.get_mut("gate_lift").unwrap().value = 0.5;
+    c.get_mut("crank").unwrap().value = 1.0;
+    c.get_mut("valve").unwrap().value = 1.0;
+    app.update();
+    assert!((gate_y(&mut app) - 0.25).abs() < 1e-6);
+    assert_eq!(pump(&mut app).strength, 8.0);
+    assert!(sink(&mut app).open);
+}

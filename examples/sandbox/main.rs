@@ -15,6 +15,7 @@ mod particles;
 mod ranges;
 mod scene;
 mod scene_file;
+mod scene_panel;
 mod ui;
 
 use bevy::diagnostic::FrameTimeDiagnosticsPlugin;
@@ -240,6 +241,7 @@ fn main() {
     })
     .init_resource::<ui::DebugView>()
     .init_resource::<ui::History>()
+    .init_resource::<scene_panel::ProbeHistory>()
     .init_resource::<debug::LastSnapshot>()
     .add_systems(Startup, (spawn_camera_and_light, auto_start))
     .add_systems(OnEnter(AppState::Running), scene::enter_running)
@@ -257,6 +259,7 @@ fn main() {
             apply_cli_toggles,
             obstacles::lift_gate,
             scene_file::dress_scene_members,
+            scene_panel::record_probe_readings,
         )
             .run_if(in_state(AppState::Running)),
     )
@@ -265,6 +268,7 @@ fn main() {
         (
             ui::setup_panel.run_if(in_state(AppState::Setup)),
             ui::runtime_panel.run_if(in_state(AppState::Running)),
+            scene_panel::scene_panel.run_if(in_state(AppState::Running)),
         ),
     )
     .run();

@@ -41,7 +41,7 @@ mod simulation;
 pub use api::*;
 pub use flow::{SphProbe, SphProbeKind, SphProbeReading, SphPump, SphSink};
 pub use plugin::SphFluidPlugin;
-pub use scene_asset::{SphScene, SphSceneAsset, SphSceneMember};
+pub use scene_asset::{SphScene, SphSceneAsset, SphSceneControls, SphSceneMember};
 pub use sets::{SphGraphSystems, SphStep, SphSystems};
 
 /// Commonly used items.
@@ -49,6 +49,6 @@ pub mod prelude {
     pub use crate::api::*;
     pub use crate::flow::{SphProbe, SphProbeKind, SphProbeReading, SphPump, SphSink};
     pub use crate::plugin::SphFluidPlugin;
-    pub use crate::scene_asset::{SphScene, SphSceneAsset, SphSceneMember};
+    pub use crate::scene_asset::{SphScene, SphSceneAsset, SphSceneControls, SphSceneMember};
     pub use crate::sets::SphSystems;
 }

@@ -19,6 +19,7 @@ use crate::flow::{SphProbe, SphPump, SphSink};
 use bevy::asset::io::Reader;
 use bevy::asset::{AssetLoadError, AssetLoadFailedEvent, AssetLoader, LoadContext};
 use bevy::prelude::*;
+use sph_core::scene_controls::{ControlBinding, ControlTarget, SceneControl};
 use sph_core::scene_file::{SceneError, SceneFile, SceneSetup};
 
 /// A water scene read from a RON file (`assets/scenes/*.ron`), validated.
@@ -73,6 +74,23 @@ pub struct SphScene(pub Handle<SphSceneAsset>);
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SphSceneMember(pub Entity);
 
+/// The named controls of a scene file, on its [`SphScene`] entity: set a value (within its
+/// range) and the colliders, pumps and drains bound to it follow on the next frame (see
+/// [`sph_core::scene_controls`]).
+#[derive(Component, Clone, Debug, PartialEq)]
+pub struct SphSceneControls(pub Vec<SceneControl>);
+
+impl SphSceneControls {
+    /// The control named `name`.
+    pub fn get_mut(&mut self, name: &str) -> Option<&mut SceneControl> {
+        self.0.iter_mut().find(|c| c.name == name)
+    }
+}
+
+/// On a scene member driven by a control: which control and what it drives.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct SphControlBinding(pub ControlBinding);
+
 /// A kinematic collider's path from a scene file: `(time, position)` waypoints, followed by
 /// simulated time ([`SphStats::sim_time`]).
 #[derive(Component, Clone, Debug, PartialEq)]
@@ -83,7 +101,7 @@ pub(crate) fn add_systems(app: &mut App, schedule: bevy::ecs::schedule::Interned
         .init_asset_loader::<SphSceneLoader>()
         .add_systems(
             schedule,
-            (sph_apply_scenes, sph_follow_paths)
+            (sph_apply_scenes, sph_follow_paths, sph_apply_scene_controls)
                 .chain()
                 .before(crate::sets::SphSystems::Prepare),
         );
@@ -142,7 +160,11 @@ fn sph_apply_scenes(
             params.0 = setup.params;
             control.reset = true;
             let member = SphSceneMember(root);
+            commands
+                .entity(root)
+                .insert(SphSceneControls(setup.controls.clone()));
             commands.spawn((SphContainer(setup.container), member));
+            let mut collider_entities = Vec::with_capacity(setup.colliders.len());
             for c in &setup.colliders {
                 let pose = c.collider.pose;
                 let transform =
@@ -163,6 +185,7 @@ fn sph_apply_scenes(
                 if !c.path.is_empty() {
                     entity.insert(SphColliderPath(c.clone()));
                 }
+                collider_entities.push(entity.id());
             }
             for &(block, velocity) in &setup.blocks {
                 commands.spawn((SphBlockSpawn { block, velocity }, member));
@@ -170,7 +193,17 @@ fn sph_apply_scenes(
             for emitter in &setup.emitters {
                 commands.spawn((SphEmitter(emitter.clone()), member));
             }
-            spawn_flow_devices(&mut commands, setup, member);
+            let (sinks, pumps) = spawn_flow_devices(&mut commands, setup, member);
+            for binding in &setup.bindings {
+                let entities = match binding.target {
+                    ControlTarget::Position { .. } => &collider_entities,
+                    ControlTarget::PumpStrength { .. } => &pumps,
+                    ControlTarget::DrainOpen => &sinks,
+                };
+                if let Some(&entity) = entities.get(binding.index) {
+                    commands.entity(entity).insert(SphControlBinding(*binding));
+                }
+            }
             if stats.scene_error.take().is_some()
                 && stats
                     .error
@@ -183,18 +216,28 @@ fn sph_apply_scenes(
     }
 }
 
-/// The scene's drains, pumps and probes, named as in the file.
-fn spawn_flow_devices(commands: &mut Commands, setup: &SceneSetup, member: SphSceneMember) {
-    for (name, sink) in &setup.sinks {
-        spawn_device(commands, SphSink::from_world(sink), name, member);
-    }
-    for (name, pump) in &setup.pumps {
-        spawn_device(commands, SphPump::from_world(pump), name, member);
-    }
+/// The scene's drains, pumps and probes, named as in the file; returns the drains' and the
+/// pumps' entities.
+fn spawn_flow_devices(
+    commands: &mut Commands,
+    setup: &SceneSetup,
+    member: SphSceneMember,
+) -> (Vec<Entity>, Vec<Entity>) {
+    let sinks = setup
+        .sinks
+        .iter()
+        .map(|(name, sink)| spawn_device(commands, SphSink::from_world(sink), name, member))
+        .collect();
+    let pumps = setup
+        .pumps
+        .iter()
+        .map(|(name, pump)| spawn_device(commands, SphPump::from_world(pump), name, member))
+        .collect();
     for probe in &setup.probes {
         let device = SphProbe::from_world(&probe.kind, probe.every_steps);
         spawn_device(commands, device, &probe.name, member);
     }
+    (sinks, pumps)
 }
 
 /// A named scene member with its transform in place this frame, before transform propagation.
@@ -203,14 +246,16 @@ fn spawn_device(
     (device, transform): (impl Bundle, Transform),
     name: &str,
     member: SphSceneMember,
-) {
-    commands.spawn((
-        device,
-        transform,
-        GlobalTransform::from(transform),
-        Name::new(name.to_owned()),
-        member,
-    ));
+) -> Entity {
+    commands
+        .spawn((
+            device,
+            transform,
+            GlobalTransform::from(transform),
+            Name::new(name.to_owned()),
+            member,
+        ))
+        .id()
 }
 
 /// Moves the scene's kinematic colliders along their paths by the simulated time.
@@ -220,6 +265,54 @@ fn sph_follow_paths(stats: Res<SphStats>, mut paths: Query<(&SphColliderPath, &m
         let at = path.0.position_at(t);
         if transform.translation != at {
             transform.translation = at;
+        }
+    }
+}
+
+/// Moves, scales and opens the members bound to a scene's controls when the controls change
+/// (or the members appear).
+fn sph_apply_scene_controls(
+    scenes: Query<Ref<SphSceneControls>>,
+    mut bound: Query<(
+        Ref<SphControlBinding>,
+        &SphSceneMember,
+        Option<&mut Transform>,
+        Option<&mut SphPump>,
+        Option<&mut SphSink>,
+    )>,
+) {
+    for (binding, member, transform, pump, sink) in &mut bound {
+        let Ok(controls) = scenes.get(member.0) else {
+            continue;
+        };
+        if !(controls.is_changed() || binding.is_added()) {
+            continue;
+        }
+        let ControlBinding {
+            control, target, ..
+        } = binding.0;
+        let Some(fraction) = controls.0.get(control).map(SceneControl::fraction) else {
+            continue;
+        };
+        match target {
+            ControlTarget::Position { from, to } => {
+                if let Some(mut t) = transform {
+                    let at = ControlTarget::position(from, to, fraction);
+                    if t.translation != at {
+                        t.translation = at;
+                    }
+                }
+            }
+            ControlTarget::PumpStrength { strength } => {
+                if let Some(mut pump) = pump {
+                    pump.strength = strength * fraction;
+                }
+            }
+            ControlTarget::DrainOpen => {
+                if let Some(mut sink) = sink {
+                    sink.open = ControlTarget::drain_open(fraction);
+                }
+            }
         }
     }
 }
