@@ -269,17 +269,20 @@ fn sph_follow_paths(stats: Res<SphStats>, mut paths: Query<(&SphColliderPath, &m
     }
 }
 
+/// A member bound to a control, with what a control can drive.
+type BoundMember<'a> = (
+    Ref<'a, SphControlBinding>,
+    &'a SphSceneMember,
+    Option<&'a mut Transform>,
+    Option<&'a mut SphPump>,
+    Option<&'a mut SphSink>,
+);
+
 /// Moves, scales and opens the members bound to a scene's controls when the controls change
 /// (or the members appear).
 fn sph_apply_scene_controls(
     scenes: Query<Ref<SphSceneControls>>,
-    mut bound: Query<(
-        Ref<SphControlBinding>,
-        &SphSceneMember,
-        Option<&mut Transform>,
-        Option<&mut SphPump>,
-        Option<&mut SphSink>,
-    )>,
+    mut bound: Query<BoundMember>,
 ) {
     for (binding, member, transform, pump, sink) in &mut bound {
         let Ok(controls) = scenes.get(member.0) else {
