@@ -280,10 +280,7 @@ type BoundMember<'a> = (
 
 /// Moves, scales and opens the members bound to a scene's controls when the controls change
 /// (or the members appear).
-fn sph_apply_scene_controls(
-    scenes: Query<Ref<SphSceneControls>>,
-    mut bound: Query<BoundMember>,
-) {
+fn sph_apply_scene_controls(scenes: Query<Ref<SphSceneControls>>, mut bound: Query<BoundMember>) {
     for (binding, member, transform, pump, sink) in &mut bound {
         let Ok(controls) = scenes.get(member.0) else {
             continue;

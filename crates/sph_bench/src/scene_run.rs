@@ -170,3 +170,61 @@ mod tests {
         assert!(e.contains(":3:") && e.contains("sinks[0]"), "{e}");
     }
 }
+
+#[cfg(test)]
+mod shipped_scenes {
+    use crate::args::{Backend, RunArgs};
+    use crate::progress::Bars;
+    use crate::run::run;
+    use std::path::Path;
+
+    /// Runs `file` for 2 s on `backend` and checks health, the balance and the probes.
+    fn two_seconds(file: &str, backend: Backend) {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../assets/scenes")
+            .join(file);
+        let args = RunArgs {
+            scene: Some(path),
+            time: Some(2.0),
+            backend,
+            ..Default::default()
+        };
+        let report = run(&args, &Bars::new(true)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert_eq!(report.health, "ok", "{file}");
+        assert!(
+            (report.sim_time - 2.0).abs() < 0.01,
+            "{file}: {}",
+            report.sim_time
+        );
+        assert_eq!(report.particle_balance, 0, "{file}");
+        assert_eq!(
+            report.particles + report.particles_emitted as usize
+                - report.particles_drained as usize,
+            report.particles_final,
+            "{file}"
+        );
+        assert!(
+            report.probes.iter().all(|p| !p.readings.is_empty()),
+            "{file}"
+        );
+    }
+
+    #[test]
+    fn every_shipped_scene_runs_two_seconds_on_the_cpu() {
+        for file in [
+            "dam_break.ron",
+            "pipe_fill.ron",
+            "gate.ron",
+            "lock.ron",
+            "aquaplay.ron",
+        ] {
+            two_seconds(file, Backend::Cpu);
+        }
+    }
+
+    /// The GPU runs the scenes its passes cover: WCSPH without drains.
+    #[test]
+    fn the_wcsph_scene_runs_two_seconds_on_the_gpu() {
+        two_seconds("dam_break.ron", Backend::Gpu);
+    }
+}
