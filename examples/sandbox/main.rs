@@ -242,6 +242,7 @@ fn main() {
     .init_resource::<ui::DebugView>()
     .init_resource::<ui::History>()
     .init_resource::<scene_panel::ProbeHistory>()
+    .insert_resource(scene_file::SceneFiles::find())
     .init_resource::<debug::LastSnapshot>()
     .add_systems(Startup, (spawn_camera_and_light, auto_start))
     .add_systems(OnEnter(AppState::Running), scene::enter_running)

@@ -80,3 +80,39 @@ pub fn dress_scene_members(
         }
     }
 }
+
+/// The scene files the start panel offers: `scenes/*.ron` under the sandbox's asset folder, with
+/// the solver each names (or why it does not build).
+#[derive(Resource, Default)]
+pub struct SceneFiles(pub Vec<(String, Result<sph_core::Solver, String>)>);
+
+impl SceneFiles {
+    /// Reads the folder once (at start-up).
+    pub fn find() -> Self {
+        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes"));
+        let mut files: Vec<(String, Result<sph_core::Solver, String>)> = std::fs::read_dir(dir)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|entry| entry.path())
+            .filter(|path| path.extension().is_some_and(|e| e == "ron"))
+            .map(|path| {
+                let name = format!(
+                    "scenes/{}",
+                    path.file_name().unwrap_or_default().to_string_lossy()
+                );
+                let solver = std::fs::read_to_string(&path)
+                    .map_err(|e| e.to_string())
+                    .and_then(|text| {
+                        sph_core::scene_file::SceneFile::parse(&text, &name)
+                            .and_then(|scene| scene.build(&name, &text))
+                            .map(|setup| setup.params.solver)
+                            .map_err(|e| e.to_string())
+                    });
+                (name, solver)
+            })
+            .collect();
+        files.sort_by(|a, b| a.0.cmp(&b.0));
+        Self(files)
+    }
+}

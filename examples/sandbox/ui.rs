@@ -5,6 +5,7 @@ use crate::config::{Preset, SandboxConfig, SpawnMode, BUDGET_RANGE};
 use crate::obstacles::{Gate, GateLift};
 use crate::particles::{ColorMode, ParticleDrawing};
 use crate::ranges;
+use crate::scene_file::SceneFiles;
 use crate::AppState;
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
@@ -82,12 +83,17 @@ pub fn setup_panel(
     mut contexts: EguiContexts,
     mut config: ResMut<SandboxConfig>,
     mut next: ResMut<NextState<AppState>>,
+    files: Res<SceneFiles>,
+    stats: Res<SphStats>,
 ) -> Result {
     egui::Window::new("Aquaplay SPH sandbox")
         .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
         .resizable(false)
         .show(contexts.ctx_mut()?, |ui| {
             ui.label("Choose the scene, then Start.");
+            if scene_file_choice(ui, &mut config, &files, &stats, &mut next) {
+                return;
+            }
             ui.add(
                 egui::Slider::new(&mut config.budget, BUDGET_RANGE)
                     .text("particle budget")
@@ -165,6 +171,60 @@ pub fn setup_panel(
             }
         });
     Ok(())
+}
+
+/// The scene-file choice at the top of the start panel. With a file chosen, the file sets the
+/// parameters: the panel shows Start (or why the backend cannot run it) and returns true.
+fn scene_file_choice(
+    ui: &mut egui::Ui,
+    config: &mut SandboxConfig,
+    files: &SceneFiles,
+    stats: &SphStats,
+    next: &mut NextState<AppState>,
+) -> bool {
+    egui::ComboBox::from_label("scene file")
+        .selected_text(config.scene.as_deref().unwrap_or("(this panel's scene)"))
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut config.scene, None, "(this panel's scene)");
+            for (name, solver) in &files.0 {
+                let label = match solver {
+                    Ok(solver) => format!("{name} ({})", solver.name()),
+                    Err(_) => format!("{name} (does not load)"),
+                };
+                ui.selectable_value(&mut config.scene, Some(name.clone()), label);
+            }
+        });
+    let Some(chosen) = config.scene.clone() else {
+        return false;
+    };
+    match files
+        .0
+        .iter()
+        .find(|(name, _)| *name == chosen)
+        .map(|f| &f.1)
+    {
+        Some(Ok(solver))
+            if *solver != sph_core::Solver::Wcsph && stats.backend == SphBackend::Gpu =>
+        {
+            ui.colored_label(
+                Color32::ORANGE,
+                format!(
+                    "{} runs on the CPU backend only for now: restart the sandbox with --scene {chosen}",
+                    solver.name()
+                ),
+            );
+        }
+        Some(Err(e)) => {
+            ui.colored_label(Color32::RED, e);
+        }
+        _ => {
+            ui.label("The file sets the parameters, the container, the colliders and the water.");
+            if ui.button("Start").clicked() {
+                next.set(AppState::Running);
+            }
+        }
+    }
+    true
 }
 
 /// Samples FPS and density error for the plot, and steps per second.
