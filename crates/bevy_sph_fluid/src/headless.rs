@@ -51,6 +51,18 @@ pub fn headless_app(
     backend: SphBackend,
     timed: bool,
 ) -> App {
+    headless_app_with(default_plugins, capacity, backend, timed, |_| {})
+}
+
+/// [`headless_app`] with more plugins, added by `more` before the app is finished (a physics
+/// engine, say).
+pub fn headless_app_with(
+    default_plugins: PluginGroupBuilder,
+    capacity: u32,
+    backend: SphBackend,
+    timed: bool,
+    more: impl FnOnce(&mut App),
+) -> App {
     let mut app = App::new();
     let render = if backend == SphBackend::Gpu {
         RenderPlugin {
@@ -81,6 +93,7 @@ pub fn headless_app(
         app.add_plugins(bevy::render::diagnostic::RenderDiagnosticsPlugin);
     }
     app.add_plugins(SphFluidPlugin::new(capacity, backend));
+    more(&mut app);
     app.init_resource::<Snapshots>()
         .add_systems(Last, collect_snapshots);
     app.insert_resource(SphControl {

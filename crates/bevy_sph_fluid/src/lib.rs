@@ -26,6 +26,8 @@
 //! on top. No module imports one that imports it back (`tests/module_imports.rs`).
 
 pub mod api;
+#[cfg(feature = "avian")]
+pub mod avian_coupling;
 pub mod colliders;
 mod cpu_buffers;
 pub mod flow;

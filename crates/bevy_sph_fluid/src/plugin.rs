@@ -67,6 +67,8 @@ impl Plugin for SphFluidPlugin {
         cpu_buffers::add_systems(app, self.schedule);
         scene_asset::add_systems(app, self.schedule);
         crate::flow::add_systems(app, self.schedule);
+        #[cfg(feature = "avian")]
+        crate::avian_coupling::add_systems(app, self.schedule);
         // Spawns consumed by the render world are cleared before the next frame's spawners run.
         app.add_systems(First, simulation::clear_frame);
         render::build(app);

@@ -1,0 +1,144 @@
+//! Two-way coupling with avian (feature `avian`): a box of 500 kg/m³ settles floating with half
+//! its height under water; a box of 1,500 kg/m³ sinks and rests on the floor (avian's contact
+//! with a floor collider). The water pushes the bodies through `SphColliderForce` →
+//! `ConstantForce`; avian moves them; the water sees their new pose. CPU backend, DFSPH.
+
+use avian3d::prelude::*;
+use bevy::prelude::*;
+use bevy::time::TimeUpdateStrategy;
+use bevy_sph_fluid::prelude::*;
+use sph_core::{BlockSpawn, BoxContainer, ColliderMotion, ColliderShape};
+use std::time::Duration;
+
+const FRAME: f32 = 1.0 / 60.0;
+const SIDE: f32 = 0.12;
+const DEPTH: f32 = 0.2;
+
+/// A tank with water `DEPTH` deep and a box of `density` [kg/m³] held with its centre at the
+/// surface, rotation locked; returns the app, the box and the level probe.
+fn tank_with_box(density: f32) -> (App, Entity, Entity) {
+    let plugins = DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>();
+    let mut app = bevy_sph_fluid::headless::headless_app_with(
+        plugins,
+        8_000,
+        SphBackend::Cpu,
+        false,
+        |app| {
+            app.add_plugins(PhysicsPlugins::default());
+        },
+    );
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f32(
+        FRAME,
+    )));
+    app.insert_resource(Time::<Fixed>::from_seconds(FRAME as f64));
+    let mut params = sph_core::SphParams::water();
+    params.use_solver(sph_core::Solver::Dfsph);
+    app.insert_resource(SphParams(params));
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.36, 0.4, 0.36));
+    app.world_mut().spawn(SphContainer(container));
+    // avian's floor under the container's floor plate.
+    app.world_mut().spawn((
+        RigidBody::Static,
+        Collider::cuboid(1.0, 0.1, 1.0),
+        Transform::from_xyz(0.18, -0.05, 0.18),
+    ));
+    let body = app
+        .world_mut()
+        .spawn((
+            RigidBody::Dynamic,
+            Collider::cuboid(SIDE, SIDE, SIDE),
+            ColliderDensity(density),
+            LockedAxes::ROTATION_LOCKED,
+            SphCollider::new(ColliderShape::Cuboid {
+                half_extents: Vec3::splat(0.5 * SIDE),
+            })
+            .with_motion(ColliderMotion::Dynamic),
+            Transform::from_xyz(0.18, DEPTH, 0.18),
+        ))
+        .id();
+    let probe = app
+        .world_mut()
+        .spawn((
+            SphProbe {
+                kind: SphProbeKind::Level { radius: 0.04 },
+                every_steps: 1,
+            },
+            Transform::from_xyz(0.05, 0.0, 0.05),
+        ))
+        .id();
+    app.update();
+    app.world_mut().spawn(SphBlockSpawn {
+        block: BlockSpawn::new(Vec3::ZERO, Vec3::new(0.36, DEPTH, 0.36), params.spacing()),
+        velocity: Vec3::ZERO,
+    });
+    app.insert_resource(SphControl {
+        running: true,
+        real_time: Some(SphRealTime {
+            max_frame_time: FRAME,
+            max_steps: 64,
+        }),
+        ..default()
+    });
+    (app, body, probe)
+}
+
+#[derive(Resource, Default)]
+struct Levels(Vec<f32>);
+
+fn collect(mut reader: MessageReader<SphProbeReading>, mut levels: ResMut<Levels>) {
+    levels
+        .0
+        .extend(reader.read().filter_map(|r| r.reading.value));
+}
+
+/// Runs `seconds` of simulated time; returns the box's mean height and the mean water level
+/// over the last half second.
+fn settle(app: &mut App, body: Entity, seconds: f32) -> (f32, f32) {
+    app.init_resource::<Levels>().add_systems(Last, collect);
+    let frames = (seconds / FRAME).round() as usize;
+    let tail = (0.5 / FRAME) as usize;
+    let mut heights = Vec::new();
+    for frame in 0..frames {
+        app.update();
+        let stats = app.world().resource::<SphStats>();
+        assert!(
+            !stats.health.is_unstable(),
+            "frame {frame}: {:?}",
+            stats.health
+        );
+        if frame + tail == frames {
+            // Only the last half second's levels count.
+            app.world_mut().resource_mut::<Levels>().0.clear();
+        }
+        if frame + tail >= frames {
+            heights.push(app.world().get::<Transform>(body).unwrap().translation.y);
+        }
+    }
+    let levels = &app.world().resource::<Levels>().0;
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len().max(1) as f32;
+    (mean(&heights), mean(levels))
+}
+
+#[test]
+fn a_box_of_half_the_waters_density_floats_half_submerged() {
+    let (mut app, body, _) = tank_with_box(500.0);
+    let (y, level) = settle(&mut app, body, 2.5);
+    let bottom = y - 0.5 * SIDE;
+    let submerged = (level - bottom) / SIDE;
+    eprintln!("500 kg/m³: box centre {y:.4} m, water level {level:.4} m, submerged {submerged:.3}");
+    assert!(
+        (submerged - 0.5).abs() <= 0.05,
+        "submerged fraction {submerged}"
+    );
+    let stats = app.world().resource::<SphStats>();
+    assert_eq!(stats.particle_balance(), 0);
+}
+
+#[test]
+fn a_box_of_one_and_a_half_times_the_waters_density_sinks_to_the_floor() {
+    let (mut app, body, _) = tank_with_box(1500.0);
+    let (y, _) = settle(&mut app, body, 2.0);
+    eprintln!("1500 kg/m³: box centre {y:.4} m");
+    // Resting on the floor: its centre half a side up, within a particle spacing.
+    assert!((y - 0.5 * SIDE).abs() <= 0.02, "box centre {y}");
+}
