@@ -142,3 +142,88 @@ fn a_box_of_one_and_a_half_times_the_waters_density_sinks_to_the_floor() {
     // Resting on the floor: its centre half a side up, within a particle spacing.
     assert!((y - 0.5 * SIDE).abs() <= 0.02, "box centre {y}");
 }
+
+/// lock.ron with avian: the boat becomes a dynamic avian body of the file's density, the
+/// container's walls static bodies; the boat floats (neither sinks nor leaves the water) while
+/// the gate opens and the basins even out.
+#[test]
+fn the_lock_scene_boat_is_an_avian_body_and_floats() {
+    let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
+    let plugins = DefaultPlugins
+        .build()
+        .disable::<bevy::winit::WinitPlugin>()
+        .set(AssetPlugin {
+            file_path: assets.into(),
+            ..default()
+        });
+    let mut app = bevy_sph_fluid::headless::headless_app_with(
+        plugins,
+        8_000,
+        SphBackend::Cpu,
+        false,
+        |app| {
+            app.add_plugins(PhysicsPlugins::default());
+        },
+    );
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f32(
+        FRAME,
+    )));
+    app.insert_resource(Time::<Fixed>::from_seconds(FRAME as f64));
+    let handle = app
+        .world()
+        .resource::<AssetServer>()
+        .load::<SphSceneAsset>("scenes/lock.ron");
+    app.world_mut().spawn(SphScene(handle));
+    for _ in 0..500 {
+        app.update();
+        if app.world().resource::<SphStats>().particle_count > 0 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let boat = app
+        .world_mut()
+        .query::<(Entity, &Name)>()
+        .iter(app.world())
+        .find(|(_, n)| n.as_str() == "boat")
+        .map(|(e, _)| e)
+        .expect("the boat");
+    assert_eq!(
+        app.world().get::<RigidBody>(boat),
+        Some(&RigidBody::Dynamic)
+    );
+    assert_eq!(
+        app.world().get::<ColliderDensity>(boat).map(|d| d.0),
+        Some(400.0)
+    );
+    app.insert_resource(SphControl {
+        running: true,
+        real_time: Some(SphRealTime {
+            max_frame_time: FRAME,
+            max_steps: 64,
+        }),
+        ..default()
+    });
+    let mut lowest = f32::MAX;
+    let mut highest = f32::MIN;
+    for frame in 0..(2.0 / FRAME) as usize {
+        app.update();
+        let stats = app.world().resource::<SphStats>();
+        assert!(
+            !stats.health.is_unstable(),
+            "frame {frame}: {:?}",
+            stats.health
+        );
+        assert_eq!(stats.particle_balance(), 0);
+        let y = app.world().get::<Transform>(boat).unwrap().translation.y;
+        lowest = lowest.min(y);
+        highest = highest.max(y);
+    }
+    let at = app.world().get::<Transform>(boat).unwrap().translation;
+    eprintln!("boat: y in [{lowest:.3}, {highest:.3}] m, at {at}");
+    // Afloat: above the floor by more than its half height, below the basin's brim.
+    assert!(
+        lowest > 0.06 && highest < 0.4,
+        "boat y in [{lowest}, {highest}]"
+    );
+}

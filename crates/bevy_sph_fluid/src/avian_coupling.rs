@@ -7,6 +7,16 @@
 //! that into avian's forces (the split avian's maintainers ask for, avian issue #265). On the
 //! GPU the force is summed on the device and read back a frame or two late, without a stall.
 //!
+//! Time: avian steps in its fixed schedule by the game's time, the water by its own frame plan.
+//! They agree when the water runs in real-time mode ([`SphControl::real_time`]) and keeps up
+//! (real-time factor 1), as in `tests/avian_coupling.rs`; water that runs slower than real time
+//! pushes with the force of a slower world.
+//!
+//! A scene file's solids become avian bodies too: its container's
+//! floor and walls and its static colliders static bodies, its kinematic colliders kinematic
+//! ones, and its dynamic colliders dynamic bodies of the file's density or mass, so a boat meets
+//! the channel's walls through avian's contacts.
+//!
 //! ```no_run
 //! use avian3d::prelude::*;
 //! use bevy::prelude::*;
@@ -26,6 +36,7 @@
 //! ```
 
 use crate::api::*;
+use crate::scene_asset::{SphDynamicBody, SphSceneMember as SceneMember};
 use crate::sets::SphSystems;
 use avian3d::prelude::*;
 use bevy::ecs::schedule::InternedScheduleLabel;
@@ -34,10 +45,98 @@ use bevy::prelude::*;
 pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
     app.add_systems(
         schedule,
-        sph_drive_avian_bodies
-            .in_set(SphSystems::Writeback)
-            .after(crate::colliders::sph_write_collider_forces),
+        (
+            sph_avian_scene_bodies.in_set(SphSystems::Prepare),
+            sph_drive_avian_bodies
+                .in_set(SphSystems::Writeback)
+                .after(crate::colliders::sph_write_collider_forces),
+        ),
     );
+}
+
+/// avian's collider of the same shape.
+fn avian_collider(shape: sph_core::ColliderShape) -> Collider {
+    use sph_core::ColliderShape as S;
+    match shape {
+        S::Cuboid { half_extents: h } => Collider::cuboid(2.0 * h.x, 2.0 * h.y, 2.0 * h.z),
+        S::Sphere { radius } => Collider::sphere(radius),
+        S::Capsule {
+            radius,
+            half_length,
+        } => Collider::capsule(radius, 2.0 * half_length),
+        S::Cylinder {
+            radius,
+            half_length,
+        } => Collider::cylinder(radius, 2.0 * half_length),
+    }
+}
+
+/// A scene's solid as it appears, with its mass when dynamic.
+type NewSceneSolid<'a> = (Entity, &'a SphCollider, Option<&'a SphDynamicBody>);
+
+/// Wall thickness of a scene container's avian walls [m] (outside the box).
+const WALL: f32 = 0.05;
+
+/// A scene file's new solids as avian bodies (entities that already are avian bodies are left
+/// alone).
+fn sph_avian_scene_bodies(
+    mut commands: Commands,
+    colliders: Query<NewSceneSolid, (Added<SceneMember>, Without<RigidBody>)>,
+    containers: Query<(&SphContainer, &SceneMember), Added<SceneMember>>,
+) {
+    for (entity, collider, body) in &colliders {
+        let rigid = match collider.motion {
+            sph_core::ColliderMotion::Static => RigidBody::Static,
+            sph_core::ColliderMotion::Kinematic => RigidBody::Kinematic,
+            sph_core::ColliderMotion::Dynamic => RigidBody::Dynamic,
+        };
+        let mut e = commands.entity(entity);
+        e.insert((rigid, avian_collider(collider.shape)));
+        match body.map(|b| b.0) {
+            Some(sph_core::scene_file::BodyMass::Density(d)) => {
+                e.insert(ColliderDensity(d));
+            }
+            Some(sph_core::scene_file::BodyMass::Mass(m)) => {
+                e.insert(Mass(m));
+            }
+            None => {}
+        }
+    }
+    for (container, member) in &containers {
+        let (lo, hi) = (container.min(), container.max());
+        let (size, center) = (hi - lo, 0.5 * (lo + hi));
+        let slabs = [
+            (
+                Vec3::new(size.x + 2.0 * WALL, WALL, size.z + 2.0 * WALL),
+                Vec3::new(center.x, lo.y - 0.5 * WALL, center.z),
+            ),
+            (
+                Vec3::new(WALL, size.y, size.z),
+                Vec3::new(lo.x - 0.5 * WALL, center.y, center.z),
+            ),
+            (
+                Vec3::new(WALL, size.y, size.z),
+                Vec3::new(hi.x + 0.5 * WALL, center.y, center.z),
+            ),
+            (
+                Vec3::new(size.x, size.y, WALL),
+                Vec3::new(center.x, center.y, lo.z - 0.5 * WALL),
+            ),
+            (
+                Vec3::new(size.x, size.y, WALL),
+                Vec3::new(center.x, center.y, hi.z + 0.5 * WALL),
+            ),
+        ];
+        for (extent, at) in slabs {
+            commands.spawn((
+                RigidBody::Static,
+                Collider::cuboid(extent.x, extent.y, extent.z),
+                Transform::from_translation(at),
+                // A member of the same scene: a reload removes it with the container.
+                *member,
+            ));
+        }
+    }
 }
 
 /// A dynamic collider that avian moves.

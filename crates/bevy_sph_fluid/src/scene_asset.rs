@@ -74,6 +74,12 @@ pub struct SphScene(pub Handle<SphSceneAsset>);
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SphSceneMember(pub Entity);
 
+/// A dynamic collider's mass from a scene file. With the `avian` feature it becomes an avian
+/// rigid body of that density or mass; without it, game code moves the collider (reading
+/// [`SphColliderForce`]).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct SphDynamicBody(pub sph_core::scene_file::BodyMass);
+
 /// The named controls of a scene file, on its [`SphScene`] entity: set a value (within its
 /// range) and the colliders, pumps and drains bound to it follow on the next frame (see
 /// [`sph_core::scene_controls`]).
@@ -184,6 +190,9 @@ fn sph_apply_scenes(
                 ));
                 if !c.path.is_empty() {
                     entity.insert(SphColliderPath(c.clone()));
+                }
+                if let Some(body) = c.body {
+                    entity.insert(SphDynamicBody(body));
                 }
                 collider_entities.push(entity.id());
             }

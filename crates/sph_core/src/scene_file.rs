@@ -148,6 +148,16 @@ pub enum MotionSpec {
         /// The waypoints, in time order.
         path: Vec<(f32, Vector)>,
     },
+    /// A rigid body the water pushes (moved by a physics engine: with the plugin's `avian`
+    /// feature, avian): give its `density` [kg/m³] or its `mass` [kg], not both.
+    Dynamic {
+        /// Density [kg/m³], > 0.
+        #[serde(default)]
+        density: Option<f32>,
+        /// Mass [kg], > 0.
+        #[serde(default)]
+        mass: Option<f32>,
+    },
     /// Moved by a named control (see [`crate::scene_controls`]): at `position` at the start of
     /// the control's range, at `to` at its end, linear between.
     Controlled {
@@ -353,6 +363,17 @@ pub struct SceneCollider {
     pub collider: Collider,
     /// Kinematic waypoints `(time, position)`; empty for a static collider.
     pub path: Vec<(f32, Vec3)>,
+    /// A dynamic collider's mass.
+    pub body: Option<BodyMass>,
+}
+
+/// How heavy a dynamic collider is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BodyMass {
+    /// Density [kg/m³] (the mass follows from the shape's volume).
+    Density(f32),
+    /// Mass [kg].
+    Mass(f32),
 }
 
 impl SceneCollider {
@@ -847,7 +868,9 @@ impl SceneFile {
             r.2.to_radians(),
         );
         let path: Vec<(f32, Vec3)> = match &c.motion {
-            MotionSpec::Static | MotionSpec::Controlled { .. } => Vec::new(),
+            MotionSpec::Static | MotionSpec::Controlled { .. } | MotionSpec::Dynamic { .. } => {
+                Vec::new()
+            }
             MotionSpec::Kinematic { path } => path.iter().map(|&(t, p)| (t, v(p))).collect(),
         };
         if let MotionSpec::Kinematic { .. } = c.motion {
@@ -885,7 +908,32 @@ impl SceneFile {
         );
         collider.motion = match c.motion {
             MotionSpec::Static => ColliderMotion::Static,
+            MotionSpec::Dynamic { .. } => ColliderMotion::Dynamic,
             _ => ColliderMotion::Kinematic,
+        };
+        let body = match c.motion {
+            MotionSpec::Dynamic { density, mass } => {
+                let (key, value, body) = match (density, mass) {
+                    (Some(d), None) => ("density", d, BodyMass::Density(d)),
+                    (None, Some(m)) => ("mass", m, BodyMass::Mass(m)),
+                    _ => {
+                        return Err(error(
+                            "motion",
+                            "motion".into(),
+                            "Dynamic needs exactly one of `density` [kg/m³] and `mass` [kg]".into(),
+                        ))
+                    }
+                };
+                if !(value.is_finite() && value > 0.0) {
+                    return Err(error(
+                        key,
+                        format!("motion.{key}"),
+                        format!("{value} is not allowed: > 0 and finite"),
+                    ));
+                }
+                Some(body)
+            }
+            _ => None,
         };
         collider.slip = match c.no_slip_friction {
             Some(friction) => Slip::NoSlip { friction },
@@ -902,6 +950,7 @@ impl SceneFile {
             name: c.name.clone(),
             collider,
             path,
+            body,
         };
         scene_collider.collider.pose.translation = scene_collider.position_at(0.0);
         Ok(scene_collider)

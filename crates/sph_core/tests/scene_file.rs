@@ -36,7 +36,8 @@ fn the_shipped_scenes_build() {
     assert_eq!(lift.position_at(5.0), Vec3::new(0.4, 0.75, 0.05));
     let (_, lock) = load("lock.ron");
     let lock = lock.unwrap();
-    assert_eq!((lock.colliders.len(), lock.probes.len()), (1, 3));
+    assert_eq!((lock.colliders.len(), lock.probes.len()), (2, 3));
+    assert!(lock.colliders[1].body.is_some(), "the boat");
     let (_, aquaplay) = load("aquaplay.ron");
     let aquaplay = aquaplay.unwrap();
     assert_eq!(aquaplay.sinks.len(), 1);
@@ -277,4 +278,37 @@ fn controls_drive_colliders_pumps_and_drains_and_unknown_names_are_refused() {
     ))
     .unwrap_err();
     assert_eq!(e.field, "controls[2].name", "{e}");
+}
+
+#[test]
+fn a_dynamic_body_needs_one_positive_density_or_mass() {
+    let with = |motion: &str| {
+        build(&format!(
+            "(\n    container: (min: (0.0, 0.0, 0.0), max: (1.0, 0.5, 0.3)),\n    colliders: [(\n        name: \"boat\",\n        shape: Cuboid(half_extents: (0.05, 0.03, 0.04)),\n        position: (0.3, 0.2, 0.15),\n        motion: {motion},\n    )],\n)"
+        ))
+    };
+    let boat = with("Dynamic(density: 400.0)").unwrap();
+    assert_eq!(
+        boat.colliders[0].collider.motion,
+        sph_core::ColliderMotion::Dynamic
+    );
+    assert_eq!(
+        boat.colliders[0].body,
+        Some(sph_core::scene_file::BodyMass::Density(400.0))
+    );
+    for (motion, field) in [
+        ("Dynamic(mass: 0.0)", "motion.mass"),
+        ("Dynamic(mass: -1.0)", "motion.mass"),
+        ("Dynamic(density: -400.0)", "motion.density"),
+        ("Dynamic()", "motion"),
+        ("Dynamic(mass: 1.0, density: 400.0)", "motion"),
+    ] {
+        let e = with(motion).unwrap_err();
+        assert_eq!(e.line, 7, "{motion}: {e}");
+        assert_eq!(
+            e.field,
+            format!("colliders[0] (\"boat\").{field}"),
+            "{motion}: {e}"
+        );
+    }
 }
