@@ -54,12 +54,15 @@ fn health_text(r: &report::Report) -> String {
 
 /// `sph-bench run`.
 fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
-    eprintln!(
-        "sph-bench: {} on {:?}, about {} particles",
-        args.scenario.name(),
-        args.backend,
-        args.particles
-    );
+    match &args.scene {
+        Some(file) => eprintln!("sph-bench: {} on {:?}", file.display(), args.backend),
+        None => eprintln!(
+            "sph-bench: {} on {:?}, about {} particles",
+            args.scenario.name(),
+            args.backend,
+            args.particles
+        ),
+    }
     let report = run::run(args, bars)?;
     write_json(&report, args.json.as_deref())?;
     eprintln!(
