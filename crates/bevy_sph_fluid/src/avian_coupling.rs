@@ -46,7 +46,10 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
     app.add_systems(
         schedule,
         (
-            sph_avian_scene_bodies.in_set(SphSystems::Prepare),
+            // Only in an app that runs avian (its plugins insert `Gravity`).
+            sph_avian_scene_bodies
+                .in_set(SphSystems::Prepare)
+                .run_if(resource_exists::<Gravity>),
             sph_drive_avian_bodies
                 .in_set(SphSystems::Writeback)
                 .after(crate::colliders::sph_write_collider_forces),
@@ -82,7 +85,7 @@ const WALL: f32 = 0.05;
 fn sph_avian_scene_bodies(
     mut commands: Commands,
     colliders: Query<NewSceneSolid, (Added<SceneMember>, Without<RigidBody>)>,
-    containers: Query<(&SphContainer, &SceneMember), Added<SceneMember>>,
+    containers: Query<(Entity, &SphContainer), Added<SceneMember>>,
 ) {
     for (entity, collider, body) in &colliders {
         let rigid = match collider.motion {
@@ -102,7 +105,7 @@ fn sph_avian_scene_bodies(
             None => {}
         }
     }
-    for (container, member) in &containers {
+    for (entity, container) in &containers {
         let (lo, hi) = (container.min(), container.max());
         let (size, center) = (hi - lo, 0.5 * (lo + hi));
         let slabs = [
@@ -132,8 +135,8 @@ fn sph_avian_scene_bodies(
                 RigidBody::Static,
                 Collider::cuboid(extent.x, extent.y, extent.z),
                 Transform::from_translation(at),
-                // A member of the same scene: a reload removes it with the container.
-                *member,
+                // A child of the container: a reload despawns it with the container.
+                ChildOf(entity),
             ));
         }
     }
