@@ -55,7 +55,7 @@ fn as_solver_collider(c: &SphCollider, t: &Transform) -> Collider {
         motion: c.motion,
         slip: c.slip,
         ..Collider::new(
-            c.shape,
+            c.shape.clone(),
             Pose {
                 translation: t.translation,
                 rotation: t.rotation,

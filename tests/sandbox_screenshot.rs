@@ -91,8 +91,12 @@ fn dfsph_water_on_the_cpu_backend_is_drawn() {
 }
 
 #[test]
-fn the_lock_and_aquaplay_scene_files_render() {
-    for file in ["assets/scenes/lock.ron", "assets/scenes/aquaplay.ron"] {
+fn the_lock_aquaplay_and_ramp_scene_files_render() {
+    for file in [
+        "assets/scenes/lock.ron",
+        "assets/scenes/aquaplay.ron",
+        "assets/scenes/ramp.ron",
+    ] {
         let path = format!("{}/{file}", env!("CARGO_MANIFEST_DIR"));
         let (w, _, rgb) = screenshot(&["--scene", &path, "--frames", "20"]);
         let blue = blue_pixels(w, &rgb);

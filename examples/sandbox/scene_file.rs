@@ -46,6 +46,9 @@ pub fn dress_scene_members(
         }
         if let Some(collider) = collider {
             let mesh = match collider.shape {
+                ColliderShape::TriMesh(ref mesh) => {
+                    meshes.add(bevy_sph_fluid::mesh_collider::render_mesh(mesh))
+                }
                 ColliderShape::Cuboid { half_extents } => {
                     meshes.add(Cuboid::from_size(2.0 * half_extents))
                 }

@@ -265,7 +265,7 @@ pub struct SphContainer(pub BoxContainer);
 /// shape (uniformly for spheres, capsules and cylinders). Invalid shapes, poses or scales are
 /// refused: [`SphStats::collider_errors`] names the entity, the field and the value, and the
 /// simulation goes on without that collider.
-#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+#[derive(Component, Clone, Debug, PartialEq, Reflect)]
 #[reflect(Component)]
 #[require(Transform, SphColliderForce)]
 pub struct SphCollider {

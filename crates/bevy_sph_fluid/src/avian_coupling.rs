@@ -57,10 +57,10 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
     );
 }
 
-/// avian's collider of the same shape.
-fn avian_collider(shape: sph_core::ColliderShape) -> Collider {
+/// avian's collider of the same shape (`None` when avian refuses a mesh).
+fn avian_collider(shape: &sph_core::ColliderShape) -> Option<Collider> {
     use sph_core::ColliderShape as S;
-    match shape {
+    Some(match *shape {
         S::Cuboid { half_extents: h } => Collider::cuboid(2.0 * h.x, 2.0 * h.y, 2.0 * h.z),
         S::Sphere { radius } => Collider::sphere(radius),
         S::Capsule {
@@ -71,7 +71,17 @@ fn avian_collider(shape: sph_core::ColliderShape) -> Collider {
             radius,
             half_length,
         } => Collider::cylinder(radius, 2.0 * half_length),
-    }
+        S::TriMesh(ref mesh) => {
+            let (vertices, indices) = mesh.indexed();
+            match Collider::try_trimesh(vertices, indices) {
+                Ok(c) => c,
+                Err(e) => {
+                    warn!("SphFluidPlugin: avian refused a mesh collider: {e:?}");
+                    return None;
+                }
+            }
+        }
+    })
 }
 
 /// A scene's solid as it appears, with its mass when dynamic.
@@ -94,7 +104,10 @@ fn sph_avian_scene_bodies(
             sph_core::ColliderMotion::Dynamic => RigidBody::Dynamic,
         };
         let mut e = commands.entity(entity);
-        e.insert((rigid, avian_collider(collider.shape)));
+        e.insert(rigid);
+        if let Some(shape) = avian_collider(&collider.shape) {
+            e.insert(shape);
+        }
         match body.map(|b| b.0) {
             Some(sph_core::scene_file::BodyMass::Density(d)) => {
                 e.insert(ColliderDensity(d));

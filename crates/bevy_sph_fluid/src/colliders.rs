@@ -14,7 +14,7 @@ use sph_core::gpu_layout::GPU_BODY_SLOTS;
 use sph_core::{Collider, ColliderId, ColliderMotion, ColliderShape, Pose};
 
 /// What the boundary holds for one entity.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct TrackedCollider {
     /// The boundary's handle.
     pub id: ColliderId,
@@ -34,7 +34,7 @@ pub struct SphColliderMap {
 }
 
 /// The shape scaled by a transform's scale: per axis for a cuboid, uniformly otherwise.
-fn scaled_shape(shape: ColliderShape, scale: Vec3) -> Result<ColliderShape, ColliderError> {
+fn scaled_shape(shape: &ColliderShape, scale: Vec3) -> Result<ColliderShape, ColliderError> {
     if !scale.is_finite() || scale.min_element() <= 0.0 {
         return Err(ColliderError {
             field: "transform.scale",
@@ -43,10 +43,15 @@ fn scaled_shape(shape: ColliderShape, scale: Vec3) -> Result<ColliderShape, Coll
         });
     }
     let uniform = (scale.max_element() - scale.min_element()) <= 1e-4 * scale.max_element();
-    Ok(match shape {
+    Ok(match *shape {
         ColliderShape::Cuboid { half_extents } => ColliderShape::Cuboid {
             half_extents: half_extents * scale,
         },
+        // A mesh takes any scale; at scale one it stays the same shared mesh.
+        ColliderShape::TriMesh(ref mesh) if scale == Vec3::ONE => {
+            ColliderShape::TriMesh(mesh.clone())
+        }
+        ColliderShape::TriMesh(ref mesh) => ColliderShape::TriMesh(mesh.scaled(scale)?.into()),
         _ if !uniform => {
             return Err(ColliderError {
                 field: "transform.scale",
@@ -119,14 +124,16 @@ pub(crate) fn sph_sync_colliders(
             translation,
             rotation,
         };
-        let tracked = map.tracked.get(&entity).copied();
-        let resample = tracked.is_none_or(|t| t.sampled != (*collider, scale));
+        let tracked = map.tracked.get(&entity).cloned();
+        let resample = tracked
+            .as_ref()
+            .is_none_or(|t| t.sampled.0 != *collider || t.sampled.1 != scale);
         if resample {
             if let Some(t) = tracked {
                 boundary.remove(t.id);
                 map.tracked.remove(&entity);
             }
-            let added = scaled_shape(collider.shape, scale).and_then(|shape| {
+            let added = scaled_shape(&collider.shape, scale).and_then(|shape| {
                 boundary.add(Collider {
                     shape,
                     pose,
@@ -142,7 +149,7 @@ pub(crate) fn sph_sync_colliders(
                         entity,
                         TrackedCollider {
                             id,
-                            sampled: (*collider, scale),
+                            sampled: (collider.clone(), scale),
                             pose,
                         },
                     );

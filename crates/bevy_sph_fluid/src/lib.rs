@@ -32,6 +32,7 @@ pub mod colliders;
 mod cpu_buffers;
 pub mod flow;
 pub mod headless;
+pub mod mesh_collider;
 mod plugin;
 mod readback;
 pub mod render;

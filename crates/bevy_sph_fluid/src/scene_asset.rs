@@ -177,7 +177,7 @@ fn sph_apply_scenes(
                     Transform::from_translation(pose.translation).with_rotation(pose.rotation);
                 let mut entity = commands.spawn((
                     SphCollider {
-                        shape: c.collider.shape,
+                        shape: c.collider.shape.clone(),
                         motion: c.collider.motion,
                         slip: c.collider.slip,
                     },

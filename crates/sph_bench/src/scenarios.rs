@@ -102,7 +102,7 @@ pub struct ScenarioCollider {
 impl ScenarioCollider {
     /// The collider at simulated time `t`: its pose and velocity.
     pub fn at(&self, t: f64) -> Collider {
-        let mut c = self.collider;
+        let mut c = self.collider.clone();
         if let Some(lift) = self.lift {
             let moving = t > lift.start;
             let rise = ((t - lift.start).max(0.0) as f32) * lift.speed;

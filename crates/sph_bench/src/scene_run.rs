@@ -42,7 +42,7 @@ pub fn setup_from_file(path: &Path) -> Result<Setup, String> {
             .iter()
             .map(|c| ScenarioCollider {
                 name: c.name.clone(),
-                collider: c.collider,
+                collider: c.collider.clone(),
                 lift: None,
                 path: (!c.path.is_empty()).then(|| c.clone()),
             })
@@ -217,14 +217,17 @@ mod shipped_scenes {
             "gate.ron",
             "lock.ron",
             "aquaplay.ron",
+            "ramp.ron",
         ] {
             two_seconds(file, Backend::Cpu);
         }
     }
 
-    /// The GPU runs the scenes its passes cover: WCSPH without drains.
+    /// The GPU runs the scenes its passes cover: WCSPH without drains (the ramp's meshes
+    /// guarded on the device).
     #[test]
-    fn the_wcsph_scene_runs_two_seconds_on_the_gpu() {
+    fn the_wcsph_scenes_run_two_seconds_on_the_gpu() {
         two_seconds("dam_break.ron", Backend::Gpu);
+        two_seconds("ramp.ron", Backend::Gpu);
     }
 }

@@ -96,9 +96,25 @@ pub struct Boundary {
     /// Each body's pose origin (the torque's reference point), by body index.
     pub origin: Vec<Vec3>,
     sorted: bool,
+    /// Changes when a collider is added or removed (unique across boundaries).
+    membership: u64,
+}
+
+/// The source of [`Boundary::membership`] values.
+static MEMBERSHIP: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+fn next_membership() -> u64 {
+    MEMBERSHIP.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl Boundary {
+    /// A value that changes whenever a collider joins or leaves (and differs between
+    /// boundaries): a backend that keeps forces from the last step re-evaluates them then, as
+    /// the CPU solver does.
+    pub fn membership(&self) -> u64 {
+        self.membership
+    }
+
     /// The boundary of `container` for `params`: the walls sampled (Akinci 2012) with slip
     /// `wall_slip`, no colliders yet.
     pub fn new(
@@ -124,6 +140,7 @@ impl Boundary {
             friction: Vec::new(),
             origin: Vec::new(),
             sorted: false,
+            membership: next_membership(),
         };
         boundary.set_walls(Some(wall_slip));
         boundary.sort();
@@ -217,6 +234,7 @@ impl Boundary {
             }
         };
         self.sorted = false;
+        self.membership = next_membership();
         Ok(ColliderId(slot as u32))
     }
 
@@ -228,6 +246,9 @@ impl Boundary {
             .and_then(Option::take)
             .is_some();
         self.sorted &= !removed;
+        if removed {
+            self.membership = next_membership();
+        }
         removed
     }
 
@@ -262,7 +283,7 @@ impl Boundary {
                 allowed: "a collider of this solver",
             });
         };
-        let mut moved = body.collider;
+        let mut moved = body.collider.clone();
         moved.pose = pose;
         if moved.motion != ColliderMotion::Static {
             moved.linear_velocity = linear_velocity;
@@ -284,7 +305,7 @@ impl Boundary {
 
     /// The colliders, in slot order.
     pub fn collider_list(&self) -> Vec<Collider> {
-        self.colliders().map(|(_, c)| *c).collect()
+        self.colliders().map(|(_, c)| c.clone()).collect()
     }
 
     /// Number of sorted samples (inside the grid's reach).
@@ -367,7 +388,7 @@ impl Boundary {
                     .map_or(Vec3::ZERO, |b| b.collider.pose.translation),
             );
             if let Some(b) = slot {
-                let c = b.collider;
+                let c = &b.collider;
                 place(&b.samples, k as u32 + 1, &|local| {
                     let x = c.pose.to_world(local);
                     (x, c.point_velocity(x))

@@ -3,16 +3,14 @@
 //! capsules and cylinders), a rigid pose, how a collider moves (static, kinematic, dynamic) and
 //! how the fluid slides along it (free slip or no slip), validation that names the field, the
 //! value and the allowed range, and exact signed distances (negative inside) for the guard that
-//! projects particles out of solids.
+//! projects particles out of solids. Triangle meshes live in [`crate::trimesh`].
 
+pub use crate::collider_error::{ColliderError, MAX_COLLIDER_SIZE};
+use crate::trimesh::SharedTriMesh;
 use glam::{Quat, Vec3};
-use std::fmt;
 
-/// Largest size of a collider along any axis [m].
-pub const MAX_COLLIDER_SIZE: f32 = 1.0e3;
-
-/// A primitive solid in its own frame, centred on the origin.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A solid in its own frame: a primitive centred on the origin, or a triangle mesh.
+#[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
 pub enum ColliderShape {
     /// A box with these half extents [m].
@@ -39,30 +37,9 @@ pub enum ColliderShape {
         /// Half the height [m].
         half_length: f32,
     },
+    /// A triangle mesh, closed (a solid) or open (a shell of a thickness): [`crate::TriMesh`].
+    TriMesh(SharedTriMesh),
 }
-
-/// A collider shape or pose outside its allowed range: names the field, the value and the range.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ColliderError {
-    /// The field, e.g. `shape.radius`.
-    pub field: &'static str,
-    /// The offending value, formatted.
-    pub value: String,
-    /// What is allowed.
-    pub allowed: &'static str,
-}
-
-impl fmt::Display for ColliderError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "invalid collider `{}` = {}: allowed {}",
-            self.field, self.value, self.allowed
-        )
-    }
-}
-
-impl std::error::Error for ColliderError {}
 
 fn size(field: &'static str, value: f32) -> Result<(), ColliderError> {
     if value.is_finite() && value > 0.0 && value <= MAX_COLLIDER_SIZE {
@@ -97,6 +74,8 @@ impl ColliderShape {
                 size("shape.radius", radius)?;
                 size("shape.half_length", half_length)
             }
+            // Checked when the mesh was built.
+            Self::TriMesh(_) => Ok(()),
         }
     }
 
@@ -125,6 +104,7 @@ impl ColliderShape {
                 );
                 d.max_element().min(0.0) + d.max(glam::Vec2::ZERO).length()
             }
+            Self::TriMesh(ref mesh) => mesh.signed_distance(p),
         }
     }
 }
@@ -180,7 +160,7 @@ impl Pose {
 }
 
 /// A shape at a pose.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PlacedShape {
     /// The shape in its frame.
     pub shape: ColliderShape,
@@ -264,7 +244,7 @@ impl Slip {
 }
 
 /// A solid the fluid meets: a shape at a pose, with its velocity, its motion kind and its slip.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "bevy_reflect", derive(bevy_reflect::Reflect))]
 pub struct Collider {
     /// The shape in its own frame.
@@ -358,12 +338,17 @@ impl ColliderShape {
                 radius,
                 half_length,
             } => (radius * radius + half_length * half_length).sqrt(),
+            Self::TriMesh(ref mesh) => mesh.bounding_radius(),
         }
     }
 
     /// The outward unit normal at the local point `p`, from the signed distance's central
     /// differences (step `eps` [m]); +y where the gradient vanishes.
     pub fn normal(&self, p: Vec3, eps: f32) -> Vec3 {
+        if let Self::TriMesh(mesh) = self {
+            // The exact gradient: no extra closest-point queries.
+            return mesh.distance_and_normal(p).1;
+        }
         let d = |e: Vec3| self.signed_distance(p + e) - self.signed_distance(p - e);
         Vec3::new(d(Vec3::X * eps), d(Vec3::Y * eps), d(Vec3::Z * eps)).normalize_or(Vec3::Y)
     }

@@ -283,12 +283,13 @@ pub fn w_to_id(w: f32) -> u32 {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuCollider {
-    /// Translation [m]; w = shape kind (0 cuboid, 1 sphere, 2 capsule, 3 cylinder).
+    /// Translation [m]; w = shape kind (0 cuboid, 1 sphere, 2 capsule, 3 cylinder, 4 mesh).
     pub translation: [f32; 4],
     /// Rotation quaternion (x, y, z, w).
     pub rotation: [f32; 4],
     /// Cuboid: half extents; sphere: (radius, 0, 0); capsule and cylinder: (radius,
-    /// half_length, 0); w = bounding radius.
+    /// half_length, 0); mesh: (first node word, first triangle word, both bit-cast u32, half
+    /// thickness or -1 when closed); w = bounding radius.
     pub size: [f32; 4],
     /// Linear velocity [m/s] (zero for static colliders).
     pub linear_velocity: [f32; 4],
@@ -297,8 +298,9 @@ pub struct GpuCollider {
 }
 
 impl GpuCollider {
-    /// The GPU form of `c`.
-    pub fn of(c: &crate::collider::Collider) -> Self {
+    /// The GPU form of `c`; a mesh's words start at `mesh_offset` in
+    /// [`GpuBoundarySamples::meshes`].
+    pub fn of(c: &crate::collider::Collider, mesh_offset: u32) -> Self {
         use crate::collider::{ColliderMotion, ColliderShape};
         let (kind, size) = match c.shape {
             ColliderShape::Cuboid { half_extents } => (0.0, half_extents),
@@ -311,6 +313,16 @@ impl GpuCollider {
                 radius,
                 half_length,
             } => (3.0, Vec3::new(radius, half_length, 0.0)),
+            // Nodes from the offset, triangles after them, the shell's half thickness (-1:
+            // closed).
+            ColliderShape::TriMesh(ref mesh) => (
+                4.0,
+                Vec3::new(
+                    f32::from_bits(mesh_offset),
+                    f32::from_bits(mesh_offset + 2 * mesh.nodes().len() as u32),
+                    mesh.thickness().map_or(-1.0, |t| 0.5 * t),
+                ),
+            ),
         };
         let moving = c.motion != ColliderMotion::Static;
         let v = |x: Vec3| {
@@ -345,6 +357,11 @@ pub struct GpuBoundarySamples {
     pub colliders: Vec<GpuCollider>,
     /// Each sample's body: 0 the walls, k + 1 the collider slot k ([`crate::ColliderId`]).
     pub body: Vec<u32>,
+    /// The mesh colliders' hierarchies and triangles ([`crate::TriMesh::gpu_words`]), one after
+    /// the other.
+    pub meshes: Vec<[f32; 4]>,
+    /// [`crate::Boundary::membership`]: a change means a collider joined or left.
+    pub membership: u64,
 }
 
 impl GpuBoundarySamples {
@@ -362,15 +379,25 @@ impl GpuBoundarySamples {
             .zip(&boundary.body)
             .map(|(u, &b)| [u.x, u.y, u.z, boundary.friction[b as usize]])
             .collect();
+        let mut meshes = Vec::new();
+        let colliders = boundary
+            .colliders()
+            .map(|(_, c)| {
+                let offset = meshes.len() as u32;
+                if let crate::collider::ColliderShape::TriMesh(mesh) = &c.shape {
+                    meshes.extend(mesh.gpu_words());
+                }
+                GpuCollider::of(c, offset)
+            })
+            .collect();
         Self {
             position,
             velocity,
             cell_start: boundary.grid.cell_start.clone(),
-            colliders: boundary
-                .colliders()
-                .map(|(_, c)| GpuCollider::of(c))
-                .collect(),
+            colliders,
             body: boundary.body.clone(),
+            meshes,
+            membership: boundary.membership(),
         }
     }
 }

@@ -80,6 +80,11 @@ impl<'a> Guard<'a> {
             if local.length_squared() > c.bounding_radius() * c.bounding_radius() {
                 continue;
             }
+            if let crate::collider::ColliderShape::TriMesh(mesh) = &c.shape {
+                if mesh.surely_outside(local) {
+                    continue;
+                }
+            }
             let phi = c.shape.signed_distance(local);
             if phi >= -self.tolerance {
                 continue;

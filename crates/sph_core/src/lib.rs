@@ -22,6 +22,7 @@
 pub mod boundary;
 pub mod boundary_akinci2012;
 pub mod collider;
+pub mod collider_error;
 pub mod container;
 pub mod density;
 pub mod dfsph_bender2017;
@@ -44,6 +45,7 @@ pub mod region;
 pub mod rng;
 pub mod rollback;
 pub mod sampling;
+pub mod sampling_mesh;
 pub mod scenario;
 pub mod scene_controls;
 pub mod scene_file;
@@ -54,6 +56,9 @@ pub mod spawn;
 pub mod stability;
 pub mod stage;
 pub mod surface_tension_akinci2013;
+pub mod triangle;
+pub mod trimesh;
+pub mod trimesh_bvh;
 
 pub use boundary::{BodyForce, Boundary, ColliderId};
 pub use collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
@@ -76,6 +81,7 @@ pub use solvers::{DfsphSettings, PbfSettings, Solver, SolverStats};
 pub use spawn::{BlockSpawn, Emission, PipeEmitter};
 pub use stability::StepExtremes;
 pub use stage::{CpuStage, StageContext};
+pub use trimesh::{SharedTriMesh, TriMesh};
 
 /// Re-export of the vector math crate used in the public API.
 pub use glam;

@@ -54,6 +54,13 @@ pub fn sample_shape(shape: &ColliderShape, spacing: f32) -> ShapeSamples {
         ColliderShape::Sphere { radius }
         | ColliderShape::Capsule { radius, .. }
         | ColliderShape::Cylinder { radius, .. } => radius,
+        ColliderShape::TriMesh(ref mesh) => {
+            let m = crate::sampling_mesh::sample_mesh(mesh, spacing, depths);
+            for (p, n) in m.position.into_iter().zip(m.normal) {
+                out.push(p, n);
+            }
+            return out;
+        }
     };
     let usable: Vec<f32> = depths.into_iter().filter(|&d| d < thickness).collect();
     if usable.is_empty() {
@@ -89,6 +96,7 @@ fn sample_layer(shape: &ColliderShape, depth: f32, s: f32, out: &mut ShapeSample
                 disc(r, y, s, out);
             }
         }
+        ColliderShape::TriMesh(_) => {}
     }
 }
 

@@ -32,6 +32,7 @@ use crate::scene_controls::{ControlBinding, ControlSpec, ControlTarget, SceneCon
 use crate::sink::Sink;
 use crate::solvers::{DfsphSettings, PbfSettings, Solver};
 use crate::spawn::{BlockSpawn, PipeEmitter};
+use crate::trimesh::TriMesh;
 use glam::{EulerRot, Quat, Vec3};
 use serde::Deserialize;
 
@@ -108,7 +109,7 @@ pub struct ContainerSpec {
 }
 
 /// A collider's shape (y is the axis of capsules and cylinders).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize)]
 pub enum ShapeSpec {
     /// A box with half extents [m].
     Cuboid {
@@ -133,6 +134,17 @@ pub enum ShapeSpec {
         radius: f32,
         /// Half length [m].
         half_length: f32,
+    },
+    /// A triangle mesh ([`crate::TriMesh`]): closed (watertight) without `thickness`, an open
+    /// shell of `thickness` [m] with it.
+    Mesh {
+        /// Vertices in the collider's frame [m].
+        vertices: Vec<Vector>,
+        /// Three vertex indices per triangle.
+        indices: Vec<u32>,
+        /// The shell's thickness [m] for an open mesh (a sheet, a chute).
+        #[serde(default)]
+        thickness: Option<f32>,
     },
 }
 
@@ -841,6 +853,26 @@ impl SceneFile {
             }
         };
         let shape = match c.shape {
+            ShapeSpec::Mesh {
+                ref vertices,
+                ref indices,
+                thickness,
+            } => {
+                let vertices: Vec<Vec3> = vertices.iter().map(|&p| v(p)).collect();
+                let mesh = match thickness {
+                    None => TriMesh::closed(&vertices, indices),
+                    Some(t) => TriMesh::open(&vertices, indices, t),
+                };
+                let mesh = mesh.map_err(|e| {
+                    let key = e.field.trim_start_matches("shape.");
+                    error(
+                        key,
+                        e.field.to_string(),
+                        format!("{} is not allowed: {}", e.value, e.allowed),
+                    )
+                })?;
+                ColliderShape::TriMesh(mesh.into())
+            }
             ShapeSpec::Cuboid { half_extents } => ColliderShape::Cuboid {
                 half_extents: v(half_extents),
             },

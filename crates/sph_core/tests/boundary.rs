@@ -67,7 +67,7 @@ fn the_fluid_force_on_a_collider_balances_the_particles_reaction() {
     )
     .with_slip(Slip::NoSlip { friction: 1.0 })
     .with_motion(ColliderMotion::Kinematic);
-    let id = boundary.add(sphere).unwrap();
+    let id = boundary.add(sphere.clone()).unwrap();
     boundary
         .set_motion(id, sphere.pose, Vec3::new(0.0, 0.0, 0.3), Vec3::ZERO)
         .unwrap();
@@ -118,7 +118,7 @@ fn the_guard_projects_particles_out_of_colliders_and_counts_them() {
             rotation: Quat::from_rotation_y(0.5),
         },
     );
-    let colliders = [box_collider];
+    let colliders = [box_collider.clone()];
     let guard = Guard {
         walls: container.walls(params.wall_damping),
         colliders: &colliders,
@@ -155,7 +155,7 @@ fn spawns_skip_colliders_and_bad_colliders_are_refused_by_name() {
             rotation: Quat::IDENTITY,
         },
     );
-    solver.add_collider(sphere).unwrap();
+    solver.add_collider(sphere.clone()).unwrap();
     let report = solver.spawn(&block.positions(), Vec3::ZERO);
     assert!(report.inside_colliders > 0);
     assert_eq!(report.spawned + report.inside_colliders, block.count());
@@ -163,7 +163,7 @@ fn spawns_skip_colliders_and_bad_colliders_are_refused_by_name() {
 
     let bad = Collider {
         linear_velocity: Vec3::new(f32::NAN, 0.0, 0.0),
-        ..sphere.with_motion(ColliderMotion::Kinematic)
+        ..sphere.clone().with_motion(ColliderMotion::Kinematic)
     };
     let e = solver.add_collider(bad).unwrap_err();
     assert_eq!(e.field, "linear_velocity");

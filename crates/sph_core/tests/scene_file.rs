@@ -3,7 +3,7 @@
 
 use sph_core::glam::Vec3;
 use sph_core::scene_file::{SceneError, SceneFile, SceneSetup};
-use sph_core::Solver;
+use sph_core::{ColliderShape, Solver};
 
 fn load(name: &str) -> (String, Result<SceneSetup, SceneError>) {
     let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -44,8 +44,22 @@ fn the_shipped_scenes_build() {
     assert_eq!(aquaplay.pumps.len(), 1);
     assert_eq!(aquaplay.probes.len(), 4);
     assert_eq!(aquaplay.emitters.len(), 1);
+    let (_, ramp) = load("ramp.ron");
+    let ramp = ramp.unwrap();
+    let shapes: Vec<_> = ramp.colliders.iter().map(|c| &c.collider.shape).collect();
+    match shapes[..] {
+        [ColliderShape::TriMesh(wedge), ColliderShape::TriMesh(chute)] => {
+            assert_eq!(wedge.thickness(), None, "the wedge is closed");
+            assert_eq!(wedge.triangles().len(), 8);
+            assert_eq!(chute.thickness(), Some(0.02), "the chute is an open shell");
+            // The wedge's slope: under it inside, above it outside (local frame).
+            assert!(wedge.signed_distance(Vec3::new(0.1, 0.02, 0.0)) < 0.0);
+            assert!(wedge.signed_distance(Vec3::new(-0.1, 0.06, 0.0)) > 0.0);
+        }
+        _ => panic!("ramp.ron's colliders are two meshes: {shapes:?}"),
+    }
     // Every block of every shipped scene lies inside its container.
-    for scene in [&dam, &pipe, &gate, &lock, &aquaplay] {
+    for scene in [&dam, &pipe, &gate, &lock, &aquaplay, &ramp] {
         for (block, _) in &scene.blocks {
             assert!(
                 scene.container.contains(block.min, 1e-6)
@@ -135,6 +149,22 @@ fn bad_files_name_the_line_the_field_and_what_is_allowed() {
     );
     // The display names the file.
     assert!(e.to_string().starts_with("test.ron:4:"), "{e}");
+    // A mesh that is not watertight, without a thickness, is refused on its line, naming an
+    // open edge.
+    let e = build(
+        "(\n  container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)),\n  colliders: [(\n    name: \"sheet\",\n    shape: Mesh(vertices: [(0.0, 0.0, 0.0), (0.1, 0.0, 0.0), (0.0, 0.0, 0.1)], indices: [0, 1, 2]),\n    position: (0.5, 0.5, 0.5),\n  )],\n)",
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "colliders[0] (\"sheet\").shape.triangles", "{e}");
+    assert!(e.message.contains("watertight"), "{e}");
+    let e = build(
+        "(container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)), colliders: [(name: \"m\", \
+         shape: Mesh(vertices: [(0.0, 0.0, 0.0)], indices: [0, 1, 2], thickness: Some(0.02)), \
+         position: (0.5, 0.5, 0.5))])",
+    )
+    .unwrap_err();
+    assert!(e.field.ends_with("shape.indices"), "{e}");
+    assert!(e.message.contains("below the vertex count"), "{e}");
 }
 
 #[test]

@@ -86,11 +86,13 @@ pub enum Buf {
     Pumps,
     /// The frame's probes and their sums (`GpuProbes`), read back.
     Probes,
+    /// The mesh colliders' hierarchies and triangles, for the guard.
+    Meshes,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 32] = [
+    pub const ALL: [Buf; 33] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -123,6 +125,7 @@ impl Buf {
         Buf::BodyForces,
         Buf::Pumps,
         Buf::Probes,
+        Buf::Meshes,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -165,6 +168,7 @@ impl Buf {
             Buf::BodyForces => "sph_body_forces",
             Buf::Pumps => "sph_pumps",
             Buf::Probes => "sph_probes",
+            Buf::Meshes => "sph_meshes",
         }
     }
 }
@@ -224,6 +228,8 @@ pub struct SphGpuState {
     pending_spawns: Vec<PendingSpawn>,
     /// The boundary generation last uploaded (0: none).
     boundary_generation: u64,
+    /// The membership of the boundary last uploaded (`Boundary::membership`).
+    boundary_membership: u64,
     /// Boundary samples on the GPU.
     pub boundary_samples: u32,
     /// Colliders in the guard's list on the GPU.
@@ -274,7 +280,7 @@ fn allocate(
             Buf::Checkpoint => 3 * 16 * n,
             // Sized by the samples when they are uploaded (`upload_boundary`); an empty boundary
             // has no samples in any cell.
-            Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::BoundaryBody => 16,
+            Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::BoundaryBody | Buf::Meshes => 16,
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
             Buf::Pumps => std::mem::size_of::<sph_core::gpu_layout::GpuPumps>() as u64,
@@ -487,6 +493,13 @@ pub(crate) fn prepare_sph_buffers(
         state.forces_stale = true;
         state.last_params = Some(frame.params);
     }
+    if let Some((_, samples)) = &frame.boundary {
+        // A collider joined or left: the kick's forces are re-evaluated first, as on the CPU.
+        if samples.membership != state.boundary_membership {
+            state.forces_stale = true;
+            state.boundary_membership = samples.membership;
+        }
+    }
     if state.forces_stale {
         // The re-evaluation records the acceleration the next kick uses; the one recorded with
         // the old state or parameters must not bound the adaptive step.
@@ -533,11 +546,13 @@ fn upload_boundary(
         (std::mem::size_of::<GpuCollider>() * samples.colliders.len().max(1)) as u64;
     let mut grown = false;
     let body_bytes = (4 * samples.body.len() as u64).max(16);
+    let mesh_bytes = (16 * samples.meshes.len() as u64).max(16);
     for (buf, need) in [
         (Buf::BoundaryPosition, need),
         (Buf::BoundaryVelocity, need),
         (Buf::Colliders, collider_bytes),
         (Buf::BoundaryBody, body_bytes),
+        (Buf::Meshes, mesh_bytes),
     ] {
         if buffers.at(buf).size() < need {
             let old = buffers.at(buf).size();
@@ -577,6 +592,13 @@ fn upload_boundary(
             buffers.at(Buf::Colliders),
             0,
             bytemuck::cast_slice(&samples.colliders),
+        );
+    }
+    if !samples.meshes.is_empty() {
+        queue.write_buffer(
+            buffers.at(Buf::Meshes),
+            0,
+            bytemuck::cast_slice(&samples.meshes),
         );
     }
     state.boundary_samples = samples.position.len() as u32;

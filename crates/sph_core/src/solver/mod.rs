@@ -59,6 +59,8 @@ pub struct CpuSolver {
     /// Set when particles were added or parameters changed since the last force evaluation, so
     /// the kick-drift-kick integrator must evaluate forces before its first kick.
     forces_stale: bool,
+    /// The boundary's membership the forces were last evaluated with.
+    boundary_membership: u64,
     /// The time step of the last step [s].
     last_dt: f32,
     /// The last good state (see [`crate::rollback`]), restored when a step goes unstable.
@@ -165,6 +167,7 @@ impl CpuSolver {
             time: 0.0,
             timings: StageTimings::default(),
             forces_stale: true,
+            boundary_membership: 0,
             last_dt: params.time_step,
             checkpoint: ParticleData::default(),
             checkpoint_time: 0.0,
@@ -245,10 +248,10 @@ impl CpuSolver {
         &self.boundary
     }
 
-    /// The boundary, to add, move or remove colliders through [`Boundary`]'s own API (forces are
-    /// re-evaluated before the next step).
+    /// The boundary, to add, move or remove colliders through [`Boundary`]'s own API (when a
+    /// collider joins or leaves, forces are re-evaluated before the next step; a move keeps the
+    /// last step's, as on the GPU).
     pub fn boundary_mut(&mut self) -> &mut Boundary {
-        self.forces_stale = true;
         &mut self.boundary
     }
 
@@ -537,7 +540,10 @@ impl CpuSolver {
         match self.params.integrator {
             Integrator::Leapfrog => 2,
             Integrator::SymplecticEuler => 1,
-            Integrator::KickDriftKick => 1 + self.forces_stale as u32,
+            Integrator::KickDriftKick => {
+                let joined = self.boundary.membership() != self.boundary_membership;
+                1 + (self.forces_stale || joined) as u32
+            }
         }
     }
 
@@ -603,6 +609,10 @@ impl CpuSolver {
     pub fn step(&mut self) {
         if self.unstable_step.is_some() {
             return;
+        }
+        if self.boundary.membership() != self.boundary_membership {
+            self.boundary_membership = self.boundary.membership();
+            self.forces_stale = true;
         }
         let state = &mut self.rollback_state;
         if !self.rollback.enabled || state.checkpoint_due(&self.rollback, self.step_count) {

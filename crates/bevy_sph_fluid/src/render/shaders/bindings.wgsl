@@ -51,3 +51,6 @@
 @group(0) @binding(31) var<storage, read_write> pumps: SphPumps;
 // The frame's probes and their sums (see shaders/probes.wgsl), read back every frame.
 @group(0) @binding(32) var<storage, read_write> probes: SphProbes;
+// The mesh colliders' hierarchies and triangles (sph_core::trimesh::TriMesh::gpu_words), for
+// the guard.
+@group(0) @binding(33) var<storage, read_write> meshes: array<vec4<f32>>;

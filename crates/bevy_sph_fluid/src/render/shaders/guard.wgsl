@@ -1,11 +1,12 @@
 // The last-resort guard (Rust twin: sph_core::guard): a particle found inside a collider after a
 // drift is projected onto its surface along the outward normal (central differences of the
-// exact signed distance) and loses its velocity into the solid, relative to the solid's; a
+// exact signed distance; for a mesh the exact gradient, see `mesh_distance`) and loses its
+// velocity into the solid, relative to the solid's; a
 // particle beyond the box is clamped by the wall collision. Every correction is counted in the
 // clock.
 #define_import_path sph::guard
 
-#import sph::bindings::{params, colliders}
+#import sph::bindings::{params, colliders, meshes}
 #import sph::kernels::{collide, outside_box, PositionVelocity}
 #import sph::clock::record_correction
 
@@ -36,6 +37,125 @@ fn shape_distance(kind: u32, s: vec3<f32>, p: vec3<f32>) -> f32 {
     }
 }
 
+// The closest point to p on the triangle (a, b, c), w = its feature: corners 0-2, edges ab, bc,
+// ca 3-5, the face 6 (Ericson's region test; Rust twin: sph_core::trimesh::closest_on_triangle).
+fn closest_on_triangle(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec4<f32> {
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = dot(ab, ap);
+    let d2 = dot(ac, ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return vec4<f32>(a, 0.0);
+    }
+    let bp = p - b;
+    let d3 = dot(ab, bp);
+    let d4 = dot(ac, bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return vec4<f32>(b, 1.0);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return vec4<f32>(a + ab * (d1 / (d1 - d3)), 3.0);
+    }
+    let cp = p - c;
+    let d5 = dot(ab, cp);
+    let d6 = dot(ac, cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return vec4<f32>(c, 2.0);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return vec4<f32>(a + ac * (d2 / (d2 - d6)), 5.0);
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return vec4<f32>(b + (c - b) * w, 4.0);
+    }
+    let denom = 1.0 / (va + vb + vc);
+    return vec4<f32>(a + ab * (vb * denom) + ac * (vc * denom), 6.0);
+}
+
+// Squared distance from p to the box of hierarchy node `node` (words from `nodes`).
+fn node_distance2(nodes: u32, node: u32, p: vec3<f32>) -> f32 {
+    let lo = meshes[nodes + 2u * node].xyz;
+    let hi = meshes[nodes + 2u * node + 1u].xyz;
+    let d = max(max(lo - p, p - hi), vec3<f32>(0.0));
+    return dot(d, d);
+}
+
+// Signed distance of the local point p to a mesh collider (negative inside) and the outward
+// normal there, as (normal, distance): the hierarchy walked nearer child first with a fixed
+// stack, the sign from the closest feature's angle-weighted pseudo-normal when closed
+// (half_thickness < 0), |x - c| - t/2 for an open shell. Rust twin:
+// sph_core::trimesh::TriMesh::distance_and_normal.
+fn mesh_distance(nodes: u32, tris: u32, half_thickness: f32, p: vec3<f32>) -> vec4<f32> {
+    var stack: array<u32, 32>;
+    var top = 1u;
+    stack[0] = 0u;
+    var best_d2 = 3.4e38;
+    var best_point = vec3<f32>(0.0);
+    var best_tri = 0u;
+    var best_feature = 6u;
+    while top > 0u {
+        top -= 1u;
+        let node = stack[top];
+        if node_distance2(nodes, node, p) >= best_d2 {
+            continue;
+        }
+        let first = bitcast<u32>(meshes[nodes + 2u * node].w);
+        let count = bitcast<u32>(meshes[nodes + 2u * node + 1u].w);
+        if count > 0u {
+            for (var k = first; k < first + count; k++) {
+                let t = tris + 10u * k;
+                let c = closest_on_triangle(p, meshes[t].xyz, meshes[t + 1u].xyz, meshes[t + 2u].xyz);
+                let d2 = dot(p - c.xyz, p - c.xyz);
+                if d2 < best_d2 {
+                    best_d2 = d2;
+                    best_point = c.xyz;
+                    best_tri = k;
+                    best_feature = u32(c.w);
+                }
+            }
+            continue;
+        }
+        let da = node_distance2(nodes, first, p);
+        let db = node_distance2(nodes, first + 1u, p);
+        var near = first;
+        var far = first + 1u;
+        if da > db {
+            near = first + 1u;
+            far = first;
+        }
+        if top + 2u <= 32u {
+            stack[top] = far;
+            stack[top + 1u] = near;
+            top += 2u;
+        }
+    }
+    let t = tris + 10u * best_tri;
+    let pseudo = meshes[t + 3u + best_feature].xyz;
+    let offset = p - best_point;
+    let d = length(offset);
+    if half_thickness < 0.0 {
+        var sign = 1.0;
+        if dot(offset, pseudo) < 0.0 {
+            sign = -1.0;
+        }
+        var n = pseudo;
+        if d > 1e-7 {
+            n = sign * offset / d;
+        }
+        return vec4<f32>(n, sign * d);
+    }
+    var n = meshes[t + 9u].xyz;
+    if d > 1e-7 {
+        n = offset / d;
+    }
+    return vec4<f32>(n, d - half_thickness);
+}
+
 // The guard after a drift to x with velocity v.
 fn guard(x_in: vec3<f32>, v_in: vec3<f32>) -> PositionVelocity {
     var x = x_in;
@@ -49,20 +169,34 @@ fn guard(x_in: vec3<f32>, v_in: vec3<f32>) -> PositionVelocity {
             continue;
         }
         let kind = u32(c.translation.w);
-        let phi = shape_distance(kind, c.size.xyz, local);
+        var phi: f32;
+        var n_local = vec3<f32>(0.0, 1.0, 0.0);
+        if kind == 4u {
+            // Beyond the root box (by more than the half thickness of an open shell): outside.
+            let half = max(c.size.z, 0.0);
+            if node_distance2(bitcast<u32>(c.size.x), 0u, local) > half * half {
+                continue;
+            }
+            let m = mesh_distance(bitcast<u32>(c.size.x), bitcast<u32>(c.size.y), c.size.z, local);
+            phi = m.w;
+            n_local = m.xyz;
+        } else {
+            phi = shape_distance(kind, c.size.xyz, local);
+        }
         // A thousandth of the spacing (h / 2) deep before it counts (sph_core::guard::tolerance).
         if phi >= -5e-4 * params.kernel_a.x {
             continue;
         }
-        let e = 1e-4 * max(c.size.w, 1e-3);
-        let g = vec3<f32>(
-            shape_distance(kind, c.size.xyz, local + vec3<f32>(e, 0.0, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(e, 0.0, 0.0)),
-            shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, e, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, e, 0.0)),
-            shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, 0.0, e)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, 0.0, e)),
-        );
-        var n_local = vec3<f32>(0.0, 1.0, 0.0);
-        if dot(g, g) > 0.0 {
-            n_local = normalize(g);
+        if kind != 4u {
+            let e = 1e-4 * max(c.size.w, 1e-3);
+            let g = vec3<f32>(
+                shape_distance(kind, c.size.xyz, local + vec3<f32>(e, 0.0, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(e, 0.0, 0.0)),
+                shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, e, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, e, 0.0)),
+                shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, 0.0, e)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, 0.0, e)),
+            );
+            if dot(g, g) > 0.0 {
+                n_local = normalize(g);
+            }
         }
         let n = rotate(c.rotation, n_local);
         x += n * -phi;

@@ -87,9 +87,10 @@ struct BitonicStep {
 }
 
 // A collider for the guard (Rust twin: sph_core::gpu_layout::GpuCollider): translation (w = shape
-// kind: 0 cuboid, 1 sphere, 2 capsule, 3 cylinder), rotation quaternion, size (cuboid: half
-// extents; sphere: radius; capsule, cylinder: radius, half length; w = bounding radius), linear
-// and angular velocity.
+// kind: 0 cuboid, 1 sphere, 2 capsule, 3 cylinder, 4 mesh), rotation quaternion, size (cuboid:
+// half extents; sphere: radius; capsule, cylinder: radius, half length; mesh: first node word
+// and first triangle word in `meshes` (bit-cast u32), half thickness or -1 when closed; w =
+// bounding radius), linear and angular velocity.
 struct GpuCollider {
     translation: vec4<f32>,
     rotation: vec4<f32>,

@@ -34,6 +34,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Clock,
         Buf::Checkpoint,
         Buf::Colliders,
+        Buf::Meshes,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[

@@ -23,6 +23,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Clock,
         Buf::Checkpoint,
         Buf::Colliders,
+        Buf::Meshes,
         Buf::Pumps,
         Buf::Probes,
     ],
