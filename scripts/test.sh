@@ -16,7 +16,8 @@ apt_install() {
 }
 
 # A Vulkan driver: any installed ICD manifest will do; otherwise Mesa's lavapipe (llvmpipe).
-if ! ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1; then
+# (`ls a b` fails when either directory is missing, so each is checked on its own.)
+if ! ls /usr/share/vulkan/icd.d/*.json >/dev/null 2>&1 && ! ls /etc/vulkan/icd.d/*.json >/dev/null 2>&1; then
   echo "test.sh: no Vulkan driver found, installing mesa-vulkan-drivers (software Vulkan)"
   apt_install mesa-vulkan-drivers libvulkan1
 fi

@@ -1,13 +1,15 @@
 //! Two-way coupling with avian (feature `avian`): a box of 500 kg/m³ settles floating with half
 //! its height under water; a box of 1,500 kg/m³ sinks and rests on the floor (avian's contact
 //! with a floor collider). The water pushes the bodies through `SphColliderForce` →
-//! `ConstantForce`; avian moves them; the water sees their new pose. CPU backend, DFSPH.
+//! `ConstantForce`; avian moves them; the water sees their new pose. CPU backend, DFSPH. A
+//! paddle wheel (one closed mesh of six boxes) on an avian revolute joint turns when a jet hits
+//! its lower paddles, and not without it (WCSPH).
 
 use avian3d::prelude::*;
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
 use bevy_sph_fluid::prelude::*;
-use sph_core::{BlockSpawn, BoxContainer, ColliderMotion, ColliderShape};
+use sph_core::{BlockSpawn, BoxContainer, ColliderMotion, ColliderShape, PipeEmitter, TriMesh};
 use std::time::Duration;
 
 const FRAME: f32 = 1.0 / 60.0;
@@ -226,4 +228,140 @@ fn the_lock_scene_boat_is_an_avian_body_and_floats() {
         lowest > 0.06 && highest < 0.4,
         "boat y in [{lowest}, {highest}]"
     );
+}
+
+/// A paddle wheel about the z axis as one closed mesh: `paddles` boxes around the axle (apart
+/// from each other, so the mesh is several closed parts), each reaching from `inner` to `outer`
+/// [m] from the axle, `thickness` thick and `width` wide along the axle.
+fn paddle_wheel(paddles: u32, inner: f32, outer: f32, thickness: f32, width: f32) -> TriMesh {
+    let (mut vertices, mut indices) = (Vec::new(), Vec::new());
+    for k in 0..paddles {
+        let angle = std::f32::consts::TAU * k as f32 / paddles as f32;
+        let rotation = Quat::from_rotation_z(angle);
+        let centre = Vec3::new(0.5 * (inner + outer), 0.0, 0.0);
+        let half = Vec3::new(0.5 * (outer - inner), 0.5 * thickness, 0.5 * width);
+        let base = vertices.len() as u32;
+        for z in [-1.0, 1.0] {
+            for (x, y) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                vertices.push(rotation * (centre + Vec3::new(x, y, z) * half));
+            }
+        }
+        // The six faces, counter-clockwise seen from outside.
+        let quad = |a: u32, b: u32, c: u32, d: u32| [a, b, c, a, c, d].map(|i| base + i);
+        for face in [
+            quad(0, 3, 2, 1),
+            quad(4, 5, 6, 7),
+            quad(0, 1, 5, 4),
+            quad(1, 2, 6, 5),
+            quad(2, 3, 7, 6),
+            quad(3, 0, 4, 7),
+        ] {
+            indices.extend(face);
+        }
+    }
+    TriMesh::closed(&vertices, &indices).expect("each paddle is a closed box")
+}
+
+/// A water wheel on an avian revolute joint (axle along z) over a tank, its lower paddles in
+/// the path of a pipe's jet when `jet` is on: the wheel's angle after `seconds`.
+fn wheel_angle_after(seconds: f32, jet: bool) -> f32 {
+    let plugins = DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>();
+    let mut app = bevy_sph_fluid::headless::headless_app_with(
+        plugins,
+        12_000,
+        SphBackend::Cpu,
+        false,
+        |app| {
+            app.add_plugins(PhysicsPlugins::default());
+        },
+    );
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f32(
+        FRAME,
+    )));
+    app.insert_resource(Time::<Fixed>::from_seconds(FRAME as f64));
+    let params = sph_core::SphParams::water();
+    app.insert_resource(SphParams(params));
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.6, 0.4, 0.2));
+    app.world_mut().spawn(SphContainer(container));
+    let axle = Vec3::new(0.3, 0.15, 0.1);
+    let anchor = app
+        .world_mut()
+        .spawn((RigidBody::Static, Transform::from_translation(axle)))
+        .id();
+    let (inner, outer, thickness, width) = (0.02, 0.1, 0.02, 0.14);
+    let mesh = paddle_wheel(6, inner, outer, thickness, width);
+    // avian's body: the same paddles as boxes, of oak, with some friction in the axle.
+    let boxes = (0..6)
+        .map(|k| {
+            let rotation = Quat::from_rotation_z(std::f32::consts::TAU * k as f32 / 6.0);
+            (
+                rotation * Vec3::new(0.5 * (inner + outer), 0.0, 0.0),
+                rotation,
+                Collider::cuboid(outer - inner, thickness, width),
+            )
+        })
+        .collect::<Vec<_>>();
+    let wheel = app
+        .world_mut()
+        .spawn((
+            RigidBody::Dynamic,
+            Collider::compound(boxes),
+            ColliderDensity(900.0),
+            AngularDamping(3.0),
+            SphCollider::new(ColliderShape::TriMesh(mesh.into()))
+                .with_motion(ColliderMotion::Dynamic),
+            Transform::from_translation(axle),
+        ))
+        .id();
+    app.world_mut()
+        .spawn(RevoluteJoint::new(anchor, wheel).with_hinge_axis(Vec3::Z));
+    app.update();
+    // Still water under the axle; the jet's pipe at the height of the lower paddles.
+    app.world_mut().spawn(SphBlockSpawn {
+        block: BlockSpawn::new(Vec3::ZERO, Vec3::new(0.6, 0.04, 0.2), params.spacing()),
+        velocity: Vec3::ZERO,
+    });
+    if jet {
+        app.world_mut().spawn(SphEmitter(PipeEmitter::new(
+            Vec3::new(0.04, 0.09, 0.1),
+            Vec3::X,
+            0.03,
+            1.5,
+            params.spacing(),
+        )));
+    }
+    app.insert_resource(SphControl {
+        running: true,
+        real_time: Some(SphRealTime {
+            max_frame_time: FRAME,
+            max_steps: 64,
+        }),
+        ..default()
+    });
+    let mut angle = 0.0;
+    for frame in 0..(seconds / FRAME) as usize {
+        app.update();
+        let stats = app.world().resource::<SphStats>();
+        assert!(
+            !stats.health.is_unstable(),
+            "frame {frame}: {:?}",
+            stats.health
+        );
+        assert_eq!(stats.particle_balance(), 0, "frame {frame}");
+        angle += app.world().get::<AngularVelocity>(wheel).unwrap().0.z * FRAME;
+    }
+    let at = app.world().get::<Transform>(wheel).unwrap().translation;
+    assert!(at.distance(axle) < 0.01, "the joint holds the wheel: {at}");
+    angle
+}
+
+/// The wheel turns when the jet hits its lower paddles (towards +x under the axle: +z), and
+/// stays nearly still without the jet.
+#[test]
+fn a_water_wheel_on_a_revolute_joint_turns_with_the_flow() {
+    let turned = wheel_angle_after(1.5, true);
+    let still = wheel_angle_after(1.5, false);
+    eprintln!("wheel angle after 1.5 s: {turned:.3} rad with the jet, {still:.3} rad without");
+    assert!(turned > 0.5, "the jet turns the wheel: {turned} rad");
+    assert!(still.abs() < 0.2 * turned, "without the jet: {still} rad");
 }
