@@ -16,17 +16,36 @@ const FRAME: f32 = 1.0 / 60.0;
 const SIDE: f32 = 0.12;
 const DEPTH: f32 = 0.2;
 
+/// Whose clock avian runs on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Clock {
+    /// avian in its fixed schedule on the game's time; the water in real-time mode.
+    Game,
+    /// avian in `SphWaterTime`; the water at `substeps` steps per frame, much slower than
+    /// real time.
+    Water { substeps: u32 },
+}
+
 /// A tank with water `DEPTH` deep and a box of `density` [kg/m³] held with its centre at the
 /// surface, rotation locked; returns the app, the box and the level probe.
 fn tank_with_box(density: f32) -> (App, Entity, Entity) {
+    tank_with_box_on(density, Clock::Game)
+}
+
+fn tank_with_box_on(density: f32, clock: Clock) -> (App, Entity, Entity) {
     let plugins = DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>();
     let mut app = bevy_sph_fluid::headless::headless_app_with(
         plugins,
         8_000,
         SphBackend::Cpu,
         false,
-        |app| {
-            app.add_plugins(PhysicsPlugins::default());
+        |app| match clock {
+            Clock::Game => {
+                app.add_plugins(PhysicsPlugins::default());
+            }
+            Clock::Water { .. } => {
+                app.add_plugins(PhysicsPlugins::new(SphWaterTime));
+            }
         },
     );
     app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f32(
@@ -73,13 +92,20 @@ fn tank_with_box(density: f32) -> (App, Entity, Entity) {
         block: BlockSpawn::new(Vec3::ZERO, Vec3::new(0.36, DEPTH, 0.36), params.spacing()),
         velocity: Vec3::ZERO,
     });
-    app.insert_resource(SphControl {
-        running: true,
-        real_time: Some(SphRealTime {
-            max_frame_time: FRAME,
-            max_steps: 64,
-        }),
-        ..default()
+    app.insert_resource(match clock {
+        Clock::Game => SphControl {
+            running: true,
+            real_time: Some(SphRealTime {
+                max_frame_time: FRAME,
+                max_steps: 64,
+            }),
+            ..default()
+        },
+        Clock::Water { substeps } => SphControl {
+            running: true,
+            substeps,
+            ..default()
+        },
     });
     (app, body, probe)
 }
@@ -93,14 +119,12 @@ fn collect(mut reader: MessageReader<SphProbeReading>, mut levels: ResMut<Levels
         .extend(reader.read().filter_map(|r| r.reading.value));
 }
 
-/// Runs `seconds` of simulated time; returns the box's mean height and the mean water level
-/// over the last half second.
+/// Runs `seconds` of the water's simulated time; returns the box's mean height and the mean
+/// water level over the last half second.
 fn settle(app: &mut App, body: Entity, seconds: f32) -> (f32, f32) {
     app.init_resource::<Levels>().add_systems(Last, collect);
-    let frames = (seconds / FRAME).round() as usize;
-    let tail = (0.5 / FRAME) as usize;
-    let mut heights = Vec::new();
-    for frame in 0..frames {
+    let (mut heights, mut tail) = (Vec::new(), false);
+    for frame in 0.. {
         app.update();
         let stats = app.world().resource::<SphStats>();
         assert!(
@@ -108,11 +132,16 @@ fn settle(app: &mut App, body: Entity, seconds: f32) -> (f32, f32) {
             "frame {frame}: {:?}",
             stats.health
         );
-        if frame + tail == frames {
-            // Only the last half second's levels count.
-            app.world_mut().resource_mut::<Levels>().0.clear();
+        let t = stats.sim_time as f32;
+        if t >= seconds {
+            break;
         }
-        if frame + tail >= frames {
+        if t >= seconds - 0.5 {
+            if !tail {
+                // Only the last half second's levels count.
+                app.world_mut().resource_mut::<Levels>().0.clear();
+                tail = true;
+            }
             heights.push(app.world().get::<Transform>(body).unwrap().translation.y);
         }
     }
@@ -134,6 +163,29 @@ fn a_box_of_half_the_waters_density_floats_half_submerged() {
     );
     let stats = app.world().resource::<SphStats>();
     assert_eq!(stats.particle_balance(), 0);
+}
+
+/// avian on the water's clock (`SphWaterTime`) while the water runs far slower than real time
+/// (two steps a frame): the box still floats half submerged. With avian on the game's clock in
+/// the same run (measured once: 0.0049 simulated s per 1/60 s frame), the body moved 3.4 times
+/// further per frame than the water could answer, and the box was thrown 30 km away.
+#[test]
+fn bodies_on_the_waters_clock_float_at_any_real_time_factor() {
+    let (mut app, body, _) = tank_with_box_on(500.0, Clock::Water { substeps: 2 });
+    let (y, level) = settle(&mut app, body, 2.5);
+    let submerged = (level - (y - 0.5 * SIDE)) / SIDE;
+    let stats = app.world().resource::<SphStats>();
+    // Two steps per frame: the water's time per frame against the game's 1/60 s.
+    let per_frame = 2.0 * stats.sim_time / stats.step_count.max(1) as f64;
+    eprintln!(
+        "water clock, {per_frame:.4} simulated s per frame (game frame {FRAME:.4} s): box centre \
+         {y:.4} m, level {level:.4} m, submerged {submerged:.3}"
+    );
+    assert!(per_frame < 0.5 * FRAME as f64, "slower than real time");
+    assert!(
+        (submerged - 0.5).abs() <= 0.05,
+        "submerged fraction {submerged}"
+    );
 }
 
 #[test]
@@ -364,4 +416,74 @@ fn a_water_wheel_on_a_revolute_joint_turns_with_the_flow() {
     eprintln!("wheel angle after 1.5 s: {turned:.3} rad with the jet, {still:.3} rad without");
     assert!(turned > 0.5, "the jet turns the wheel: {turned} rad");
     assert!(still.abs() < 0.2 * turned, "without the jet: {still} rad");
+}
+
+/// aquaplay.ron with avian on the water's clock: the pump's current carries the boat along
+/// the front channel (+x), afloat, at the water's own pace (two steps a frame, far slower than
+/// real time).
+#[test]
+fn the_pump_carries_aquaplays_boat_along_the_channel() {
+    let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
+    let plugins = DefaultPlugins
+        .build()
+        .disable::<bevy::winit::WinitPlugin>()
+        .set(AssetPlugin {
+            file_path: assets.into(),
+            ..default()
+        });
+    let mut app = bevy_sph_fluid::headless::headless_app_with(
+        plugins,
+        8_000,
+        SphBackend::Cpu,
+        false,
+        |app| {
+            app.add_plugins(PhysicsPlugins::new(SphWaterTime));
+        },
+    );
+    let handle = app
+        .world()
+        .resource::<AssetServer>()
+        .load::<SphSceneAsset>("scenes/aquaplay.ron");
+    app.world_mut().spawn(SphScene(handle));
+    for _ in 0..500 {
+        app.update();
+        if app.world().resource::<SphStats>().particle_count > 0 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let boat = app
+        .world_mut()
+        .query::<(Entity, &Name)>()
+        .iter(app.world())
+        .find(|(_, n)| n.as_str() == "boat")
+        .map(|(e, _)| e)
+        .expect("the boat");
+    let start = app.world().get::<Transform>(boat).unwrap().translation;
+    app.insert_resource(SphControl {
+        running: true,
+        substeps: 2,
+        ..default()
+    });
+    let (mut lowest, mut highest) = (f32::MAX, f32::MIN);
+    while app.world().resource::<SphStats>().sim_time < 2.0 {
+        app.update();
+        let stats = app.world().resource::<SphStats>();
+        assert!(!stats.health.is_unstable(), "{:?}", stats.health);
+        assert_eq!(stats.particle_balance(), 0);
+        let y = app.world().get::<Transform>(boat).unwrap().translation.y;
+        lowest = lowest.min(y);
+        highest = highest.max(y);
+    }
+    let end = app.world().get::<Transform>(boat).unwrap().translation;
+    eprintln!("aquaplay boat: {start} -> {end}, y in [{lowest:.3}, {highest:.3}] m");
+    assert!(
+        end.x - start.x > 0.2,
+        "carried along the channel: {start} -> {end}"
+    );
+    // Afloat: above the floor by more than its half height, not thrown out of the channel.
+    assert!(
+        lowest > 0.03 && highest < 0.2,
+        "boat y in [{lowest}, {highest}]"
+    );
 }

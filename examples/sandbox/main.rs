@@ -1,5 +1,6 @@
 //! The Aquaplay-style sandbox: a start screen, then a water box with a pipe and a block spawn,
-//! particles drawn straight from the GPU buffers, a runtime panel and an orbit camera.
+//! particles drawn straight from the GPU buffers, a runtime panel and an orbit camera. A scene
+//! file's dynamic bodies are avian bodies on the water's clock (`SphWaterTime`).
 //!
 //! `cargo run --release --example sandbox -- [--particles N] [--start] [--paused]
 //!     [--hide-particles] [--no-gpu-timings] [--debug] [--obstacles] [--screenshot FILE --frames N]`
@@ -230,6 +231,9 @@ fn main() {
         MaterialPlugin::<particles::ParticleMaterial>::default(),
         MaterialPlugin::<flat_material::FlatMaterial>::default(),
         SphFluidPlugin::new(config.budget, backend),
+        // Rigid bodies (a scene file's boats) on the water's clock: they float at any
+        // real-time factor.
+        avian3d::prelude::PhysicsPlugins::new(SphWaterTime),
     ))
     .init_state::<AppState>()
     .insert_resource(config)

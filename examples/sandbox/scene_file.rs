@@ -35,6 +35,10 @@ pub fn dress_scene_members(
             .map(|s| (plate(s.half_extents), Color::srgb(0.15, 0.15, 0.17)))
             .or(pump.map(|p| (plate(p.half_extents), Color::srgb(0.25, 0.7, 0.3))));
         if let Some(((cuboid, bottom), colour)) = device {
+            // The plate is its child: the device needs visibility for the plate's (B0004).
+            commands
+                .entity(entity)
+                .try_insert_if_new(Visibility::default());
             let colour = materials.add(FlatMaterial::new(colour));
             commands.spawn((
                 Mesh3d(meshes.add(cuboid)),

@@ -7,10 +7,12 @@
 //! that into avian's forces (the split avian's maintainers ask for, avian issue #265). On the
 //! GPU the force is summed on the device and read back a frame or two late, without a stall.
 //!
-//! Time: avian steps in its fixed schedule by the game's time, the water by its own frame plan.
-//! They agree when the water runs in real-time mode ([`SphControl::real_time`]) and keeps up
-//! (real-time factor 1), as in `tests/avian_coupling.rs`; water that runs slower than real time
-//! pushes with the force of a slower world.
+//! Time: by default avian steps in its fixed schedule by the game's time, the water by its own
+//! frame plan; they agree only when the water runs in real-time mode ([`SphControl::real_time`])
+//! and keeps up (real-time factor 1). Add avian with `PhysicsPlugins::new(SphWaterTime)`
+//! instead, and the plugin runs avian once per frame, after the water's steps, for exactly the
+//! simulated time the water gained ([`SphStats::sim_time`]): bodies and water then share one
+//! clock at any real-time factor, and paused water pauses the bodies.
 //!
 //! A scene file's solids become avian bodies too: its container's
 //! floor and walls and its static colliders static bodies, its kinematic colliders kinematic
@@ -22,6 +24,15 @@
 //! use bevy::prelude::*;
 //! use bevy_sph_fluid::prelude::*;
 //! use sph_core::{ColliderMotion, ColliderShape};
+//!
+//! fn main() {
+//!     App::new()
+//!         .add_plugins((DefaultPlugins, SphFluidPlugin::default()))
+//!         // avian on the water's clock.
+//!         .add_plugins(PhysicsPlugins::new(SphWaterTime))
+//!         .add_systems(Startup, spawn_boat)
+//!         .run();
+//! }
 //!
 //! fn spawn_boat(mut commands: Commands) {
 //!     commands.spawn((
@@ -39,8 +50,44 @@ use crate::api::*;
 use crate::scene_asset::{SphDynamicBody, SphSceneMember as SceneMember};
 use crate::sets::SphSystems;
 use avian3d::prelude::*;
-use bevy::ecs::schedule::InternedScheduleLabel;
+use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
+use std::time::Duration;
+
+/// The schedule to run avian in (`PhysicsPlugins::new(SphWaterTime)`) so that rigid bodies
+/// advance with the water: the plugin runs it once per frame, after the water's steps and the
+/// force write-back, with the generic [`Time`] advanced by the simulated time the water gained
+/// since the last run (at most [`MAX_WATER_TIME_STEP`] at once).
+#[derive(ScheduleLabel, Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct SphWaterTime;
+
+/// The most simulated time one run of [`SphWaterTime`] covers [s]: a larger gain (a loaded
+/// state, a long hitch) is cut, so bodies never take one huge step.
+pub const MAX_WATER_TIME_STEP: f64 = 0.25;
+
+/// The water's simulated time when [`SphWaterTime`] last ran.
+#[derive(Default)]
+struct WaterTimeSeen(Option<f64>);
+
+/// Runs [`SphWaterTime`] (when the app has it) for the simulated time the water gained.
+fn sph_run_physics_on_water_time(world: &mut World, mut seen: Local<WaterTimeSeen>) {
+    let now = world.resource::<SphStats>().sim_time;
+    let Some(last) = seen.0.replace(now) else {
+        return;
+    };
+    let gained = (now - last).min(MAX_WATER_TIME_STEP);
+    // Paused water, or a reset (time went back): the bodies wait.
+    if gained.is_nan() || gained <= 0.0 {
+        return;
+    }
+    let saved = *world.resource::<Time>();
+    let mut clock = Time::<()>::default();
+    clock.advance_by(Duration::from_secs_f64(gained));
+    *world.resource_mut::<Time>() = clock;
+    // An app that runs avian in another schedule has no `SphWaterTime`: nothing runs.
+    let _ = world.try_run_schedule(SphWaterTime);
+    *world.resource_mut::<Time>() = saved;
+}
 
 pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
     app.add_systems(
@@ -53,6 +100,9 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
             sph_drive_avian_bodies
                 .in_set(SphSystems::Writeback)
                 .after(crate::colliders::sph_write_collider_forces),
+            sph_run_physics_on_water_time
+                .in_set(SphSystems::Writeback)
+                .after(sph_drive_avian_bodies),
         ),
     );
 }
@@ -119,6 +169,11 @@ fn sph_avian_scene_bodies(
         }
     }
     for (entity, container) in &containers {
+        // The walls are its children: it needs a (world-aligned) transform for theirs to
+        // propagate (Bevy's B0004).
+        commands
+            .entity(entity)
+            .insert_if_new((Transform::IDENTITY, GlobalTransform::IDENTITY));
         let (lo, hi) = (container.min(), container.max());
         let (size, center) = (hi - lo, 0.5 * (lo + hi));
         let slabs = [

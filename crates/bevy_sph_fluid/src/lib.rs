@@ -42,6 +42,8 @@ pub mod shared;
 mod simulation;
 
 pub use api::*;
+#[cfg(feature = "avian")]
+pub use avian_coupling::SphWaterTime;
 pub use flow::{SphProbe, SphProbeKind, SphProbeReading, SphPump, SphSink};
 pub use plugin::SphFluidPlugin;
 pub use scene_asset::{SphScene, SphSceneAsset, SphSceneControls, SphSceneMember};
@@ -50,6 +52,8 @@ pub use sets::{SphGraphSystems, SphStep, SphSystems};
 /// Commonly used items.
 pub mod prelude {
     pub use crate::api::*;
+    #[cfg(feature = "avian")]
+    pub use crate::avian_coupling::SphWaterTime;
     pub use crate::flow::{SphProbe, SphProbeKind, SphProbeReading, SphPump, SphSink};
     pub use crate::plugin::SphFluidPlugin;
     pub use crate::scene_asset::{SphScene, SphSceneAsset, SphSceneControls, SphSceneMember};
