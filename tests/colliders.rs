@@ -3,7 +3,7 @@
 //! a jittered block), a collider moved, added and removed at run time changes the boundary
 //! without touching the particle buffers or losing a particle, no particle ends inside a
 //! collider, both backends write the water's force into `SphColliderForce` (the GPU's summed on
-//! the device and matching the CPU solver's), and a bad collider
+//! the device and matching the CPU solver's, with WCSPH and PBF), and a bad collider
 //! is refused by entity and field while the simulation goes on.
 
 mod common;
@@ -12,10 +12,14 @@ use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
 use common::*;
 use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
-use sph_core::{BlockSpawn, BoxContainer, CpuSolver};
+use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Solver};
 
-fn scene() -> (sph_core::SphParams, BoxContainer, BlockSpawn) {
-    let params = sph_core::SphParams::water();
+/// The scene with `solver` at its own time-step rule.
+fn scene_for(solver: Solver) -> (sph_core::SphParams, BoxContainer, BlockSpawn) {
+    let mut params = sph_core::SphParams::water();
+    if solver != Solver::Wcsph {
+        params.use_solver(solver);
+    }
     let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.5, 0.4, 0.3));
     let block = BlockSpawn {
         jitter: 0.1,
@@ -65,7 +69,20 @@ fn as_solver_collider(c: &SphCollider, t: &Transform) -> Collider {
 }
 
 fn app_with_colliders(backend: SphBackend) -> (App, Vec<Entity>, usize) {
-    let (params, container, block) = scene();
+    app_with_colliders_for(backend, Solver::Wcsph)
+}
+
+/// The block's velocity at spawn: PBF pushes only where the water is compressed, so its block
+/// falls onto the colliders.
+fn spawn_velocity(solver: Solver) -> Vec3 {
+    match solver {
+        Solver::Pbf => Vec3::new(0.0, -0.5, 0.0),
+        _ => Vec3::ZERO,
+    }
+}
+
+fn app_with_colliders_for(backend: SphBackend, solver: Solver) -> (App, Vec<Entity>, usize) {
+    let (params, container, block) = scene_for(solver);
     let mut app = headless_app(block.count() as u32, backend);
     app.insert_resource(SphParams(params));
     app.insert_resource(SphControl {
@@ -81,7 +98,7 @@ fn app_with_colliders(backend: SphBackend) -> (App, Vec<Entity>, usize) {
     // The block is spawned after the colliders exist, so the solver skips what they cover.
     app.world_mut().spawn(SphBlockSpawn {
         block,
-        velocity: Vec3::ZERO,
+        velocity: spawn_velocity(solver),
     });
     app.update();
     let n = app.world().resource::<SphStats>().particle_count as usize;
@@ -91,19 +108,37 @@ fn app_with_colliders(backend: SphBackend) -> (App, Vec<Entity>, usize) {
 #[test]
 fn one_gpu_step_with_colliders_matches_the_cpu_solver() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
-    let (params, container, block) = scene();
+    one_step_with_colliders_matches(Solver::Wcsph);
+}
+
+/// PBF's boundary: the samples in λ and the corrections, and the reactions summed on the
+/// device over the step's iterations, with the block falling onto the colliders.
+#[test]
+fn one_pbf_gpu_step_with_colliders_matches_the_cpu_solver() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    one_step_with_colliders_matches(Solver::Pbf);
+}
+
+fn one_step_with_colliders_matches(solver: Solver) {
+    let (params, container, block) = scene_for(solver);
     let mut cpu = CpuSolver::new(params, container, block.count()).unwrap();
     for (c, t) in colliders() {
         cpu.add_collider(as_solver_collider(&c, &t)).unwrap();
     }
-    let report = cpu.spawn(&block.positions(), Vec3::ZERO);
+    let report = cpu.spawn(&block.positions(), spawn_velocity(solver));
     assert!(report.inside_colliders > 0);
+    // Two PBF steps, the second one's force compared (the GPU reports the last frame's).
+    let steps = if solver == Solver::Pbf { 2 } else { 1 };
+    for _ in 1..steps {
+        cpu.step();
+    }
+    cpu.take_collider_forces();
     cpu.step();
 
-    let (mut app, entities, n) = app_with_colliders(SphBackend::Gpu);
+    let (mut app, entities, n) = app_with_colliders_for(SphBackend::Gpu, solver);
     assert_eq!(n, report.spawned, "both backends skip the same particles");
     assert!(app.world().resource::<SphStats>().boundary_samples > 0);
-    step_to(&mut app, 1);
+    step_to(&mut app, steps);
     let s = snapshot(&mut app);
     let p = cpu.particles();
     let mut cpu_order: Vec<usize> = (0..n).collect();
@@ -114,17 +149,21 @@ fn one_gpu_step_with_colliders_matches_the_cpu_solver() {
         .iter()
         .map(|a| a.length())
         .fold(0.0, f32::max);
-    let mut worst = (0.0f32, 0.0f32);
+    let mut worst = (0.0f32, 0.0f32, 0.0f32);
     for (&g, &c) in gpu_order.iter().zip(&cpu_order) {
         let rho = (s.densities[g] - p.density[c]).abs() / p.density[c];
         let a = (s.accelerations[g] - p.acceleration[c]).length() / a_max;
-        worst = (worst.0.max(rho), worst.1.max(a));
+        let x = (s.positions[g] - p.position[c]).length();
+        worst = (worst.0.max(rho), worst.1.max(a), worst.2.max(x));
     }
     eprintln!(
-        "worst density {:.2e}, acceleration {:.2e}",
-        worst.0, worst.1
+        "{solver:?}: worst density {:.2e}, acceleration {:.2e}, position {:.2e} m",
+        worst.0, worst.1, worst.2
     );
-    assert!(worst.0 < 1e-4 && worst.1 < 1e-3, "{worst:?}");
+    match solver {
+        Solver::Pbf => assert!(worst.0 < 1e-4 && worst.2 < 1e-5, "{worst:?}"),
+        _ => assert!(worst.0 < 1e-4 && worst.1 < 1e-3, "{worst:?}"),
+    }
     // The water's force on each collider, summed on the device and read back (the snapshot's
     // frames gave the readback time to arrive).
     let cpu_forces: Vec<sph_core::BodyForce> = cpu
@@ -141,7 +180,7 @@ fn one_gpu_step_with_colliders_matches_the_cpu_solver() {
     );
     for (entity, expected) in entities.iter().zip(&cpu_forces) {
         let got = *app.world().get::<SphColliderForce>(*entity).unwrap();
-        eprintln!("collider force GPU {got:?}, CPU {expected:?}");
+        eprintln!("{solver:?}: collider force GPU {got:?}, CPU {expected:?}");
         assert!(
             (got.force - expected.force).length() < 2e-3 * scale,
             "force {} against {}",

@@ -138,8 +138,34 @@ fn bad_limits_are_refused_and_nothing_moves() {
 #[test]
 fn gpu_frames_advance_by_their_own_time_without_waiting() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
-    let mut app = real_time_app(SphBackend::Gpu, Solver::Wcsph, FRAME);
-    // Pipelines compile and the clock's first readbacks arrive.
+    for solver in [Solver::Wcsph, Solver::Pbf] {
+        let mut app = real_time_app(SphBackend::Gpu, solver, FRAME);
+        warm_up(&mut app);
+        // Once the rule's dt is read back, every frame plans its steps from it and the device
+        // splits the frame among them; the clock is read back a frame or two late, so compare
+        // long runs.
+        let frames = 30;
+        let gained = gain(&mut app, frames);
+        let expected = frames as f64 * FRAME as f64;
+        assert!(
+            (gained - expected).abs() < 0.05 * expected,
+            "{solver:?}: {gained} s in {frames} frames of {FRAME} s"
+        );
+        let stats = app.world().resource::<SphStats>();
+        match solver {
+            Solver::Pbf => assert_eq!(stats.frame_steps, 2, "PBF's largest dt is 1/120 s"),
+            _ => assert!(stats.frame_steps > 1, "WCSPH needs many steps per 1/60 s"),
+        }
+        // No step was longer than the rule allowed: the device's dt is at most the budget's
+        // share.
+        assert!(stats.time_step <= FRAME / stats.frame_steps as f32 * 1.05);
+        assert_eq!(stats.health, SphHealth::Ok, "{solver:?}");
+        assert_eq!(stats.error, None, "{solver:?}");
+    }
+}
+
+/// Runs until the pipelines are compiled and the clock's first readbacks arrived.
+fn warm_up(app: &mut App) {
     for _ in 0..400 {
         app.update();
         if app.world().resource::<SphStats>().sim_time > 0.1 {
@@ -148,18 +174,26 @@ fn gpu_frames_advance_by_their_own_time_without_waiting() {
     }
     let stats = app.world().resource::<SphStats>().clone();
     assert!(stats.sim_time > 0.1, "{:?}", stats.error);
-    // Once the rule's dt is read back, every frame plans its steps from it and the device splits
-    // the frame among them; the clock is read back a frame or two late, so compare long runs.
-    let frames = 30;
+}
+
+/// PBF on the GPU: frames of 0.5 s gain `max_frame_time` each, and the water stays healthy.
+#[test]
+fn a_gpu_hitch_is_clamped_to_the_largest_frame_time() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let mut app = real_time_app(SphBackend::Gpu, Solver::Pbf, 0.5);
+    warm_up(&mut app);
+    let count = app.world().resource::<SphStats>().particle_count;
+    let frames = 20;
     let gained = gain(&mut app, frames);
-    let expected = frames as f64 * FRAME as f64;
+    let expected = frames as f64 * SphRealTime::default().max_frame_time as f64;
     assert!(
         (gained - expected).abs() < 0.05 * expected,
-        "{gained} s in {frames} frames of {FRAME} s"
+        "{gained} against {expected}"
     );
     let stats = app.world().resource::<SphStats>();
-    assert!(stats.frame_steps > 1, "WCSPH needs many steps per 1/60 s");
-    // No step was longer than the rule allowed: the device's dt is at most the budget's share.
-    assert!(stats.time_step <= FRAME / stats.frame_steps as f32 * 1.05);
     assert_eq!(stats.health, SphHealth::Ok);
+    assert_eq!(stats.particle_count, count);
+    let s = snapshot(&mut app);
+    assert_eq!(s.positions.len(), count as usize);
+    assert!(s.positions.iter().all(|x| x.is_finite()));
 }

@@ -57,8 +57,11 @@ struct Cli {
     /// `assets/scenes/dam_break.ron` or its absolute path), reloaded when
     /// it changes.
     scene: Option<String>,
-    /// `--solver dfsph|pbf`: that solver on the CPU backend (their GPU passes are not built yet).
+    /// `--solver wcsph|dfsph|pbf`: that solver instead of the default PBF (DFSPH on the CPU
+    /// backend: its GPU passes are not built yet).
     solver: Option<sph_core::Solver>,
+    /// `--cpu`: the CPU backend instead of the GPU.
+    cpu: bool,
 }
 
 fn parse_cli() -> Result<Cli, String> {
@@ -102,6 +105,7 @@ fn parse_cli() -> Result<Cli, String> {
             "--adaptive" => cli.adaptive = true,
             "--obstacles" => cli.obstacles = true,
             "--real-time" => cli.real_time = true,
+            "--cpu" => cli.cpu = true,
             "--scene" => {
                 cli.scene = Some(asset_path(&value()?)?);
                 cli.start = true;
@@ -109,7 +113,7 @@ fn parse_cli() -> Result<Cli, String> {
             }
             "--solver" => {
                 cli.solver = match value()?.as_str() {
-                    "wcsph" => None,
+                    "wcsph" => Some(sph_core::Solver::Wcsph),
                     "dfsph" => Some(sph_core::Solver::Dfsph),
                     "pbf" => Some(sph_core::Solver::Pbf),
                     v => return Err(format!("--solver = {v:?}: allowed wcsph, dfsph, pbf")),
@@ -151,7 +155,7 @@ fn main() {
             eprintln!(
                 "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
                  [--hide-particles] [--no-gpu-timings] [--debug] [--adaptive] \
-                 [--obstacles] [--solver wcsph|dfsph|pbf] [--real-time] [--scene FILE] [--screenshot FILE --frames N]"
+                 [--obstacles] [--solver wcsph|dfsph|pbf] [--real-time] [--cpu] [--scene FILE] [--screenshot FILE --frames N]"
             );
             std::process::exit(2);
         }
@@ -165,16 +169,17 @@ fn main() {
     config.adaptive_time_step = cli.adaptive;
     config.real_time = cli.real_time;
     config.scene = cli.scene.clone();
-    // DFSPH and PBF run on the CPU backend until their GPU passes exist.
-    let mut backend = match cli.solver {
-        Some(solver) => {
-            config.solver = solver;
-            SphBackend::Cpu
-        }
-        None => SphBackend::Gpu,
+    // DFSPH runs on the CPU backend until its GPU passes exist.
+    if let Some(solver) = cli.solver {
+        config.solver = solver;
+    }
+    let mut backend = if cli.cpu || config.solver == sph_core::Solver::Dfsph {
+        SphBackend::Cpu
+    } else {
+        SphBackend::Gpu
     };
     if let Some(path) = &cli.scene {
-        // Read once here to choose the backend (DFSPH and PBF run on the CPU) and to refuse a
+        // Read once here to choose the backend (DFSPH and drains run on the CPU) and to refuse a
         // broken file before the window opens; the asset system loads and watches it.
         let file = format!("{}/assets/{path}", env!("CARGO_MANIFEST_DIR"));
         let built = std::fs::read_to_string(&file)
@@ -185,11 +190,12 @@ fn main() {
                     .map_err(|e| e.to_string())
             });
         match built {
-            Ok(setup) if setup.params.solver != sph_core::Solver::Wcsph => {
+            Ok(setup) => {
                 config.solver = setup.params.solver;
-                backend = SphBackend::Cpu;
+                if setup.params.solver == sph_core::Solver::Dfsph || !setup.sinks.is_empty() {
+                    backend = SphBackend::Cpu;
+                }
             }
-            Ok(_) => {}
             Err(e) => {
                 eprintln!("sandbox: --scene: {e}");
                 std::process::exit(2);

@@ -89,15 +89,23 @@ pub fn dress_scene_members(
 }
 
 /// The scene files the start panel offers: `scenes/*.ron` under the sandbox's asset folder, with
-/// the solver each names (or why it does not build).
+/// what of each runs on the CPU backend only (DFSPH, drains), or why it does not build.
 #[derive(Resource, Default)]
-pub struct SceneFiles(pub Vec<(String, Result<sph_core::Solver, String>)>);
+pub struct SceneFiles(pub Vec<(String, Result<SceneFileKind, String>)>);
+
+/// What the start panel tells of a scene file that builds.
+pub struct SceneFileKind {
+    /// Its solver.
+    pub solver: sph_core::Solver,
+    /// What of it runs on the CPU backend only (DFSPH, drains), if anything.
+    pub cpu_only: Option<&'static str>,
+}
 
 impl SceneFiles {
     /// Reads the folder once (at start-up).
     pub fn find() -> Self {
         let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes"));
-        let mut files: Vec<(String, Result<sph_core::Solver, String>)> = std::fs::read_dir(dir)
+        let mut files: Vec<(String, Result<SceneFileKind, String>)> = std::fs::read_dir(dir)
             .into_iter()
             .flatten()
             .flatten()
@@ -108,15 +116,24 @@ impl SceneFiles {
                     "scenes/{}",
                     path.file_name().unwrap_or_default().to_string_lossy()
                 );
-                let solver = std::fs::read_to_string(&path)
+                let cpu_only = std::fs::read_to_string(&path)
                     .map_err(|e| e.to_string())
                     .and_then(|text| {
                         sph_core::scene_file::SceneFile::parse(&text, &name)
                             .and_then(|scene| scene.build(&name, &text))
-                            .map(|setup| setup.params.solver)
+                            .map(|setup| SceneFileKind {
+                                solver: setup.params.solver,
+                                cpu_only: if setup.params.solver == sph_core::Solver::Dfsph {
+                                    Some("DFSPH")
+                                } else if !setup.sinks.is_empty() {
+                                    Some("its drain")
+                                } else {
+                                    None
+                                },
+                            })
                             .map_err(|e| e.to_string())
                     });
-                (name, solver)
+                (name, cpu_only)
             })
             .collect();
         files.sort_by(|a, b| a.0.cmp(&b.0));

@@ -5,7 +5,7 @@ use crate::config::{Preset, SandboxConfig, SpawnMode, BUDGET_RANGE};
 use crate::obstacles::{Gate, GateLift};
 use crate::particles::{ColorMode, ParticleDrawing};
 use crate::ranges;
-use crate::scene_file::SceneFiles;
+use crate::scene_file::{SceneFileKind, SceneFiles};
 use crate::AppState;
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
@@ -129,8 +129,8 @@ pub fn setup_panel(
                     );
                 ui.radio_value(&mut config.solver, sph_core::Solver::Pbf, "PBF")
                     .on_hover_text(
-                        "Position-based fluids (Macklin & Müller 2013), its own time step; \
-                         CPU backend only for now: start the sandbox with --solver pbf",
+                        "Position-based fluids (Macklin & Müller 2013), its own time step, \
+                         on either backend",
                     );
             });
             let mut integrator = config.integrator;
@@ -186,9 +186,9 @@ fn scene_file_choice(
         .selected_text(config.scene.as_deref().unwrap_or("(this panel's scene)"))
         .show_ui(ui, |ui| {
             ui.selectable_value(&mut config.scene, None, "(this panel's scene)");
-            for (name, solver) in &files.0 {
-                let label = match solver {
-                    Ok(solver) => format!("{name} ({})", solver.name()),
+            for (name, kind) in &files.0 {
+                let label = match kind {
+                    Ok(kind) => format!("{name} ({})", kind.solver.name()),
                     Err(_) => format!("{name} (does not load)"),
                 };
                 ui.selectable_value(&mut config.scene, Some(name.clone()), label);
@@ -203,14 +203,14 @@ fn scene_file_choice(
         .find(|(name, _)| *name == chosen)
         .map(|f| &f.1)
     {
-        Some(Ok(solver))
-            if *solver != sph_core::Solver::Wcsph && stats.backend == SphBackend::Gpu =>
-        {
+        Some(Ok(SceneFileKind {
+            cpu_only: Some(what),
+            ..
+        })) if stats.backend == SphBackend::Gpu => {
             ui.colored_label(
                 Color32::ORANGE,
                 format!(
-                    "{} runs on the CPU backend only for now: restart the sandbox with --scene {chosen}",
-                    solver.name()
+                    "{what} runs on the CPU backend only for now: restart the sandbox with --scene {chosen}"
                 ),
             );
         }

@@ -198,6 +198,11 @@ pub struct SphStats {
     pub boundary_corrections: u64,
     /// Of those, the particles clamped back into the container's box.
     pub wall_corrections: u64,
+    /// GPU PBF: particles that had more neighbours than the step's lists hold
+    /// (`sph_core::gpu_layout::PBF_MAX_NEIGHBORS`, about twice the rest density) and lost the
+    /// rest for that step, summed over the steps since the last reset. 0 on the CPU backend,
+    /// whose lists have no limit.
+    pub neighbor_list_overflows: u64,
     /// Boundary samples (Akinci 2012) of the container's walls and the colliders.
     pub boundary_samples: u32,
     /// Colliders refused this frame (the simulation goes on without them).
@@ -205,7 +210,7 @@ pub struct SphStats {
     /// Compute dispatches in the last step (GPU backend).
     pub dispatches_per_step: u32,
     /// DFSPH: constant-density iterations per step, mean over the last frame's steps; PBF: its
-    /// constraint iterations (0 with WCSPH; CPU backend).
+    /// constraint iterations, a fixed count per step on both backends (0 with WCSPH).
     pub pressure_iterations_mean: f32,
     /// Simulated seconds per wall-clock second over the last half second or more of real time
     /// (1 = real time; GPU: from the clock as read back).

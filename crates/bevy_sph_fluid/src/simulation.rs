@@ -370,7 +370,7 @@ fn sph_plan_step(
                 .or_else(|| stats.scene_error.clone());
         }
         SphBackend::Gpu => {
-            if params.solver != sph_core::Solver::Wcsph {
+            if params.solver == sph_core::Solver::Dfsph {
                 stats.error = Some(format!(
                     "SphParams::solver = {:?} runs on the CPU backend only (SphBackend::Cpu): its GPU passes are not built yet; the GPU keeps its last state",
                     params.solver
@@ -395,6 +395,12 @@ fn sph_plan_step(
             frame.budget = plan.budget.map(|b| (b, number));
             frame.number = number;
             stats.frame_steps = plan.steps;
+            // PBF's Jacobi iterations are a fixed count per step on the device.
+            let pbf = params.solver == sph_core::Solver::Pbf;
+            let iterations = if pbf { params.pbf.iterations } else { 0 };
+            stats.pressure_iterations_mean = iterations as f32;
+            stats.pressure_iterations_max = iterations;
+            stats.divergence_iterations_mean = 0.0;
             frame.neighbor_counts = control.record_neighbor_counts;
             frame.rollback = control.rollback;
         }
@@ -500,6 +506,7 @@ fn sph_update_stats(
                 stats.rollbacks = clock.rollbacks as u64;
                 stats.boundary_corrections = clock.boundary_corrections as u64;
                 stats.wall_corrections = clock.wall_corrections as u64;
+                stats.neighbor_list_overflows = clock.neighbor_list_overflows as u64;
                 stats.clock_steps = clock.step as u64;
                 let scale = (-(clock.halvings as f32)).exp2();
                 sim.rule_dt = Some(f32::from_bits(clock.rule_dt_bits) * scale);

@@ -8,7 +8,7 @@ use naga_oil::compose::{
 };
 use std::collections::HashMap;
 
-const LIBRARY: [(&str, &str); 9] = [
+const LIBRARY: [(&str, &str); 11] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -45,6 +45,11 @@ const LIBRARY: [(&str, &str); 9] = [
         "probes.wgsl",
         include_str!("../src/render/shaders/probes.wgsl"),
     ),
+    (
+        "body_reactions.wgsl",
+        include_str!("../src/render/shaders/body_reactions.wgsl"),
+    ),
+    ("pbf.wgsl", include_str!("../src/render/shaders/pbf.wgsl")),
 ];
 
 /// The WGSL of a registered stage: `sph_<stem>` lives in `stages/<stem>.wgsl`.
@@ -111,46 +116,50 @@ fn every_stage_and_variant_composes_and_validates() {
     let mut expected = 0;
     for stage in all_stages() {
         let (path, source) = stage_source(stage);
-        expected += 16 * stage.roles.len();
-        for search in [None, Some("SEARCH_HASH")] {
-            for surface_tension in [None, Some("SURFACE_TENSION")] {
-                for viscosity in [None, Some("VISCOSITY")] {
-                    for (role, neighbor_count) in stage
-                        .roles
-                        .iter()
-                        .flat_map(|r| [(r, None), (r, Some("NEIGHBOR_COUNT"))])
-                    {
-                        let mut defs: Vec<&str> = role.to_vec();
-                        defs.extend(search);
-                        defs.extend(surface_tension);
-                        defs.extend(viscosity);
-                        defs.extend(neighbor_count);
-                        let module =
-                            compose(&mut composer, &path, &source, &defs, stage.workgroup_size);
-                        let mut validator = naga::valid::Validator::new(
-                            naga::valid::ValidationFlags::all(),
-                            naga::valid::Capabilities::default(),
-                        );
-                        if let Err(e) = validator.validate(&module) {
-                            panic!("{path} {defs:?}: {e:?}");
+        expected += 48 * stage.roles.len();
+        // WCSPH, PBF, PBF with vorticity confinement.
+        for solver in [&[][..], &["SOLVER_PBF"], &["SOLVER_PBF", "VORTICITY"]] {
+            for search in [None, Some("SEARCH_HASH")] {
+                for surface_tension in [None, Some("SURFACE_TENSION")] {
+                    for viscosity in [None, Some("VISCOSITY")] {
+                        for (role, neighbor_count) in stage
+                            .roles
+                            .iter()
+                            .flat_map(|r| [(r, None), (r, Some("NEIGHBOR_COUNT"))])
+                        {
+                            let mut defs: Vec<&str> = role.to_vec();
+                            defs.extend(solver);
+                            defs.extend(search);
+                            defs.extend(surface_tension);
+                            defs.extend(viscosity);
+                            defs.extend(neighbor_count);
+                            let module =
+                                compose(&mut composer, &path, &source, &defs, stage.workgroup_size);
+                            let mut validator = naga::valid::Validator::new(
+                                naga::valid::ValidationFlags::all(),
+                                naga::valid::Capabilities::default(),
+                            );
+                            if let Err(e) = validator.validate(&module) {
+                                panic!("{path} {defs:?}: {e:?}");
+                            }
+                            assert_eq!(module.entry_points.len(), 1, "{path}");
+                            let entry = &module.entry_points[0];
+                            assert_eq!(entry.stage, naga::ShaderStage::Compute);
+                            assert_eq!(
+                                entry.workgroup_size,
+                                [stage.workgroup_size, 1, 1],
+                                "{path}: the declared workgroup size reaches the shader"
+                            );
+                            validated += 1;
                         }
-                        assert_eq!(module.entry_points.len(), 1, "{path}");
-                        let entry = &module.entry_points[0];
-                        assert_eq!(entry.stage, naga::ShaderStage::Compute);
-                        assert_eq!(
-                            entry.workgroup_size,
-                            [stage.workgroup_size, 1, 1],
-                            "{path}: the declared workgroup size reaches the shader"
-                        );
-                        validated += 1;
                     }
                 }
             }
         }
     }
-    // 11 registered stages (the time step in two places), 16 common variants each, times roles.
+    // 17 registered stages (the time step in two places), 48 common variants each, times roles.
     assert_eq!(validated, expected);
-    assert!(validated >= 16 * 16, "{validated}");
+    assert!(validated >= 48 * 22, "{validated}");
 }
 
 #[test]

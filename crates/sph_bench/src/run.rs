@@ -481,7 +481,7 @@ pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
         None => configured_setup(args),
     };
     let solver = setup.scene.params.solver;
-    if args.backend == Backend::Gpu && solver != Solver::Wcsph {
+    if args.backend == Backend::Gpu && solver == Solver::Dfsph {
         return Err(format!(
             "--solver {} runs on the CPU backend only (--backend cpu): its GPU passes are not built yet",
             solver.name()

@@ -6,11 +6,18 @@ use crate::kernel::Kernels;
 use crate::neighbor::grid::DenseGrid;
 use crate::neighbor::hash::hash_table_size;
 use crate::params::{EquationOfState, ParamError, SphParams};
+use crate::pbf_macklin2013::PbfContext;
 use bytemuck::{Pod, Zeroable};
 use glam::{UVec3, Vec3};
 
 /// Workgroup size of every per-particle pass.
 pub const WORKGROUP_SIZE: u32 = 64;
+
+/// The most neighbours a particle keeps in the GPU's PBF neighbour lists (pairs within h at the
+/// predicted positions). A particle has about 33 at rest density (h = 2 Δx); one with more
+/// than this many (about twice the rest density) loses the rest for the step, and the clock
+/// counts them ([`GpuClock::neighbor_list_overflows`]).
+pub const PBF_MAX_NEIGHBORS: u32 = 64;
 
 /// Threads of the single-workgroup prefix sum.
 pub const PREFIX_SUM_THREADS: u32 = 256;
@@ -58,6 +65,14 @@ pub struct GpuSphParams {
     /// planned for it, the frame's number (a new number starts a new budget), 0. All zero (off)
     /// until [`Self::with_frame_budget`].
     pub frame_budget: [u32; 4],
+    /// PBF ([`crate::pbf_macklin2013::PbfContext`]): the cubic spline's value and gradient
+    /// constants k and l, the relaxation ε [1/m²], s_corr's k in λ's units.
+    pub pbf_kernel: [f32; 4],
+    /// PBF: 1 / W(Δq), XSPH c, vorticity ε [m/s], the correction cap before the step's
+    /// gravity term ([`crate::pbf_macklin2013::MAX_CORRECTION`] h) [m].
+    pub pbf: [f32; 4],
+    /// PBF: s_corr's n, the Jacobi iterations per step, [`PBF_MAX_NEIGHBORS`], 0.
+    pub pbf_counts: [u32; 4],
 }
 
 /// The simulation clock (WGSL `SphClock`), a storage buffer written only by the GPU: the
@@ -116,8 +131,11 @@ pub struct GpuClock {
     pub budget_remaining_bits: u32,
     /// Steps left in that frame's plan.
     pub budget_steps_left: u32,
+    /// PBF: particles that had more than [`PBF_MAX_NEIGHBORS`] neighbours in a step's lists
+    /// (and lost the rest for that step), summed over the steps since the reset.
+    pub neighbor_list_overflows: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 impl GpuClock {
@@ -174,6 +192,7 @@ impl GpuSphParams {
         particle_count: u32,
     ) -> Self {
         let k = Kernels::new(params.smoothing_radius);
+        let pbf = PbfContext::of(params);
         let (lo, hi) = (container.min(), container.max());
         let v4 = |v: Vec3, w: f32| [v.x, v.y, v.z, w];
         Self {
@@ -214,6 +233,19 @@ impl GpuSphParams {
             ],
             rollback: [0; 4],
             frame_budget: [0; 4],
+            pbf_kernel: [pbf.kernel.k, pbf.kernel.l, pbf.epsilon, pbf.s_corr_k],
+            pbf: [
+                pbf.inverse_w_dq,
+                pbf.xsph_c,
+                pbf.vorticity_epsilon,
+                pbf.max_correction,
+            ],
+            pbf_counts: [
+                pbf.s_corr_n.max(0) as u32,
+                params.pbf.iterations,
+                PBF_MAX_NEIGHBORS,
+                0,
+            ],
         }
     }
 

@@ -75,6 +75,24 @@ pub enum CpuStage {
     Forces,
     /// Integration phases ([`crate::integrate`]).
     Integrate,
+    /// The step's neighbour lists (PBF: the pairs within h at the predicted positions,
+    /// [`crate::neighbor_lists::NeighborLists::rebuild`]).
+    NeighborLists,
+    /// PBF: the constraint's λ_i at the predicted positions
+    /// ([`crate::pbf_macklin2013::compute_lambdas`]).
+    PbfLambda,
+    /// PBF: the position corrections Δp_i and the bodies' reactions
+    /// ([`crate::pbf_macklin2013::compute_corrections`], [`crate::pbf_macklin2013::boundary_reactions`]).
+    PbfCorrection,
+    /// PBF: velocities from the positions, the guard (step 4 of `CpuSolver`'s PBF step).
+    PbfVelocity,
+    /// PBF: XSPH viscosity and the final densities ([`crate::pbf_macklin2013::xsph`],
+    /// [`crate::pbf_macklin2013::compute_densities`]), then the pumps.
+    PbfXsph,
+    /// PBF: the vorticity ω_i ([`crate::pbf_macklin2013::vorticity`]).
+    PbfVorticity,
+    /// PBF: vorticity confinement ([`crate::pbf_macklin2013::confine_vorticity`]).
+    PbfConfinement,
 }
 
 /// The stages of one force evaluation for `params`, in order: sort, density, normals (with
@@ -86,5 +104,24 @@ pub fn evaluation_stages(params: &SphParams) -> Vec<CpuStage> {
         stages.push(CpuStage::Normals);
     }
     stages.push(CpuStage::Forces);
+    stages
+}
+
+/// The stages of one PBF step for `params` (`CpuSolver`'s PBF step, `solver/pbf.rs`), each once
+/// in order: the sort of the predicted positions, the neighbour lists, λ and the corrections (repeated
+/// `pbf.iterations` times), the velocities, XSPH, and with vorticity confinement its two
+/// stages. The time step and the prediction come before.
+pub fn pbf_step_stages(params: &SphParams) -> Vec<CpuStage> {
+    let mut stages = vec![
+        CpuStage::Sort,
+        CpuStage::NeighborLists,
+        CpuStage::PbfLambda,
+        CpuStage::PbfCorrection,
+        CpuStage::PbfVelocity,
+        CpuStage::PbfXsph,
+    ];
+    if params.pbf.vorticity_epsilon > 0.0 {
+        stages.extend([CpuStage::PbfVorticity, CpuStage::PbfConfinement]);
+    }
     stages
 }

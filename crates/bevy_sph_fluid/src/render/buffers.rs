@@ -11,7 +11,9 @@ use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{BindGroup, Buffer, BufferDescriptor, BufferUsages};
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::storage::GpuShaderBuffer;
-use sph_core::gpu_layout::{bitonic_steps, sort_length, GpuClock, GpuCollider, GpuSphParams};
+use sph_core::gpu_layout::{
+    bitonic_steps, sort_length, GpuClock, GpuCollider, GpuSphParams, PBF_MAX_NEIGHBORS,
+};
 use sph_core::neighbor::grid::DenseGrid;
 use sph_core::neighbor::hash::hash_table_size;
 use sph_core::NeighborSearch;
@@ -88,11 +90,14 @@ pub enum Buf {
     Probes,
     /// The mesh colliders' hierarchies and triangles, for the guard.
     Meshes,
+    /// PBF: each particle's neighbours of the step (pairs within h at the predicted positions),
+    /// at most `PBF_MAX_NEIGHBORS`, neighbour k of particle i at `k * capacity + i`.
+    PbfNeighbors,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 33] = [
+    pub const ALL: [Buf; 34] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -126,6 +131,7 @@ impl Buf {
         Buf::Pumps,
         Buf::Probes,
         Buf::Meshes,
+        Buf::PbfNeighbors,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -169,6 +175,7 @@ impl Buf {
             Buf::Pumps => "sph_pumps",
             Buf::Probes => "sph_probes",
             Buf::Meshes => "sph_meshes",
+            Buf::PbfNeighbors => "sph_pbf_neighbors",
         }
     }
 }
@@ -266,7 +273,12 @@ fn allocate(
     } else {
         0
     };
-    let normals = if key.surface_tension { 16 * n } else { 0 };
+    // The Akinci normals, or PBF's λ and densities.
+    let normals = if key.surface_tension || key.pbf {
+        16 * n
+    } else {
+        0
+    };
     let [position, velocity, acceleration, density, neighbor_count, clock, body_forces, probes] =
         readable;
     let size = |buf: Buf| -> u64 {
@@ -284,6 +296,8 @@ fn allocate(
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
             Buf::Pumps => std::mem::size_of::<sph_core::gpu_layout::GpuPumps>() as u64,
+            Buf::PbfNeighbors if key.pbf => 4 * n * PBF_MAX_NEIGHBORS as u64,
+            Buf::PbfNeighbors => 16,
             _ => 16 * n,
         }
     };
@@ -399,6 +413,7 @@ pub(crate) fn prepare_sph_buffers(
             || b.grid_dims != grid.dims
             || b.key.search != key.search
             || b.key.surface_tension != key.surface_tension
+            || b.key.pbf != key.pbf
             || b.at(Buf::Position).id() != position.id()
             || b.at(Buf::Density).id() != density.id()
     });

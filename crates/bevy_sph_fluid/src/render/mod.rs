@@ -29,6 +29,8 @@ pub(crate) fn build(app: &mut App) {
     load_shader_library!(app, "shaders/guard.wgsl");
     load_shader_library!(app, "shaders/pumps.wgsl");
     load_shader_library!(app, "shaders/probes.wgsl");
+    load_shader_library!(app, "shaders/body_reactions.wgsl");
+    load_shader_library!(app, "shaders/pbf.wgsl");
     let mut embedded = Vec::new();
     for stage in stages::all_stages() {
         if !embedded.contains(&stage.name) {

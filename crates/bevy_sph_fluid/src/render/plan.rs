@@ -2,7 +2,7 @@
 //! each force evaluation's plan (the integrator phases fused into the passes). No GPU types.
 
 use bevy::shader::ShaderDefVal;
-use sph_core::{Integrator, NeighborSearch, SphParams};
+use sph_core::{Integrator, NeighborSearch, Solver, SphParams};
 
 /// Which variant of the pipelines a parameter set needs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -15,6 +15,10 @@ pub struct VariantKey {
     pub viscosity: bool,
     /// The density pass records neighbour counts (debug views).
     pub neighbor_counts: bool,
+    /// Position-based fluids (Macklin & Müller 2013) instead of WCSPH: the PBF stage list.
+    pub pbf: bool,
+    /// PBF's vorticity confinement stages (off: they are not in the list and cost nothing).
+    pub vorticity: bool,
 }
 
 impl VariantKey {
@@ -26,11 +30,18 @@ impl VariantKey {
             .flat_map(move |search| {
                 flags.into_iter().flat_map(move |surface_tension| {
                     flags.into_iter().flat_map(move |viscosity| {
-                        flags.into_iter().map(move |neighbor_counts| VariantKey {
-                            search,
-                            surface_tension,
-                            viscosity,
-                            neighbor_counts,
+                        flags.into_iter().flat_map(move |neighbor_counts| {
+                            // WCSPH, PBF, PBF with vorticity confinement.
+                            [(false, false), (true, false), (true, true)]
+                                .into_iter()
+                                .map(move |(pbf, vorticity)| VariantKey {
+                                    search,
+                                    surface_tension,
+                                    viscosity,
+                                    neighbor_counts,
+                                    pbf,
+                                    vorticity,
+                                })
                         })
                     })
                 })
@@ -39,11 +50,15 @@ impl VariantKey {
 
     /// The variant `params` need.
     pub fn of(params: &SphParams, neighbor_counts: bool) -> Self {
+        let pbf = params.solver == Solver::Pbf;
         Self {
             search: params.neighbor_search,
-            surface_tension: params.has_surface_tension(),
-            viscosity: params.has_viscosity(),
+            // PBF has neither (XSPH stands for the viscosity).
+            surface_tension: !pbf && params.has_surface_tension(),
+            viscosity: !pbf && params.has_viscosity(),
             neighbor_counts,
+            pbf,
+            vorticity: pbf && params.pbf.vorticity_epsilon > 0.0,
         }
     }
 
@@ -62,6 +77,12 @@ impl VariantKey {
         if self.neighbor_counts {
             defs.push("NEIGHBOR_COUNT".into());
         }
+        if self.pbf {
+            defs.push("SOLVER_PBF".into());
+        }
+        if self.vorticity {
+            defs.push("VORTICITY".into());
+        }
         defs
     }
 }
@@ -76,6 +97,9 @@ pub enum PrePhase {
     KickDrift,
     /// The design's leapfrog: drift with a0, predicted velocity.
     LeapfrogDrift,
+    /// PBF's prediction: keep x, v += g dt, x* = x + v dt, collide (Macklin & Müller 2013,
+    /// Algorithm 1, lines 2-3).
+    PbfPredict,
 }
 
 /// What the forces pass does besides computing accelerations.
@@ -104,7 +128,54 @@ pub struct EvaluationPlan {
     /// Where the time-step pass runs in this evaluation: right before the step's first
     /// integration phase.
     pub time_step: TimeStepPoint,
+    /// The PBF phase of this pass over the list (`None` with WCSPH).
+    pub pbf: PbfPhase,
 }
+
+impl EvaluationPlan {
+    /// Whether this evaluation sorts the particles (every WCSPH evaluation, PBF's prediction).
+    pub fn sorts(&self) -> bool {
+        matches!(self.pbf, PbfPhase::None | PbfPhase::Predict)
+    }
+}
+
+/// Where a PBF step is: one pass over the stage list per phase, each running only its stages.
+/// The Jacobi iterations ping-pong the positions between two scratch buffers, so that every
+/// iteration reads the positions of the one before while the sorted positions stay for the
+/// neighbour search.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum PbfPhase {
+    /// Not PBF.
+    #[default]
+    None,
+    /// Time step, prediction, neighbour sort of the predicted positions.
+    Predict,
+    /// Jacobi iteration k (from 0): λ, then the corrections.
+    Iterate(u32),
+    /// After `iterations` iterations: velocities, XSPH, vorticity confinement; the last of
+    /// them copies the final positions over the sorted ones.
+    Finish {
+        /// The step's iterations (which scratch buffer holds the final positions).
+        iterations: u32,
+        /// Vorticity confinement runs (its pass is the last).
+        vorticity: bool,
+    },
+}
+
+/// Where PBF's positions are read in iteration `k` (0: the sorted predicted positions,
+/// 1: scratch A, 2: scratch B), and so the role of the λ and correction passes. Iteration k
+/// writes the next iteration's source: 0 writes A, odd iterations write B, even ones A.
+pub fn pbf_source(k: u32) -> usize {
+    match k {
+        0 => 0,
+        k if k % 2 == 1 => 1,
+        _ => 2,
+    }
+}
+
+/// The roles of the passes that read PBF's positions, by [`pbf_source`]: the sorted positions,
+/// scratch A, scratch B.
+pub const PBF_SOURCE_ROLES: &[&[&str]] = &[&[], &["PBF_FROM_A"], &["PBF_FROM_B"]];
 
 /// Where an evaluation runs the time-step pass.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -117,6 +188,39 @@ pub enum TimeStepPoint {
     Start,
     /// Between the forces and the integrate pass (symplectic Euler).
     BeforeIntegrate,
+}
+
+/// The passes over the stage list of one PBF step of `iterations` Jacobi iterations, with or
+/// without vorticity confinement.
+pub fn pbf_plans(iterations: u32, vorticity: bool) -> Vec<EvaluationPlan> {
+    let mut plans = vec![EvaluationPlan {
+        pre: PrePhase::PbfPredict,
+        time_step: TimeStepPoint::Start,
+        pbf: PbfPhase::Predict,
+        ..EvaluationPlan::default()
+    }];
+    plans.extend((0..iterations).map(|k| EvaluationPlan {
+        pbf: PbfPhase::Iterate(k),
+        ..EvaluationPlan::default()
+    }));
+    plans.push(EvaluationPlan {
+        pbf: PbfPhase::Finish {
+            iterations,
+            vorticity,
+        },
+        ..EvaluationPlan::default()
+    });
+    plans
+}
+
+/// The passes over the stage list of one step of `params`: PBF's phases ([`pbf_plans`]), or
+/// the WCSPH integrator's evaluations ([`evaluation_plans`]).
+pub fn step_plans(params: &SphParams, forces_stale: bool) -> Vec<EvaluationPlan> {
+    if params.solver == Solver::Pbf {
+        pbf_plans(params.pbf.iterations, params.pbf.vorticity_epsilon > 0.0)
+    } else {
+        evaluation_plans(params.integrator, forces_stale)
+    }
 }
 
 /// The evaluations of one step (kick-drift-kick with stale forces evaluates them first).

@@ -1,11 +1,12 @@
 //! The frame's steps: `sph_simulate` (Bevy's `RenderGraph` schedule, before the camera driver)
-//! runs the [`SphStep`] schedule once per force evaluation of every step, and
+//! runs the [`SphStep`] schedule once per force evaluation (PBF: once per phase) of every
+//! step, and
 //! `sph_encode_stages`, the one system of that schedule, encodes the scene's stage list.
 
 use super::buffers::SphGpuState;
 use super::extract::ExtractedSphFrame;
 use super::pipelines::{pipelines_not_ready, SphPipelines};
-use super::plan::{evaluation_plans, EvaluationPlan, VariantKey};
+use super::plan::{step_plans, EvaluationPlan, PbfPhase, VariantKey};
 use super::stage::{encode_stage, StageRun};
 use crate::sets::SphStep;
 use crate::shared::SphRenderFeedback;
@@ -75,14 +76,13 @@ pub fn sph_simulate(world: &mut World) {
     let mut last_step_dispatches = 0;
     for step in 0..steps {
         let before = world.resource::<StageRun>().dispatches;
-        for (k, plan) in evaluation_plans(params.integrator, forces_stale)
-            .into_iter()
-            .enumerate()
-        {
+        for (k, plan) in step_plans(&params, forces_stale).into_iter().enumerate() {
             {
                 let mut run = world.resource_mut::<StageRun>();
                 run.plan = plan;
-                run.timed = step == 0 && k == 0;
+                // The first step's first evaluation, or every phase of a PBF step (each of its
+                // stages runs in one phase; the iterations' passes are timed in the last).
+                run.timed = step == 0 && (k == 0 || plan.pbf != PbfPhase::None);
             }
             world.run_schedule(SphStep);
         }

@@ -51,9 +51,10 @@ pub struct GpuStage {
 }
 
 impl GpuStage {
-    /// A stage that runs its only role in every evaluation.
-    pub fn always(_: &EvaluationPlan) -> Option<usize> {
-        Some(0)
+    /// A stage that runs its only role in every evaluation: every WCSPH force evaluation, and
+    /// PBF's prediction (its pass that sorts; the iterations and the finish skip it).
+    pub fn every_evaluation(plan: &EvaluationPlan) -> Option<usize> {
+        plan.sorts().then_some(0)
     }
 
     /// One invocation per live particle.

@@ -597,7 +597,16 @@ impl CpuSolver {
                     );
                 }
                 // Placed by the integrator around the evaluations (see `advance`).
-                CpuStage::TimeStep | CpuStage::Integrate => {}
+                // The integrator's phases, and the PBF step's stages (which `PbfStep` runs).
+                CpuStage::TimeStep
+                | CpuStage::Integrate
+                | CpuStage::NeighborLists
+                | CpuStage::PbfLambda
+                | CpuStage::PbfCorrection
+                | CpuStage::PbfVelocity
+                | CpuStage::PbfXsph
+                | CpuStage::PbfVorticity
+                | CpuStage::PbfConfinement => {}
             }
         }
     }

@@ -54,3 +54,6 @@
 // The mesh colliders' hierarchies and triangles (sph_core::trimesh::TriMesh::gpu_words), for
 // the guard.
 @group(0) @binding(33) var<storage, read_write> meshes: array<vec4<f32>>;
+// PBF: each particle's neighbours of the step, neighbour k of particle i at k * capacity + i
+// (written by the pbf_neighbors pass; its count in neighbor_count).
+@group(0) @binding(34) var<storage, read_write> pbf_neighbors: array<u32>;

@@ -52,6 +52,38 @@ fn cohesion(r_len: f32) -> f32 {
     return params.kernel_b.z * (2.0 * core - params.kernel_b.w);
 }
 
+// PBF's cubic spline (sph_core::kernel::CubicSpline, normalised on the rest lattice):
+// W = k (6q²(q - 1) + 1) for q = r/h <= 1/2, k 2(1 - q)³ up to 1.
+fn cubic(r_len: f32) -> f32 {
+    let q = r_len / params.kernel_a.x;
+    if q >= 1.0 {
+        return 0.0;
+    }
+    if q <= 0.5 {
+        return params.pbf_kernel.x * (6.0 * q * q * (q - 1.0) + 1.0);
+    }
+    let d = 1.0 - q;
+    return params.pbf_kernel.x * 2.0 * d * d * d;
+}
+
+// ∇W of the cubic spline for r = x_i - x_j: l q(3q - 2) r/|r| up to q = 1/2, -l (1 - q)² r/|r|
+// beyond; zero at r = 0 and beyond h.
+fn cubic_grad(r: vec3<f32>, r_len: f32) -> vec3<f32> {
+    let h = params.kernel_a.x;
+    let q = r_len / h;
+    if q >= 1.0 || r_len <= 1.0e-9 * h {
+        return vec3<f32>(0.0);
+    }
+    var slope: f32;
+    if q <= 0.5 {
+        slope = params.pbf_kernel.y * q * (3.0 * q - 2.0);
+    } else {
+        let d = 1.0 - q;
+        slope = -params.pbf_kernel.y * d * d;
+    }
+    return r * (slope / r_len);
+}
+
 // Linear p = k (ρ - ρ0) or Tait p = k ((ρ/ρ0)⁷ - 1), optionally clamped at zero.
 fn eos_pressure(rho: f32) -> f32 {
     let rho0 = params.material.x;

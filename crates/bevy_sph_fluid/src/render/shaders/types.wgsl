@@ -31,6 +31,13 @@ struct SphUniforms {
     // real-time mode (sph_core::frame_budget): the frame's time [s] as f32 bits, the steps
     // planned for it, the frame's number, 0; all zero when off
     frame_budget: vec4<u32>,
+    // PBF (sph_core::pbf_macklin2013::PbfContext): the cubic spline's k and l, the relaxation
+    // ε [1/m²], s_corr's k in λ's units
+    pbf_kernel: vec4<f32>,
+    // PBF: 1 / W(Δq), XSPH c, vorticity ε [m/s], the correction cap before gravity's term [m]
+    pbf: vec4<f32>,
+    // PBF: s_corr's n, iterations per step, the neighbour lists' length, 0
+    pbf_counts: vec4<u32>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).
@@ -74,7 +81,9 @@ struct SphClock {
     budget_frame: u32,
     budget_remaining: f32,
     budget_steps_left: u32,
-    pad_c: u32,
+    // PBF: particles with more neighbours than the lists hold (sph_core::gpu_layout::
+    // PBF_MAX_NEIGHBORS), summed over the steps since the reset.
+    neighbor_list_overflows: atomic<u32>,
     pad_d: u32,
     pad_e: u32,
 }

@@ -17,7 +17,7 @@ pub const STAGE: GpuStage = GpuStage {
     bindings: &[Buf::SortKeys, Buf::SortValues],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],
-    role: GpuStage::always,
+    role: GpuStage::every_evaluation,
     dispatch: Dispatch::BitonicSteps,
     before: None,
     after: None,

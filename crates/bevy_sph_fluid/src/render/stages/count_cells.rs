@@ -1,7 +1,8 @@
 //! Pass 1 of the neighbour sort fused with the integrator's pre-evaluation phase and the
 //! rollback checkpoint (`count_cells.wgsl`; CPU twins `sph_core::neighbor::grid::DenseGrid::
 //! count_cells`, `sph_core::neighbor::hash::SpatialHash::sort` keys, `sph_core::integrate::
-//! {kick_drift, leapfrog_drift}`, the checkpoint of `CpuSolver::step`).
+//! {kick_drift, leapfrog_drift}`, step 1 of the PBF step (`sph_core::solver::pbf`), the
+//! checkpoint of `CpuSolver::step`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{EvaluationPlan, PrePhase};
@@ -13,8 +14,8 @@ use sph_core::CpuStage;
 
 /// Clears the cell counts (grid) and counts every particle into its cell, or writes every
 /// slot's hash key (hash, padded to the sort length). Roles: no pre-phase, kick-drift,
-/// leapfrog drift (the drifting roles run right after the time-step pass, so they apply the
-/// checkpoint).
+/// leapfrog drift, PBF's prediction (the drifting roles run right after the time-step pass, so
+/// they apply the checkpoint).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_count_cells",
     cpu_twin: CpuStage::Sort,
@@ -41,12 +42,17 @@ pub const STAGE: GpuStage = GpuStage {
         &[],
         &["PRE_KDK", "APPLY_CHECKPOINT"],
         &["PRE_LEAPFROG", "APPLY_CHECKPOINT"],
+        &["PRE_PBF", "APPLY_CHECKPOINT"],
     ],
     role: |plan: &EvaluationPlan| {
+        if !plan.sorts() {
+            return None;
+        }
         Some(match plan.pre {
             PrePhase::None => 0,
             PrePhase::KickDrift => 1,
             PrePhase::LeapfrogDrift => 2,
+            PrePhase::PbfPredict => 3,
         })
     },
     dispatch: Dispatch::Threads(|run: &StageRun| {

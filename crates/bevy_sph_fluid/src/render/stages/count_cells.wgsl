@@ -1,6 +1,9 @@
 // Pass 1 of the neighbour sort, fused with the integrator's pre-evaluation phase:
 // PRE_KDK   v½ = v + a dt/2; x += v½ dt; collide; v* = v½ + a dt/2   (sph_core::integrate::kick_drift)
 // PRE_LEAPFROG  x += v dt + a0 dt²/2; v* = v + a0 dt; collide(x, v*)  (design eqs. 18-19)
+// PRE_PBF       x_prev = x; v += g dt; x* = x + v dt; collide      (Macklin & Müller 2013,
+//               Algorithm 1, lines 2-3; x_prev is kept in acceleration_start, which the sort
+//               carries along)
 // (skipped while the clock is frozen), after the rollback checkpoint is saved or restored
 // (APPLY_CHECKPOINT: the roles that run right after the time-step pass), then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
 #import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, cell_of, rank_in_cell, cell_counts, sort_keys, sort_values}
@@ -53,6 +56,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let moved = guard(drifted, v + a0 * dt);
     x = moved.x;
     velocity_predicted[i] = vec4<f32>(moved.v, 0.0);
+    position[i] = vec4<f32>(x, position[i].w);
+    }
+#endif
+#ifdef PRE_PBF
+    if integrating {
+    acceleration_start[i] = vec4<f32>(x, 0.0);
+    let v = velocity[i].xyz + params.gravity.xyz * dt;
+    let moved = guard(x + v * dt, v);
+    x = moved.x;
+    velocity[i] = vec4<f32>(moved.v, 0.0);
     position[i] = vec4<f32>(x, position[i].w);
     }
 #endif

@@ -16,8 +16,7 @@
 // acceleration the next step does not start from), |v| by the closing kicks; nothing is
 // integrated or recorded while the clock is frozen.
 // The reaction -m a_ib of every boundary pair goes to the sample's body (Akinci 2012's two-way
-// coupling): each thread sums its particle's, the workgroup in 32-bit fixed point, and the
-// workgroup adds its total to the frame's 64-bit sums (sph_core::gpu_layout::GpuBodyForces).
+// coupling, summed by shaders/body_reactions.wgsl).
 // Rust twin: sph_core::forces (compute_accelerations and its per-body sums).
 #import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal, boundary_position, boundary_velocity, boundary_body, body_forces}
 #import sph::kernels::{poly6, spiky_grad, viscosity_laplacian, cohesion, collide}
@@ -25,65 +24,7 @@
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
 #import sph::pumps::pumped
 #import sph::probes::record_probes
-
-const BODY_SLOTS: u32 = 32u;
-const NO_BODY: u32 = 0xffffffffu;
-
-// The workgroup's sums per body: Σ f and Σ x_b × f, in units of body_force_unit (zeroed by the
-// workgroup itself: Bevy's pipelines do not ask wgpu to zero workgroup memory).
-var<workgroup> body_sums: array<atomic<i32>, 192>;
-
-// The thread's running reaction on one body, flushed into body_sums when the body changes.
-var<private> reaction_body: u32;
-var<private> reaction_force: vec3<f32>;
-var<private> reaction_moment: vec3<f32>;
-
-// sph_core::gpu_layout::body_force_unit: a thousandth of a particle's standard weight [N].
-fn body_force_unit() -> f32 {
-    return max(params.gravity.w * 9.81e-3, 1.0e-30);
-}
-
-fn to_units(v: f32) -> i32 {
-    return i32(clamp(round(v / body_force_unit()), -2.0e9, 2.0e9));
-}
-
-fn flush_reaction() {
-    let body = reaction_body;
-    if body < BODY_SLOTS {
-        let base = body * 6u;
-        atomicAdd(&body_sums[base], to_units(reaction_force.x));
-        atomicAdd(&body_sums[base + 1u], to_units(reaction_force.y));
-        atomicAdd(&body_sums[base + 2u], to_units(reaction_force.z));
-        atomicAdd(&body_sums[base + 3u], to_units(reaction_moment.x));
-        atomicAdd(&body_sums[base + 4u], to_units(reaction_moment.y));
-        atomicAdd(&body_sums[base + 5u], to_units(reaction_moment.z));
-    }
-    reaction_body = NO_BODY;
-    reaction_force = vec3<f32>(0.0);
-    reaction_moment = vec3<f32>(0.0);
-}
-
-// The force f on `body` at `at`.
-fn add_reaction(body: u32, f: vec3<f32>, at: vec3<f32>) {
-    if body != reaction_body {
-        flush_reaction();
-        reaction_body = body;
-    }
-    reaction_force += f;
-    reaction_moment += cross(at, f);
-}
-
-// Adds a workgroup's sum to the 64-bit (low, high) words of sum k: the low word with its
-// carry, then the sign-extended high word.
-fn add_to_frame(k: u32, v: i32) {
-    let add = bitcast<u32>(v);
-    let old = atomicAdd(&body_forces.sums[2u * k], add);
-    let carry = select(0u, 1u, old + add < old);
-    let high = select(0u, 0xffffffffu, v < 0) + carry;
-    if high != 0u {
-        atomicAdd(&body_forces.sums[2u * k + 1u], high);
-    }
-}
+#import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
 
 fn viscosity_velocity(j: u32) -> vec3<f32> {
 #ifdef USE_PREDICTED_VELOCITY
@@ -124,24 +65,12 @@ fn main(
     @builtin(local_invocation_index) local: u32,
     @builtin(workgroup_id) group: vec3<u32>,
 ) {
-    for (var k = local; k < BODY_SLOTS * 6u; k += #{WORKGROUP_SIZE}u) {
-        atomicStore(&body_sums[k], 0);
-    }
-    reaction_body = NO_BODY;
-    reaction_force = vec3<f32>(0.0);
-    reaction_moment = vec3<f32>(0.0);
-    workgroupBarrier();
+    begin_reactions(local, #{WORKGROUP_SIZE}u);
     if id.x < params.particle_count {
         particle(id.x);
         flush_reaction();
     }
-    workgroupBarrier();
-    for (var k = local; k < BODY_SLOTS * 6u; k += #{WORKGROUP_SIZE}u) {
-        let v = atomicLoad(&body_sums[k]);
-        if v != 0 {
-            add_to_frame(k, v);
-        }
-    }
+    end_reactions(local, #{WORKGROUP_SIZE}u);
     if local == 0u && group.x == 0u {
         atomicAdd(&body_forces.evaluations, 1u);
     }

@@ -17,7 +17,7 @@ pub const STAGE: GpuStage = GpuStage {
     bindings: &[Buf::SortKeys, Buf::BucketStart, Buf::BucketEnd],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],
-    role: GpuStage::always,
+    role: GpuStage::every_evaluation,
     dispatch: Dispatch::Threads(GpuStage::per_particle),
     before: Some(clear_bucket_starts),
     after: None,

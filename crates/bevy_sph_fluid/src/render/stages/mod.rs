@@ -10,6 +10,13 @@ pub mod forces;
 pub mod hash_offsets;
 pub mod integrate;
 pub mod normals;
+pub mod pbf_confine;
+pub mod pbf_correct;
+pub mod pbf_lambda;
+pub mod pbf_neighbors;
+pub mod pbf_velocity;
+pub mod pbf_vorticity;
+pub mod pbf_xsph;
 pub mod prefix_sum;
 pub mod scatter;
 pub mod time_step;
@@ -18,16 +25,33 @@ use super::plan::VariantKey;
 use super::stage::GpuStage;
 use sph_core::NeighborSearch;
 
-/// The stages of one force evaluation of a scene of `key`, in order. Each stage's `role` then
-/// picks its pipeline for the evaluation's integrator phase, or skips it (the time step runs in
-/// one of its two places, integrate only for symplectic Euler).
+/// The stages of one force evaluation of a scene of `key` (with PBF, of one step), in order.
+/// Each stage's `role` then picks its pipeline for the evaluation's integrator phase or PBF
+/// phase, or skips it (the time step runs in one of its two places, integrate only for
+/// symplectic Euler, PBF's stages each in their phase).
 pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
     let mut list = vec![&time_step::AT_START, &count_cells::STAGE];
     match key.search {
         NeighborSearch::Grid => list.push(&prefix_sum::STAGE),
         NeighborSearch::Hash => list.extend([&bitonic_sort::STAGE, &hash_offsets::STAGE]),
     }
-    list.extend([&scatter::STAGE, &density::STAGE]);
+    list.push(&scatter::STAGE);
+    if key.pbf {
+        // Macklin & Müller 2013: each Jacobi iteration runs λ and the corrections (the plan's
+        // phases pick them; render::plan::pbf_plans), then the finish.
+        list.extend([
+            &pbf_neighbors::STAGE,
+            &pbf_lambda::STAGE,
+            &pbf_correct::STAGE,
+            &pbf_velocity::STAGE,
+            &pbf_xsph::STAGE,
+        ]);
+        if key.vorticity {
+            list.extend([&pbf_vorticity::STAGE, &pbf_confine::STAGE]);
+        }
+        return list;
+    }
+    list.push(&density::STAGE);
     if key.surface_tension {
         list.push(&normals::STAGE);
     }
@@ -59,7 +83,7 @@ pub fn all_stages() -> Vec<&'static GpuStage> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sph_core::stage::evaluation_stages;
+    use sph_core::stage::{evaluation_stages, pbf_step_stages};
     use sph_core::{CpuStage, SphParams};
 
     /// The CPU solver's evaluation mirrors the GPU list: mapping each GPU stage to its CPU twin
@@ -83,10 +107,80 @@ mod tests {
         }
     }
 
+    /// PBF's list mirrors the CPU's PBF step: the GPU stages' twins (the time step aside),
+    /// each once, are `pbf_step_stages`.
+    #[test]
+    fn the_pbf_stage_list_mirrors_the_cpu_step() {
+        for search in [NeighborSearch::Grid, NeighborSearch::Hash] {
+            for vorticity in [0.0, 0.1] {
+                let mut params = SphParams::water();
+                params.solver = sph_core::Solver::Pbf;
+                params.neighbor_search = search;
+                params.pbf.vorticity_epsilon = vorticity;
+                let key = VariantKey::of(&params, false);
+                assert!(key.pbf && key.vorticity == (vorticity > 0.0));
+                let mut twins: Vec<CpuStage> = stage_list(&key)
+                    .iter()
+                    .map(|stage| stage.cpu_twin)
+                    .filter(|twin| *twin != CpuStage::TimeStep)
+                    .collect();
+                twins.dedup();
+                assert_eq!(twins, pbf_step_stages(&params), "{key:?}");
+            }
+        }
+    }
+
+    /// A PBF step runs each stage in its own phases only: the sort once (in the prediction),
+    /// λ and the corrections once per iteration reading where the last one wrote, the finish
+    /// once from where the last iteration wrote.
+    #[test]
+    fn pbf_phases_run_each_stage_where_it_belongs() {
+        use crate::render::plan::{pbf_plans, PbfPhase};
+        for iterations in 1..=5 {
+            for vorticity in [false, true] {
+                let key = VariantKey {
+                    search: NeighborSearch::Grid,
+                    surface_tension: false,
+                    viscosity: false,
+                    neighbor_counts: false,
+                    pbf: true,
+                    vorticity,
+                };
+                let list = stage_list(&key);
+                let mut runs: Vec<(&str, usize)> = Vec::new();
+                for plan in pbf_plans(iterations, vorticity) {
+                    for stage in &list {
+                        if let Some(role) = (stage.role)(&plan) {
+                            runs.push((stage.name, role));
+                        }
+                    }
+                    if let PbfPhase::Iterate(k) = plan.pbf {
+                        // Iteration k reads what k - 1 wrote: 0 the sorted positions, then
+                        // A, B, A, ...
+                        let expected = if k == 0 { 0 } else { 1 + (k as usize + 1) % 2 };
+                        assert_eq!(runs.last(), Some(&("sph_pbf_correct", expected)));
+                    }
+                }
+                let count = |name: &str| runs.iter().filter(|r| r.0 == name).count();
+                assert_eq!(count("sph_count_cells"), 1);
+                assert_eq!(count("sph_scatter"), 1);
+                assert_eq!(count("sph_pbf_neighbors"), 1);
+                assert_eq!(count("sph_time_step"), 1);
+                assert_eq!(count("sph_pbf_lambda"), iterations as usize);
+                assert_eq!(count("sph_pbf_correct"), iterations as usize);
+                assert_eq!(count("sph_pbf_velocity"), 1);
+                assert_eq!(count("sph_pbf_confine"), vorticity as usize);
+                // The finish reads where the last iteration wrote: A after odd counts.
+                let finish = runs.iter().find(|r| r.0 == "sph_pbf_velocity").unwrap();
+                assert_eq!(finish.1, if iterations % 2 == 1 { 1 } else { 2 });
+            }
+        }
+    }
+
     #[test]
     fn names_are_unique_except_the_two_places_of_the_time_step() {
         let all = all_stages();
-        assert_eq!(all.len(), 11, "every stage file, the time step twice");
+        assert_eq!(all.len(), 18, "every stage file, the time step twice");
         let mut names: Vec<&str> = all.iter().map(|s| s.name).collect();
         names.sort_unstable();
         names.dedup();

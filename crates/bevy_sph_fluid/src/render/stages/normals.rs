@@ -23,7 +23,7 @@ pub const STAGE: GpuStage = GpuStage {
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],
-    role: GpuStage::always,
+    role: GpuStage::every_evaluation,
     dispatch: Dispatch::Threads(GpuStage::per_particle),
     before: None,
     after: None,

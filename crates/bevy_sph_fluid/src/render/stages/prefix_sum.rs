@@ -16,7 +16,7 @@ pub const STAGE: GpuStage = GpuStage {
     bindings: &[Buf::CellCounts, Buf::CellStart],
     workgroup_size: PREFIX_SUM_THREADS,
     roles: &[&[]],
-    role: GpuStage::always,
+    role: GpuStage::every_evaluation,
     dispatch: Dispatch::Threads(|_| PREFIX_SUM_THREADS),
     before: None,
     after: None,

@@ -18,7 +18,7 @@ const BASE: GpuStage = GpuStage {
     bindings: &[Buf::Clock],
     workgroup_size: 1,
     roles: &[&[]],
-    role: GpuStage::always,
+    role: GpuStage::every_evaluation,
     dispatch: Dispatch::Threads(|_| 1),
     before: None,
     after: None,

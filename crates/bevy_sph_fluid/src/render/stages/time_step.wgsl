@@ -10,7 +10,8 @@
 // 3. a stable step counts towards recovering a halved dt, and the next pass saves a checkpoint
 //    when one is due (none yet, particles were added, or `interval` steps since the last);
 // 4. dt = time_step, or with the adaptive rule
-//    min(time_step, λ h / (c0 + v_max), 0.125 h² ρ0/μ, 0.25 sqrt(h / a_max)), times 2^-halvings;
+//    min(time_step, λ h / (c0 + v_max), 0.125 h² ρ0/μ, 0.25 sqrt(h / a_max)), times 2^-halvings
+//    (SOLVER_PBF: min(time_step, λ h / v_max), and only a non-finite state is unstable);
 // 5. real-time mode (sph_core::frame_budget::budget_dt): a new frame number starts a budget of
 //    the frame's time in its planned steps; dt = min(dt, remaining / steps left), so the frame
 //    never oversteps its time and ends on it when the plan's step count was right;
@@ -57,7 +58,13 @@ fn main() {
     let h = params.grid_origin.w;
     let rollback = params.rollback;
     let checked = clock.step > 0u;
+#ifdef SOLVER_PBF
+    // PBF moves particles by positions: only a non-finite state is unstable
+    // (sph_core::stability, Solver::Pbf).
+    let unstable = checked && (speed_bits >= NON_FINITE || acceleration_bits >= NON_FINITE);
+#else
     let unstable = checked && (speed_bits >= NON_FINITE || acceleration_bits >= NON_FINITE || v_max * clock.dt > h);
+#endif
     var rule_dt: f32;
     if unstable {
         let can_retry = rollback.x != 0u && clock.has_checkpoint != 0u;
@@ -87,6 +94,13 @@ fn main() {
             }
         }
         rule_dt = params.time_step.x;
+#ifdef SOLVER_PBF
+        // PBF's rule (sph_core::solver::pbf::next_time_step): min(time_step, λ h / v_max) with
+        // v_max = max |v + g dt_max|, as the finish pass records it.
+        if params.flags.z != 0u && v_max > 0.0 {
+            rule_dt = min(rule_dt, params.time_step.y * h / v_max);
+        }
+#else
         if params.flags.z != 0u {
             rule_dt = min(rule_dt, params.time_step.y * h / (params.time_step.w + v_max));
             rule_dt = min(rule_dt, params.time_step.z);
@@ -94,6 +108,7 @@ fn main() {
                 rule_dt = min(rule_dt, 0.25 * sqrt(h / a_max));
             }
         }
+#endif
         let due = clock.has_checkpoint == 0u || clock.save_requested != 0u || clock.step >= clock.checkpoint_step + rollback.y;
         if rollback.x != 0u && due {
             clock.checkpoint_action = SAVE;

@@ -1,0 +1,90 @@
+// The fluid's reaction on the bodies (Akinci 2012's two-way coupling), summed without a float
+// atomic: each thread sums its particle's reactions per body, the workgroup in 32-bit fixed
+// point, and the workgroup adds its total to the frame's 64-bit sums
+// (sph_core::gpu_layout::GpuBodyForces). A pass calls begin_reactions, then add_reaction per
+// boundary pair of its particle and flush_reaction, then end_reactions, all in uniform control
+// flow. Used by the forces pass (WCSPH) and PBF's correction pass.
+#define_import_path sph::body_reactions
+
+#import sph::bindings::{params, body_forces}
+
+const BODY_SLOTS: u32 = 32u;
+const NO_BODY: u32 = 0xffffffffu;
+
+// The workgroup's sums per body: Σ f and Σ x_b × f, in units of body_force_unit (zeroed by the
+// workgroup itself: Bevy's pipelines do not ask wgpu to zero workgroup memory).
+var<workgroup> body_sums: array<atomic<i32>, 192>;
+
+// The thread's running reaction on one body, flushed into body_sums when the body changes.
+var<private> reaction_body: u32;
+var<private> reaction_force: vec3<f32>;
+var<private> reaction_moment: vec3<f32>;
+
+// sph_core::gpu_layout::body_force_unit: a thousandth of a particle's standard weight [N].
+fn body_force_unit() -> f32 {
+    return max(params.gravity.w * 9.81e-3, 1.0e-30);
+}
+
+fn to_units(v: f32) -> i32 {
+    return i32(clamp(round(v / body_force_unit()), -2.0e9, 2.0e9));
+}
+
+fn flush_reaction() {
+    let body = reaction_body;
+    if body < BODY_SLOTS {
+        let base = body * 6u;
+        atomicAdd(&body_sums[base], to_units(reaction_force.x));
+        atomicAdd(&body_sums[base + 1u], to_units(reaction_force.y));
+        atomicAdd(&body_sums[base + 2u], to_units(reaction_force.z));
+        atomicAdd(&body_sums[base + 3u], to_units(reaction_moment.x));
+        atomicAdd(&body_sums[base + 4u], to_units(reaction_moment.y));
+        atomicAdd(&body_sums[base + 5u], to_units(reaction_moment.z));
+    }
+    reaction_body = NO_BODY;
+    reaction_force = vec3<f32>(0.0);
+    reaction_moment = vec3<f32>(0.0);
+}
+
+// The force f on `body` at `at`.
+fn add_reaction(body: u32, f: vec3<f32>, at: vec3<f32>) {
+    if body != reaction_body {
+        flush_reaction();
+        reaction_body = body;
+    }
+    reaction_force += f;
+    reaction_moment += cross(at, f);
+}
+
+// Adds a workgroup's sum to the 64-bit (low, high) words of sum k: the low word with its
+// carry, then the sign-extended high word.
+fn add_to_frame(k: u32, v: i32) {
+    let add = bitcast<u32>(v);
+    let old = atomicAdd(&body_forces.sums[2u * k], add);
+    let carry = select(0u, 1u, old + add < old);
+    let high = select(0u, 0xffffffffu, v < 0) + carry;
+    if high != 0u {
+        atomicAdd(&body_forces.sums[2u * k + 1u], high);
+    }
+}
+
+// Zeroes the workgroup's sums (`threads`: the workgroup size) and the thread's running reaction.
+fn begin_reactions(local: u32, threads: u32) {
+    for (var k = local; k < BODY_SLOTS * 6u; k += threads) {
+        atomicStore(&body_sums[k], 0);
+    }
+    reaction_body = NO_BODY;
+    reaction_force = vec3<f32>(0.0);
+    reaction_moment = vec3<f32>(0.0);
+    workgroupBarrier();
+}
+
+// Adds the workgroup's sums to the frame's (after every thread flushed its reaction).
+fn end_reactions(local: u32, threads: u32) {
+    workgroupBarrier();
+    for (var k = local; k < BODY_SLOTS * 6u; k += threads) {
+        let v = atomicLoad(&body_sums[k]);
+        if v != 0 {
+            add_to_frame(k, v);
+        }
+    }
+}

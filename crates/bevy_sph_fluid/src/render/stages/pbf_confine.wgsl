@@ -1,0 +1,44 @@
+// PBF's vorticity confinement (Macklin & Müller 2013, eq. 16, after Fedkiw et al. 2001):
+// η_i = Σ_j (m/ρ_j) (|ω_j| - |ω_i|) ∇_i W_ij, N = η/|η| (zero when η is), v_i += dt ε (N × ω_i),
+// with ω from the vorticity pass (`sorted_acceleration`); a gains the same push / dt. The
+// step's last pass with VORTICITY: pumps, |v + g dt_max| for the time-step rule, probes; then
+// the final positions replace the sorted ones. Rust twins:
+// sph_core::pbf_macklin2013::confine_vorticity, sph_core::pump::apply_pumps.
+#import sph::bindings::{params, neighbor_count, pbf_neighbors, velocity, acceleration, density, sorted_acceleration}
+#import sph::kernels::cubic_grad
+#import sph::clock::{step_dt, frozen, record_speed}
+#import sph::pumps::pumped
+#import sph::probes::record_probes
+#import sph::pbf::{current_position, mass}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.particle_count || frozen() {
+        return;
+    }
+    let x_i = current_position(i);
+    let omega_i = sorted_acceleration[i].xyz;
+    let w_i = length(omega_i);
+    var eta = vec3<f32>(0.0);
+    for (var k = 0u; k < neighbor_count[i]; k++) {
+        let j = pbf_neighbors[k * params.capacity + i];
+        let r = x_i - current_position(j);
+        let r2 = dot(r, r);
+        let w_j = length(sorted_acceleration[j].xyz);
+        eta += cubic_grad(r, sqrt(r2)) * ((w_j - w_i) * mass() / density[j]);
+    }
+    let eta_len = length(eta);
+    var n = vec3<f32>(0.0);
+    if eta_len > 0.0 && eta_len < 3.0e38 {
+        n = eta / eta_len;
+    }
+    let dt = step_dt();
+    let push = cross(n, omega_i) * params.pbf.z;
+    var v = velocity[i].xyz + push * dt;
+    acceleration[i] = vec4<f32>(acceleration[i].xyz + push, 0.0);
+    v = pumped(x_i, v, dt);
+    record_speed(v + params.gravity.xyz * params.box_max.w);
+    record_probes(i, x_i, v);
+    velocity[i] = vec4<f32>(v, 0.0);
+}

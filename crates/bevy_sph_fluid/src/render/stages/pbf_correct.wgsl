@@ -1,0 +1,83 @@
+// PBF's position correction (Macklin & Müller 2013, eqs. 12-14): at the iteration's positions,
+// Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b λ_i ∇W_ib,
+// s_corr = -k (W(r_ij) / W(Δq))^n (the artificial pressure against tensile clumping),
+// at most max(0.1 h, 2 |g| dt²) long (sph_core::pbf_macklin2013::PbfContext::for_step);
+// x_i + Δp_i goes to the next iteration's buffer (see shaders/pbf.wgsl).
+// The boundary's reaction (Akinci 2012's two-way coupling in PBF's position form): sample b
+// moves i by V_b λ_i ∇W_ib, so its body feels -m V_b λ_i ∇W_ib / dt² at the sample, summed by
+// shaders/body_reactions.wgsl over the step's iterations.
+// Rust twins: sph_core::pbf_macklin2013::{compute_corrections, boundary_reactions}.
+#import sph::bindings::{params, position, neighbor_count, pbf_neighbors, normal, boundary_position, boundary_body}
+#import sph::kernels::{cubic, cubic_grad}
+#import sph::neighbors::{grid_cell, boundary_range}
+#import sph::clock::{step_dt, frozen}
+#import sph::pbf::{current_position, write_next_position, mass, rest_density}
+#import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    begin_reactions(local, #{WORKGROUP_SIZE}u);
+    if id.x < params.particle_count && !frozen() {
+        particle(id.x);
+        flush_reaction();
+    }
+    end_reactions(local, #{WORKGROUP_SIZE}u);
+}
+
+// (W(r) / W(Δq))^n by repeated products (n is small, 1 to 8).
+fn s_corr(w: f32) -> f32 {
+    let base = w * params.pbf.x;
+    var power = 1.0;
+    for (var k = 0u; k < params.pbf_counts.x; k++) {
+        power *= base;
+    }
+    return -params.pbf_kernel.w * power;
+}
+
+fn particle(i: u32) {
+    let sorted = position[i].xyz;
+    let x_i = current_position(i);
+    let l_i = normal[i].x;
+    let h2 = params.kernel_a.y;
+    let m = mass();
+    let scale = m / rest_density();
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < neighbor_count[i]; k++) {
+        let j = pbf_neighbors[k * params.capacity + i];
+        let r = x_i - current_position(j);
+        let r2 = dot(r, r);
+        let r_len = sqrt(r2);
+        let weight = scale * (l_i + normal[j].x + s_corr(cubic(r_len)));
+        sum += cubic_grad(r, r_len) * weight;
+    }
+    let dt = step_dt();
+    let reaction = -m / (dt * dt);
+    let cell = grid_cell(sorted);
+    for (var q = 0u; q < 9u; q++) {
+        let range = boundary_range(cell, q);
+        for (var b = range.x; b < range.y; b++) {
+            let sample = boundary_position[b];
+            let paired = sorted - sample.xyz;
+            if dot(paired, paired) >= h2 {
+                continue;
+            }
+            let r = x_i - sample.xyz;
+            let r2 = dot(r, r);
+            let moved = cubic_grad(r, sqrt(r2)) * (sample.w * l_i);
+            sum += moved;
+            if l_i != 0.0 {
+                add_reaction(boundary_body[b], moved * reaction, sample.xyz);
+            }
+        }
+    }
+    let g = length(params.gravity.xyz);
+    let cap = max(params.pbf.w, 2.0 * g * dt * dt);
+    let length_sum = length(sum);
+    if length_sum > cap {
+        sum *= cap / length_sum;
+    }
+    write_next_position(i, x_i + sum);
+}

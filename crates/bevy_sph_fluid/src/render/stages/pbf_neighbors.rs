@@ -1,0 +1,33 @@
+//! PBF's neighbour lists of the step, after the sort of the predicted positions
+//! (`pbf_neighbors.wgsl`; CPU twin `sph_core::neighbor_lists::NeighborLists::rebuild`).
+
+use crate::render::buffers::Buf;
+use crate::render::plan::{EvaluationPlan, PbfPhase};
+use crate::render::stage::{Dispatch, GpuStage};
+use bevy::asset::{embedded_asset, load_embedded_asset};
+use sph_core::gpu_layout::WORKGROUP_SIZE;
+use sph_core::CpuStage;
+
+/// The pairs within h at x* of every particle, once per PBF step (in its prediction phase):
+/// the iterations then visit about 33 neighbours each instead of the 27 cells' candidates.
+pub const STAGE: GpuStage = GpuStage {
+    name: "sph_pbf_neighbors",
+    cpu_twin: CpuStage::NeighborLists,
+    embed: |app| embedded_asset!(app, "pbf_neighbors.wgsl"),
+    shader: |server| load_embedded_asset!(server, "pbf_neighbors.wgsl"),
+    bindings: &[
+        Buf::Position,
+        Buf::NeighborCount,
+        Buf::PbfNeighbors,
+        Buf::CellStart,
+        Buf::BucketStart,
+        Buf::BucketEnd,
+        Buf::Clock,
+    ],
+    workgroup_size: WORKGROUP_SIZE,
+    roles: &[&[]],
+    role: |plan: &EvaluationPlan| (plan.pbf == PbfPhase::Predict).then_some(0),
+    dispatch: Dispatch::Threads(GpuStage::per_particle),
+    before: None,
+    after: None,
+};

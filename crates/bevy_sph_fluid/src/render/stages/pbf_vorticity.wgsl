@@ -1,0 +1,27 @@
+// PBF's vorticity (Macklin & Müller 2013, eq. 15, with the SPH volume m/ρ_j so that ω is in
+// 1/s): ω_i = Σ_j (m/ρ_j) (v_j - v_i) × ∇_j W_ij, ∇_j W_ij = -∇_i W_ij, at the final positions
+// with the velocities after XSPH and the final densities; into `sorted_acceleration` (see
+// shaders/pbf.wgsl). Only with VORTICITY. Rust twin: sph_core::pbf_macklin2013::vorticity.
+#import sph::bindings::{params, neighbor_count, pbf_neighbors, velocity, density, sorted_acceleration}
+#import sph::kernels::cubic_grad
+#import sph::clock::frozen
+#import sph::pbf::{current_position, mass}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.particle_count || frozen() {
+        return;
+    }
+    let x_i = current_position(i);
+    let v_i = velocity[i].xyz;
+    var curl = vec3<f32>(0.0);
+    for (var k = 0u; k < neighbor_count[i]; k++) {
+        let j = pbf_neighbors[k * params.capacity + i];
+        let r = x_i - current_position(j);
+        let r2 = dot(r, r);
+        let grad_j = -cubic_grad(r, sqrt(r2));
+        curl += cross(velocity[j].xyz - v_i, grad_j) * (mass() / density[j]);
+    }
+    sorted_acceleration[i] = vec4<f32>(curl, 0.0);
+}

@@ -1,0 +1,62 @@
+// PBF's XSPH viscosity (Macklin & Müller 2013, eq. 17) and the final densities, at the final
+// positions (see shaders/pbf.wgsl):
+// v_i = v*_i + c Σ_j (m/ρ_j) (v*_j - v*_i) W_ij, v* the velocities of the velocity pass and ρ_j
+// the last λ pass's densities (normal.y); ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (self included);
+// pressure 0 (PBF has none); a = (v - v*) / dt + g, the step's mean acceleration (diagnostics).
+// Without VORTICITY this is the step's last pass: pumps, |v + g dt_max| for the time-step
+// rule, probes. Rust twins: sph_core::pbf_macklin2013::{xsph, compute_densities}, then
+// sph_core::pump::apply_pumps.
+#import sph::bindings::{params, position, neighbor_count, pbf_neighbors, velocity, sorted_velocity, acceleration, density, pressure, normal, boundary_position}
+#import sph::kernels::cubic
+#import sph::neighbors::{grid_cell, boundary_range}
+#import sph::clock::{step_dt, frozen, record_speed}
+#import sph::pumps::pumped
+#import sph::probes::record_probes
+#import sph::pbf::{current_position, mass, rest_density}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.particle_count || frozen() {
+        return;
+    }
+    let sorted = position[i].xyz;
+    let x_i = current_position(i);
+    let v_i = sorted_velocity[i].xyz;
+    let h2 = params.kernel_a.y;
+    let m = mass();
+    var smoothing = vec3<f32>(0.0);
+    var fluid = cubic(0.0);
+    for (var k = 0u; k < neighbor_count[i]; k++) {
+        let j = pbf_neighbors[k * params.capacity + i];
+        let r = x_i - current_position(j);
+        let r2 = dot(r, r);
+        let w = cubic(sqrt(r2));
+        fluid += w;
+        smoothing += (sorted_velocity[j].xyz - v_i) * (m / normal[j].y * w);
+    }
+    var solid = 0.0;
+    let cell = grid_cell(sorted);
+    for (var q = 0u; q < 9u; q++) {
+        let range = boundary_range(cell, q);
+        for (var b = range.x; b < range.y; b++) {
+            let sample = boundary_position[b];
+            let paired = sorted - sample.xyz;
+            if dot(paired, paired) < h2 {
+                let r = x_i - sample.xyz;
+                solid += sample.w * cubic(length(r));
+            }
+        }
+    }
+    density[i] = m * fluid + rest_density() * solid;
+    pressure[i] = 0.0;
+    let dt = step_dt();
+    var v = v_i + smoothing * params.pbf.y;
+    acceleration[i] = vec4<f32>((v - v_i) / dt + params.gravity.xyz, 0.0);
+#ifndef VORTICITY
+    v = pumped(x_i, v, dt);
+    record_speed(v + params.gravity.xyz * params.box_max.w);
+    record_probes(i, x_i, v);
+#endif
+    velocity[i] = vec4<f32>(v, 0.0);
+}
