@@ -3,7 +3,9 @@
 //! with a floor collider). The water pushes the bodies through `SphColliderForce` →
 //! `ConstantForce`; avian moves them; the water sees their new pose. CPU backend, DFSPH. A
 //! paddle wheel (one closed mesh of six boxes) on an avian revolute joint turns when a jet hits
-//! its lower paddles, and not without it (WCSPH).
+//! its lower paddles, and not without it (WCSPH). In the shipped scenes, with avian on the
+//! water's clock: aquaplay.ron's pump carries its boat along the channel, and lock.ron's boat,
+//! towed by the game, passes the lifted gate.
 
 use avian3d::prelude::*;
 use bevy::prelude::*;
@@ -484,6 +486,85 @@ fn the_pump_carries_aquaplays_boat_along_the_channel() {
     // Afloat: above the floor by more than its half height, not thrown out of the channel.
     assert!(
         lowest > 0.03 && highest < 0.2,
+        "boat y in [{lowest}, {highest}]"
+    );
+}
+
+/// lock.ron with avian on the water's clock: once the gate is up (t = 1.1 s), a game tows the
+/// boat toward the lower basin at 0.3 m/s (it sets the boat's velocity along x every frame and
+/// leaves the rest to the water and avian); the boat passes under the lifted gate into the lower
+/// basin, afloat (measured: x = 0.63 m at t = 1.88 s). Without the tow the outflow alone had
+/// carried it to x = 0.41 m by t = 3.5 s, short of the gate.
+#[test]
+fn the_lock_scene_boat_passes_the_open_gate_when_pushed() {
+    let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
+    let plugins = DefaultPlugins
+        .build()
+        .disable::<bevy::winit::WinitPlugin>()
+        .set(AssetPlugin {
+            file_path: assets.into(),
+            ..default()
+        });
+    let mut app = bevy_sph_fluid::headless::headless_app_with(
+        plugins,
+        8_000,
+        SphBackend::Cpu,
+        false,
+        |app| {
+            app.add_plugins(PhysicsPlugins::new(SphWaterTime));
+        },
+    );
+    let handle = app
+        .world()
+        .resource::<AssetServer>()
+        .load::<SphSceneAsset>("scenes/lock.ron");
+    app.world_mut().spawn(SphScene(handle));
+    for _ in 0..500 {
+        app.update();
+        if app.world().resource::<SphStats>().particle_count > 0 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let boat = app
+        .world_mut()
+        .query::<(Entity, &Name)>()
+        .iter(app.world())
+        .find(|(_, n)| n.as_str() == "boat")
+        .map(|(e, _)| e)
+        .expect("the boat");
+    app.insert_resource(SphControl {
+        running: true,
+        substeps: 2,
+        ..default()
+    });
+    // The gate's far face (x = 0.52 m) plus the boat's half length (0.06 m).
+    let beyond_gate = 0.58;
+    let (mut lowest, mut highest) = (f32::MAX, f32::MIN);
+    while app.world().resource::<SphStats>().sim_time < 3.5 {
+        let t = app.world().resource::<SphStats>().sim_time;
+        if t >= 1.1 {
+            let mut v = app.world_mut().get_mut::<LinearVelocity>(boat).unwrap();
+            v.0.x = 0.3;
+        }
+        app.update();
+        let stats = app.world().resource::<SphStats>();
+        assert!(!stats.health.is_unstable(), "{:?}", stats.health);
+        assert_eq!(stats.particle_balance(), 0);
+        let at = app.world().get::<Transform>(boat).unwrap().translation;
+        lowest = lowest.min(at.y);
+        highest = highest.max(at.y);
+        if at.x > beyond_gate + 0.05 {
+            break;
+        }
+    }
+    let end = app.world().get::<Transform>(boat).unwrap().translation;
+    let t = app.world().resource::<SphStats>().sim_time;
+    eprintln!("lock boat at t = {t:.2} s: {end}, y in [{lowest:.3}, {highest:.3}] m");
+    assert!(end.x > beyond_gate, "through the gate: {end}");
+    // Afloat: above the floor by more than its half height, below the basin's brim.
+    assert!(
+        lowest > 0.03 && highest < 0.4,
         "boat y in [{lowest}, {highest}]"
     );
 }
