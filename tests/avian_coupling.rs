@@ -4,8 +4,9 @@
 //! `ConstantForce`; avian moves them; the water sees their new pose. CPU backend, DFSPH. A
 //! paddle wheel (one closed mesh of six boxes) on an avian revolute joint turns when a jet hits
 //! its lower paddles, and not without it (WCSPH). In the shipped scenes, with avian on the
-//! water's clock: aquaplay.ron's pump carries its boat along the channel, and lock.ron's boat,
-//! towed by the game, passes the lifted gate.
+//! water's clock: aquaplay.ron's pump carries its boat along the channel and turns its water
+//! wheel (a scene file's `PaddleWheel` on a `Hinged` axle) with the current, and lock.ron's
+//! boat, towed by the game, passes the lifted gate.
 
 use avian3d::prelude::*;
 use bevy::prelude::*;
@@ -422,7 +423,8 @@ fn a_water_wheel_on_a_revolute_joint_turns_with_the_flow() {
 
 /// aquaplay.ron with avian on the water's clock: the pump's current carries the boat along
 /// the front channel (+x), afloat, at the water's own pace (two steps a frame, far slower than
-/// real time).
+/// real time), and the water wheel (a `PaddleWheel` on a `Hinged` axle) turns with the current
+/// in the back channel: its lower paddles move the way the water under them flows.
 #[test]
 fn the_pump_carries_aquaplays_boat_along_the_channel() {
     let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
@@ -461,6 +463,14 @@ fn the_pump_carries_aquaplays_boat_along_the_channel() {
         .find(|(_, n)| n.as_str() == "boat")
         .map(|(e, _)| e)
         .expect("the boat");
+    let wheel = app
+        .world_mut()
+        .query::<(Entity, &Name)>()
+        .iter(app.world())
+        .find(|(_, n)| n.as_str() == "water_wheel")
+        .map(|(e, _)| e)
+        .expect("the water wheel");
+    let axle = app.world().get::<Transform>(wheel).unwrap().translation;
     let start = app.world().get::<Transform>(boat).unwrap().translation;
     app.insert_resource(SphControl {
         running: true,
@@ -468,15 +478,47 @@ fn the_pump_carries_aquaplays_boat_along_the_channel() {
         ..default()
     });
     let (mut lowest, mut highest) = (f32::MAX, f32::MIN);
+    let mut angle = 0.0;
+    let mut last = app.world().resource::<SphStats>().sim_time;
     while app.world().resource::<SphStats>().sim_time < 2.0 {
         app.update();
         let stats = app.world().resource::<SphStats>();
         assert!(!stats.health.is_unstable(), "{:?}", stats.health);
         assert_eq!(stats.particle_balance(), 0);
+        let now = stats.sim_time;
         let y = app.world().get::<Transform>(boat).unwrap().translation.y;
         lowest = lowest.min(y);
         highest = highest.max(y);
+        // avian ran for the time the water gained.
+        angle += app.world().get::<AngularVelocity>(wheel).unwrap().0.z * (now - last) as f32;
+        last = now;
     }
+    // The water under the wheel: the back channel below its axle.
+    let s = bevy_sph_fluid::headless::snapshot(&mut app).unwrap();
+    let under: Vec<f32> = s
+        .positions
+        .iter()
+        .zip(&s.velocities)
+        .filter(|(x, _)| (x.x - axle.x).abs() < 0.1 && (x.z - axle.z).abs() < 0.06 && x.y < axle.y)
+        .map(|(_, v)| v.x)
+        .collect();
+    let current = under.iter().sum::<f32>() / under.len().max(1) as f32;
+    let at = app.world().get::<Transform>(wheel).unwrap().translation;
+    eprintln!(
+        "aquaplay wheel: {angle:.2} rad in 2 s, the current under it {current:.3} m/s ({} particles), axle moved {:.4} m",
+        under.len(),
+        at.distance(axle)
+    );
+    // A lower paddle moves at ω r along x (ω about +z): with the current when ω and it agree.
+    assert!(
+        current.abs() > 0.02,
+        "a current under the wheel: {current} m/s"
+    );
+    assert!(
+        angle * current.signum() > 0.3,
+        "the wheel turns with the current: {angle} rad, current {current} m/s"
+    );
+    assert!(at.distance(axle) < 0.01, "the hinge holds the wheel: {at}");
     let end = app.world().get::<Transform>(boat).unwrap().translation;
     eprintln!("aquaplay boat: {start} -> {end}, y in [{lowest:.3}, {highest:.3}] m");
     assert!(

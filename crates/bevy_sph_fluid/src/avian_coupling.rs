@@ -17,7 +17,10 @@
 //! A scene file's solids become avian bodies too: its container's
 //! floor and walls and its static colliders static bodies, its kinematic colliders kinematic
 //! ones, and its dynamic colliders dynamic bodies of the file's density or mass, so a boat meets
-//! the channel's walls through avian's contacts.
+//! the channel's walls through avian's contacts. A hinged collider (`motion: Hinged(...)`, a
+//! water wheel) is a dynamic body on a [`RevoluteJoint`] to a static anchor where it starts,
+//! with the hinge's angular damping. A dynamic mesh is given to avian as the convex hulls of its
+//! closed parts (a paddle wheel's paddles are exact).
 //!
 //! ```no_run
 //! use avian3d::prelude::*;
@@ -47,7 +50,7 @@
 //! ```
 
 use crate::api::*;
-use crate::scene_asset::{SphDynamicBody, SphSceneMember as SceneMember};
+use crate::scene_asset::{SphDynamicBody, SphHinge, SphSceneMember as SceneMember};
 use crate::sets::SphSystems;
 use avian3d::prelude::*;
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
@@ -108,9 +111,24 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
 }
 
 /// avian's collider of the same shape (`None` when avian refuses a mesh).
-fn avian_collider(shape: &sph_core::ColliderShape) -> Option<Collider> {
+fn avian_collider(shape: &sph_core::ColliderShape, dynamic: bool) -> Option<Collider> {
     use sph_core::ColliderShape as S;
     Some(match *shape {
+        // A moving mesh needs volume and inertia: the convex hull of each of its closed parts
+        // (exact for a paddle wheel's boxes).
+        S::TriMesh(ref mesh) if dynamic => {
+            let parts: Vec<_> = mesh
+                .closed_parts()
+                .into_iter()
+                .filter_map(Collider::convex_hull)
+                .map(|hull| (Vec3::ZERO, Quat::IDENTITY, hull))
+                .collect();
+            if parts.is_empty() {
+                warn!("SphFluidPlugin: avian found no convex part in a dynamic mesh collider");
+                return None;
+            }
+            Collider::compound(parts)
+        }
         S::Cuboid { half_extents: h } => Collider::cuboid(2.0 * h.x, 2.0 * h.y, 2.0 * h.z),
         S::Sphere { radius } => Collider::sphere(radius),
         S::Capsule {
@@ -134,8 +152,15 @@ fn avian_collider(shape: &sph_core::ColliderShape) -> Option<Collider> {
     })
 }
 
-/// A scene's solid as it appears, with its mass when dynamic.
-type NewSceneSolid<'a> = (Entity, &'a SphCollider, Option<&'a SphDynamicBody>);
+/// A scene's solid as it appears, with its mass when dynamic and its hinge when hinged.
+type NewSceneSolid<'a> = (
+    Entity,
+    &'a SphCollider,
+    Option<&'a SphDynamicBody>,
+    Option<&'a SphHinge>,
+    &'a SceneMember,
+    &'a Transform,
+);
 
 /// Wall thickness of a scene container's avian walls [m] (outside the box).
 const WALL: f32 = 0.05;
@@ -147,7 +172,7 @@ fn sph_avian_scene_bodies(
     colliders: Query<NewSceneSolid, (Added<SceneMember>, Without<RigidBody>)>,
     containers: Query<(Entity, &SphContainer), Added<SceneMember>>,
 ) {
-    for (entity, collider, body) in &colliders {
+    for (entity, collider, body, hinge, member, transform) in &colliders {
         let rigid = match collider.motion {
             sph_core::ColliderMotion::Static => RigidBody::Static,
             sph_core::ColliderMotion::Kinematic => RigidBody::Kinematic,
@@ -155,9 +180,23 @@ fn sph_avian_scene_bodies(
         };
         let mut e = commands.entity(entity);
         e.insert(rigid);
-        if let Some(shape) = avian_collider(&collider.shape) {
+        if let Some(shape) = avian_collider(&collider.shape, rigid == RigidBody::Dynamic) {
             e.insert(shape);
         }
+        if let Some(SphHinge(hinge)) = hinge {
+            e.insert(AngularDamping(hinge.damping));
+            // The axle: a static body where the collider starts, turned like it, so the hinge's
+            // axis is the same in both local frames; both belong to the scene.
+            let anchor = commands
+                .spawn((RigidBody::Static, *transform, *member))
+                .id();
+            let local_axis = transform.rotation.inverse() * hinge.axis;
+            commands.spawn((
+                RevoluteJoint::new(anchor, entity).with_hinge_axis(local_axis),
+                *member,
+            ));
+        }
+        let mut e = commands.entity(entity);
         match body.map(|b| b.0) {
             Some(sph_core::scene_file::BodyMass::Density(d)) => {
                 e.insert(ColliderDensity(d));

@@ -46,7 +46,9 @@ pub use api::*;
 pub use avian_coupling::SphWaterTime;
 pub use flow::{SphProbe, SphProbeKind, SphProbeReading, SphPump, SphSink};
 pub use plugin::SphFluidPlugin;
-pub use scene_asset::{SphScene, SphSceneAsset, SphSceneControls, SphSceneMember};
+pub use scene_asset::{
+    SphDynamicBody, SphHinge, SphScene, SphSceneAsset, SphSceneControls, SphSceneMember,
+};
 pub use sets::{SphGraphSystems, SphStep, SphSystems};
 
 /// Commonly used items.

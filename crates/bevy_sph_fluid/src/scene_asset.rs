@@ -80,6 +80,12 @@ pub struct SphSceneMember(pub Entity);
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct SphDynamicBody(pub sph_core::scene_file::BodyMass);
 
+/// A hinged collider's hinge from a scene file (`motion: Hinged(...)`): an axle through the
+/// entity's position. With the `avian` feature it becomes an avian revolute joint to the world
+/// with the hinge's angular damping; without it, game code turns the collider.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct SphHinge(pub sph_core::scene_file::Hinge);
+
 /// The named controls of a scene file, on its [`SphScene`] entity: set a value (within its
 /// range) and the colliders, pumps and drains bound to it follow on the next frame (see
 /// [`sph_core::scene_controls`]).
@@ -193,6 +199,9 @@ fn sph_apply_scenes(
                 }
                 if let Some(body) = c.body {
                     entity.insert(SphDynamicBody(body));
+                }
+                if let Some(hinge) = c.hinge {
+                    entity.insert(SphHinge(hinge));
                 }
                 collider_entities.push(entity.id());
             }

@@ -37,6 +37,7 @@ pub mod integrate;
 pub mod kernel;
 pub mod neighbor;
 pub mod neighbor_lists;
+pub mod paddle_wheel;
 pub mod params;
 pub mod pbf_macklin2013;
 pub mod probe;

@@ -24,6 +24,7 @@
 
 use crate::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 use crate::container::BoxContainer;
+use crate::paddle_wheel::PaddleWheel;
 use crate::params::{ParamError, SpacingDerivation, SphParams};
 use crate::probe::ProbeKind;
 use crate::pump::Pump;
@@ -35,6 +36,9 @@ use crate::spawn::{BlockSpawn, PipeEmitter};
 use crate::trimesh::TriMesh;
 use glam::{EulerRot, Quat, Vec3};
 use serde::Deserialize;
+
+/// The most angular damping a hinge may have [1/s].
+pub const MAX_HINGE_DAMPING: f32 = 100.0;
 
 /// A vector written as a tuple `(x, y, z)`.
 pub type Vector = (f32, f32, f32);
@@ -146,6 +150,21 @@ pub enum ShapeSpec {
         #[serde(default)]
         thickness: Option<f32>,
     },
+    /// A paddle wheel about the collider's local z axis ([`crate::paddle_wheel::PaddleWheel`]):
+    /// `paddles` boxes from `inner` to `outer` [m] from the axle, `thickness` [m] thick and
+    /// `width` [m] wide along it; a closed mesh for the water.
+    PaddleWheel {
+        /// Number of paddles, 2 ..= 32.
+        paddles: u32,
+        /// Where the paddles start, from the axle [m].
+        inner: f32,
+        /// Where they end [m].
+        outer: f32,
+        /// Paddle thickness [m].
+        thickness: f32,
+        /// Paddle width along the axle [m].
+        width: f32,
+    },
 }
 
 /// How a collider moves.
@@ -169,6 +188,22 @@ pub enum MotionSpec {
         /// Mass [kg], > 0.
         #[serde(default)]
         mass: Option<f32>,
+    },
+    /// A dynamic body (as `Dynamic`) that turns on a hinge through its `position` along `axis`
+    /// (world frame): with the plugin's `avian` feature, a revolute joint to the world.
+    /// `damping` [1/s] is its angular damping (the axle's friction), 0 ..= 100.
+    Hinged {
+        /// The hinge's direction (world frame; normalised), not zero.
+        axis: Vector,
+        /// Density [kg/m³], > 0.
+        #[serde(default)]
+        density: Option<f32>,
+        /// Mass [kg], > 0.
+        #[serde(default)]
+        mass: Option<f32>,
+        /// Angular damping [1/s].
+        #[serde(default)]
+        damping: f32,
     },
     /// Moved by a named control (see [`crate::scene_controls`]): at `position` at the start of
     /// the control's range, at `to` at its end, linear between.
@@ -377,6 +412,17 @@ pub struct SceneCollider {
     pub path: Vec<(f32, Vec3)>,
     /// A dynamic collider's mass.
     pub body: Option<BodyMass>,
+    /// A hinged collider's hinge.
+    pub hinge: Option<Hinge>,
+}
+
+/// The hinge of a [`MotionSpec::Hinged`] collider.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hinge {
+    /// Unit direction of the axle, world frame.
+    pub axis: Vec3,
+    /// Angular damping [1/s].
+    pub damping: f32,
 }
 
 /// How heavy a dynamic collider is.
@@ -873,6 +919,30 @@ impl SceneFile {
                 })?;
                 ColliderShape::TriMesh(mesh.into())
             }
+            ShapeSpec::PaddleWheel {
+                paddles,
+                inner,
+                outer,
+                thickness,
+                width,
+            } => {
+                let wheel = PaddleWheel {
+                    paddles,
+                    inner,
+                    outer,
+                    thickness,
+                    width,
+                };
+                let mesh = wheel.mesh().map_err(|e| {
+                    let key = e.field.trim_start_matches("shape.");
+                    error(
+                        key,
+                        e.field.to_string(),
+                        format!("{} is not allowed: {}", e.value, e.allowed),
+                    )
+                })?;
+                ColliderShape::TriMesh(mesh.into())
+            }
             ShapeSpec::Cuboid { half_extents } => ColliderShape::Cuboid {
                 half_extents: v(half_extents),
             },
@@ -900,9 +970,10 @@ impl SceneFile {
             r.2.to_radians(),
         );
         let path: Vec<(f32, Vec3)> = match &c.motion {
-            MotionSpec::Static | MotionSpec::Controlled { .. } | MotionSpec::Dynamic { .. } => {
-                Vec::new()
-            }
+            MotionSpec::Static
+            | MotionSpec::Controlled { .. }
+            | MotionSpec::Dynamic { .. }
+            | MotionSpec::Hinged { .. } => Vec::new(),
             MotionSpec::Kinematic { path } => path.iter().map(|&(t, p)| (t, v(p))).collect(),
         };
         if let MotionSpec::Kinematic { .. } = c.motion {
@@ -940,21 +1011,20 @@ impl SceneFile {
         );
         collider.motion = match c.motion {
             MotionSpec::Static => ColliderMotion::Static,
-            MotionSpec::Dynamic { .. } => ColliderMotion::Dynamic,
+            MotionSpec::Dynamic { .. } | MotionSpec::Hinged { .. } => ColliderMotion::Dynamic,
             _ => ColliderMotion::Kinematic,
         };
         let body = match c.motion {
-            MotionSpec::Dynamic { density, mass } => {
+            MotionSpec::Dynamic { density, mass } | MotionSpec::Hinged { density, mass, .. } => {
                 let (key, value, body) = match (density, mass) {
                     (Some(d), None) => ("density", d, BodyMass::Density(d)),
                     (None, Some(m)) => ("mass", m, BodyMass::Mass(m)),
-                    _ => {
-                        return Err(error(
-                            "motion",
-                            "motion".into(),
-                            "Dynamic needs exactly one of `density` [kg/m³] and `mass` [kg]".into(),
-                        ))
-                    }
+                    _ => return Err(error(
+                        "motion",
+                        "motion".into(),
+                        "Dynamic and Hinged need exactly one of `density` [kg/m³] and `mass` [kg]"
+                            .into(),
+                    )),
                 };
                 if !(value.is_finite() && value > 0.0) {
                     return Err(error(
@@ -964,6 +1034,31 @@ impl SceneFile {
                     ));
                 }
                 Some(body)
+            }
+            _ => None,
+        };
+        let hinge = match c.motion {
+            MotionSpec::Hinged { axis, damping, .. } => {
+                let axis = v(axis);
+                let unit = axis.normalize_or_zero();
+                if !axis.is_finite() || unit == Vec3::ZERO {
+                    return Err(error(
+                        "axis",
+                        "motion.axis".into(),
+                        format!("{axis} is not allowed: a finite, non-zero direction"),
+                    ));
+                }
+                if !(damping.is_finite() && (0.0..=MAX_HINGE_DAMPING).contains(&damping)) {
+                    return Err(error(
+                        "damping",
+                        "motion.damping".into(),
+                        format!("{damping} is not allowed: [0, {MAX_HINGE_DAMPING}] 1/s"),
+                    ));
+                }
+                Some(Hinge {
+                    axis: unit,
+                    damping,
+                })
             }
             _ => None,
         };
@@ -983,6 +1078,7 @@ impl SceneFile {
             collider,
             path,
             body,
+            hinge,
         };
         scene_collider.collider.pose.translation = scene_collider.position_at(0.0);
         Ok(scene_collider)

@@ -346,6 +346,40 @@ impl TriMesh {
         (vertices, indices)
     }
 
+    /// The corners of each connected part (triangles joined through shared welded vertices), for
+    /// a physics engine that wants convex pieces: a mesh of disjoint boxes gives each box.
+    pub fn closed_parts(&self) -> Vec<Vec<Vec3>> {
+        let n = self.triangles.len();
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn root(parent: &mut [usize], mut k: usize) -> usize {
+            while parent[k] != k {
+                parent[k] = parent[parent[k]];
+                k = parent[k];
+            }
+            k
+        }
+        let key = |v: Vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+        let mut first_at: HashMap<[u32; 3], usize> = HashMap::new();
+        for (t, triangle) in self.triangles.iter().enumerate() {
+            for &corner in &triangle.corners {
+                let other = *first_at.entry(key(corner)).or_insert(t);
+                let (a, b) = (root(&mut parent, t), root(&mut parent, other));
+                parent[a] = b;
+            }
+        }
+        let mut parts: HashMap<usize, Vec<Vec3>> = HashMap::new();
+        for t in 0..n {
+            let r = root(&mut parent, t);
+            parts
+                .entry(r)
+                .or_default()
+                .extend(self.triangles[t].corners);
+        }
+        let mut parts: Vec<(usize, Vec<Vec3>)> = parts.into_iter().collect();
+        parts.sort_by_key(|(r, _)| *r);
+        parts.into_iter().map(|(_, corners)| corners).collect()
+    }
+
     /// The same mesh scaled per axis by `scale` (an open shell keeps its thickness); refused
     /// like a new mesh when the result is too large.
     pub fn scaled(&self, scale: Vec3) -> Result<Self, ColliderError> {

@@ -44,6 +44,10 @@ fn the_shipped_scenes_build() {
     assert_eq!(aquaplay.pumps.len(), 1);
     assert_eq!(aquaplay.probes.len(), 4);
     assert_eq!(aquaplay.emitters.len(), 1);
+    let wheel = &aquaplay.colliders[3];
+    assert_eq!(wheel.name, "water_wheel");
+    assert_eq!(wheel.hinge.map(|h| h.axis), Some(Vec3::Z));
+    assert!(matches!(wheel.collider.shape, ColliderShape::TriMesh(_)));
     let (_, ramp) = load("ramp.ron");
     let ramp = ramp.unwrap();
     let shapes: Vec<_> = ramp.colliders.iter().map(|c| &c.collider.shape).collect();
@@ -340,5 +344,72 @@ fn a_dynamic_body_needs_one_positive_density_or_mass() {
             format!("colliders[0] (\"boat\").{field}"),
             "{motion}: {e}"
         );
+    }
+}
+
+#[test]
+fn a_hinged_paddle_wheel_is_built_and_bad_ones_are_refused_by_field() {
+    let with = |shape: &str, motion: &str| {
+        build(&format!(
+            "(\n    container: (min: (0.0, 0.0, 0.0), max: (1.0, 0.5, 0.3)),\n    colliders: [(\n        name: \"wheel\",\n        shape: {shape},\n        position: (0.3, 0.2, 0.15),\n        motion: {motion},\n    )],\n)"
+        ))
+    };
+    let good_shape =
+        "PaddleWheel(paddles: 6, inner: 0.02, outer: 0.08, thickness: 0.015, width: 0.1)";
+    let good_motion = "Hinged(axis: (0.0, 0.0, 2.0), density: 900.0, damping: 1.0)";
+    let wheel = with(good_shape, good_motion).unwrap();
+    let c = &wheel.colliders[0];
+    assert_eq!(c.collider.motion, sph_core::ColliderMotion::Dynamic);
+    assert_eq!(c.body, Some(sph_core::scene_file::BodyMass::Density(900.0)));
+    let hinge = c.hinge.unwrap();
+    assert_eq!(
+        (hinge.axis, hinge.damping),
+        (Vec3::Z, 1.0),
+        "the axis is normalised"
+    );
+    match &c.collider.shape {
+        ColliderShape::TriMesh(mesh) => {
+            assert_eq!(mesh.closed_parts().len(), 6);
+            // Inside the paddle along +x, 5 cm from the axle (local frame).
+            assert!(mesh.signed_distance(Vec3::new(0.05, 0.0, 0.0)) < 0.0);
+        }
+        other => panic!("a paddle wheel is a mesh: {other:?}"),
+    }
+    for (shape, motion, line, field) in [
+        (
+            "PaddleWheel(paddles: 1, inner: 0.02, outer: 0.08, thickness: 0.015, width: 0.1)",
+            good_motion,
+            5,
+            "shape.paddles",
+        ),
+        (
+            "PaddleWheel(paddles: 6, inner: 0.09, outer: 0.08, thickness: 0.015, width: 0.1)",
+            good_motion,
+            5,
+            "shape.inner",
+        ),
+        (
+            "PaddleWheel(paddles: 6, inner: 0.02, outer: 0.08, thickness: 0.05, width: 0.1)",
+            good_motion,
+            5,
+            "shape.thickness",
+        ),
+        (
+            good_shape,
+            "Hinged(axis: (0.0, 0.0, 0.0), density: 900.0)",
+            7,
+            "motion.axis",
+        ),
+        (
+            good_shape,
+            "Hinged(axis: (0.0, 0.0, 1.0), density: 900.0, damping: -1.0)",
+            7,
+            "motion.damping",
+        ),
+        (good_shape, "Hinged(axis: (0.0, 0.0, 1.0))", 7, "motion"),
+    ] {
+        let e = with(shape, motion).unwrap_err();
+        assert_eq!(e.line, line, "{shape} {motion}: {e}");
+        assert_eq!(e.field, format!("colliders[0] (\"wheel\").{field}"), "{e}");
     }
 }
