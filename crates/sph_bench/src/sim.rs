@@ -582,7 +582,20 @@ impl Simulation for GpuSimulation {
     }
 
     fn iterations(&self) -> IterationTotals {
-        IterationTotals::default()
+        // The device runs PBF's fixed count of Jacobi iterations every step (WCSPH has none;
+        // DFSPH does not run on the GPU yet).
+        let params = self.app.world().resource::<SphParams>();
+        let per_step = match params.solver {
+            sph_core::Solver::Pbf => params.pbf.iterations,
+            _ => 0,
+        };
+        let steps = self.steps();
+        IterationTotals {
+            steps,
+            density: steps * per_step as u64,
+            density_max: per_step,
+            divergence: 0,
+        }
     }
 
     fn flow_counts(&self) -> (u64, u64) {

@@ -440,8 +440,9 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
             },
         ));
     }
-    // DFSPH (CPU; its GPU passes are not built yet) on the same dam break: its own dt rule, the
-    // WCSPH derived dt, warm starts off, a looser divergence tolerance.
+    // DFSPH and PBF on the CPU on the same dam break (DFSPH: its own dt rule, the WCSPH derived
+    // dt, warm starts off, a looser divergence tolerance; PBF: its iterations, vorticity, a
+    // frame's dt). PBF's GPU rows are in the backend sweep below.
     let dfsph = RunArgs {
         solver: Solver::Dfsph,
         ..cpu.clone()
@@ -565,6 +566,20 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                 ..at_largest.clone()
             },
         ));
+        if backend == Backend::Gpu {
+            // PBF's GPU passes (DFSPH's are not built yet), at every count of the sweep.
+            for &n in &args.particles {
+                plan.push(Planned::new(
+                    "particles",
+                    format!("about {n} particles, PBF"),
+                    RunArgs {
+                        particles: n,
+                        solver: Solver::Pbf,
+                        ..b.clone()
+                    },
+                ));
+            }
+        }
         if backend == Backend::Cpu {
             for &n in &args.particles {
                 plan.push(Planned::new(
@@ -609,6 +624,17 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                     RunArgs {
                         scenario: Scenario::DamBreak32k,
                         adaptive,
+                        ..b.clone()
+                    },
+                ));
+            }
+            if backend == Backend::Gpu {
+                plan.push(Planned::new(
+                    "dambreak32k",
+                    "PBF, own dt rule".into(),
+                    RunArgs {
+                        scenario: Scenario::DamBreak32k,
+                        solver: Solver::Pbf,
                         ..b.clone()
                     },
                 ));
@@ -764,8 +790,14 @@ mod tests {
         let plan = plan(&args);
         // 12 integrator × dt, 4 DFSPH and 5 PBF variants; per backend 2 counts, search, surface
         // tension, viscosity, tank, 2 dambreak32k; the CPU adds 2 α, 2 DFSPH counts, a DFSPH
-        // tank and 3 DFSPH and 1 PBF dambreak32k runs.
-        assert_eq!(plan.len(), 12 + 9 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 4);
+        // tank and 3 DFSPH and 1 PBF dambreak32k runs; the GPU 2 PBF counts and 1 PBF
+        // dambreak32k run.
+        assert_eq!(plan.len(), 12 + 9 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 4 + 2 + 1);
+        let gpu_pbf = plan
+            .iter()
+            .filter(|p| p.args.backend == Backend::Gpu && p.args.solver == Solver::Pbf)
+            .count();
+        assert_eq!(gpu_pbf, 3);
         assert!(plan
             .iter()
             .all(|p| configured_setup(&p.args).rollback.enabled));
