@@ -1,6 +1,7 @@
 //! One step on the GPU (lavapipe) from the same state as `sph_core`'s CPU solver: densities,
 //! accelerations (forces) and positions agree within 1e-4 relative, for both neighbour-search
-//! modes and all three integrators.
+//! modes and all three integrators; three PBF and three DFSPH steps agree with the CPU's (DFSPH
+//! with the CPU's iteration counts).
 
 mod common;
 
@@ -191,6 +192,102 @@ fn pbf_steps_on_the_gpu_match_the_cpu_solver() {
             assert!(moved > 1e-3, "{what}: the water moves");
             assert!(dx <= 1e-6, "{what}: positions differ by {dx} m");
             assert!(dv <= 1e-4 * v_max, "{what}: velocities differ by {dv} m/s");
+            assert!(drho <= 2e-5, "{what}: densities differ by {drho}");
+        }
+    }
+}
+
+/// DFSPH (Bender & Koschier 2015, 2017) on the GPU: three steps at DFSPH's own dt rule from
+/// the same jittered block give the CPU solver's positions, velocities and densities, in both
+/// search modes, with and without warm starts; the device's solves take the CPU's iteration
+/// counts (their convergence tests are on-device sums, read back with the clock).
+#[test]
+fn dfsph_steps_on_the_gpu_match_the_cpu_solver() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let (mut base, container, block) = scene();
+    base.use_solver(sph_core::Solver::Dfsph);
+    let steps = 3;
+    for search in [NeighborSearch::Grid, NeighborSearch::Hash] {
+        for warm_start in [true, false] {
+            let mut params = base;
+            params.neighbor_search = search;
+            params.dfsph.warm_start = warm_start;
+            let what = format!("DFSPH {search:?} warm start {warm_start}");
+            let n = block.count();
+            let mut cpu = CpuSolver::new(params, container, n).unwrap();
+            cpu.spawn(&block.positions(), Vec3::ZERO);
+            let (mut density_iterations, mut divergence_iterations) = (0, 0);
+            for _ in 0..steps {
+                cpu.step();
+                density_iterations += cpu.solver_stats().density_iterations;
+                divergence_iterations += cpu.solver_stats().divergence_iterations;
+            }
+            let cpu_p = cpu.particles();
+            let mut cpu_order: Vec<usize> = (0..n).collect();
+            cpu_order.sort_by_key(|&k| cpu_p.id[k]);
+
+            let mut app = headless_app(n as u32, SphBackend::Gpu);
+            app.insert_resource(SphParams(params));
+            app.world_mut().spawn(SphContainer(container));
+            app.world_mut().spawn(SphBlockSpawn {
+                block,
+                velocity: Vec3::ZERO,
+            });
+            app.update();
+            step_to(&mut app, steps);
+            let stats = app.world().resource::<SphStats>();
+            assert_eq!(stats.error, None, "{what}");
+            assert!(!stats.health.is_unstable(), "{what}: {:?}", stats.health);
+            // The snapshot's frames (no steps) bring the clock of the last step back too.
+            let s = snapshot(&mut app);
+            let clock = app
+                .world()
+                .resource::<bevy_sph_fluid::shared::ClockReadback>()
+                .latest
+                .expect("a clock reading");
+            eprintln!(
+                "{what}: iterations on the GPU {} + {} (most {}), on the CPU {} + {}; dt {:.2e} s",
+                clock.density_iterations,
+                clock.divergence_iterations,
+                clock.density_iterations_max,
+                density_iterations,
+                divergence_iterations,
+                clock.dt()
+            );
+            assert_eq!(s.ids.len(), n, "{what}");
+            let gpu_order = by_id(&s);
+            let gpu_ids: Vec<u32> = gpu_order.iter().map(|&k| s.ids[k]).collect();
+            assert!(gpu_ids.iter().copied().eq(0..n as u32), "{what}: ids");
+            let dx = worst_difference(&s.positions, &gpu_order, &cpu_p.position, &cpu_order);
+            let dv = worst_difference(&s.velocities, &gpu_order, &cpu_p.velocity, &cpu_order);
+            let drho = gpu_order
+                .iter()
+                .zip(&cpu_order)
+                .map(|(&g, &c)| (s.densities[g] - cpu_p.density[c]).abs() / cpu_p.density[c])
+                .fold(0.0, f32::max);
+            let v_max = cpu_p
+                .velocity
+                .iter()
+                .map(|v| v.length())
+                .fold(0.0, f32::max);
+            let start = block.positions();
+            let moved = cpu_order
+                .iter()
+                .map(|&c| (cpu_p.position[c] - start[cpu_p.id[c] as usize]).length())
+                .fold(0.0, f32::max);
+            eprintln!(
+                "{what}: worst |Δx| {dx:.2e} m (moved up to {moved:.2e} m), |Δv| {dv:.2e} m/s \
+                 (v_max {v_max:.3} m/s), density {drho:.2e} relative"
+            );
+            assert_eq!(clock.step as u64, steps, "{what}");
+            assert_eq!(
+                (clock.density_iterations, clock.divergence_iterations),
+                (density_iterations, divergence_iterations),
+                "{what}: iterations"
+            );
+            assert!(moved > 1e-4, "{what}: the water moves");
+            assert!(dx <= 1e-6, "{what}: positions differ by {dx} m");
+            assert!(dv <= 1e-3 * v_max, "{what}: velocities differ by {dv} m/s");
             assert!(drho <= 2e-5, "{what}: densities differ by {drho}");
         }
     }

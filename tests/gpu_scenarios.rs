@@ -196,24 +196,6 @@ fn an_invalid_parameter_is_reported_by_name_and_not_applied() {
 }
 
 #[test]
-fn dfsph_on_the_gpu_backend_is_refused_and_names_the_cpu_backend() {
-    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
-    let mut app = headless_app(16, SphBackend::Gpu);
-    app.world_mut().spawn(SphContainer(BoxContainer::default()));
-    app.world_mut()
-        .resource_mut::<SphParams>()
-        .use_solver(sph_core::Solver::Dfsph);
-    app.world_mut().resource_mut::<SphControl>().single_step = true;
-    app.update();
-    let error = stats_error(&app);
-    assert!(
-        error.contains("Dfsph") && error.contains("SphBackend::Cpu"),
-        "{error}"
-    );
-    assert_eq!(steps_taken(&app), 0);
-}
-
-#[test]
 fn neighbor_counts_match_a_brute_force_count() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
     let params = sph_core::SphParams::water();

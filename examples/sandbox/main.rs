@@ -57,8 +57,8 @@ struct Cli {
     /// `assets/scenes/dam_break.ron` or its absolute path), reloaded when
     /// it changes.
     scene: Option<String>,
-    /// `--solver wcsph|dfsph|pbf`: that solver instead of the default PBF (DFSPH on the CPU
-    /// backend: its GPU passes are not built yet).
+    /// `--solver wcsph|dfsph|pbf`: that solver instead of the default PBF (each runs on either
+    /// backend).
     solver: Option<sph_core::Solver>,
     /// `--cpu`: the CPU backend instead of the GPU.
     cpu: bool,
@@ -169,17 +169,16 @@ fn main() {
     config.adaptive_time_step = cli.adaptive;
     config.real_time = cli.real_time;
     config.scene = cli.scene.clone();
-    // DFSPH runs on the CPU backend until its GPU passes exist.
     if let Some(solver) = cli.solver {
         config.solver = solver;
     }
-    let mut backend = if cli.cpu || config.solver == sph_core::Solver::Dfsph {
+    let mut backend = if cli.cpu {
         SphBackend::Cpu
     } else {
         SphBackend::Gpu
     };
     if let Some(path) = &cli.scene {
-        // Read once here to choose the backend (DFSPH and drains run on the CPU) and to refuse a
+        // Read once here to choose the backend (drains run on the CPU) and to refuse a
         // broken file before the window opens; the asset system loads and watches it.
         let file = format!("{}/assets/{path}", env!("CARGO_MANIFEST_DIR"));
         let built = std::fs::read_to_string(&file)
@@ -192,7 +191,7 @@ fn main() {
         match built {
             Ok(setup) => {
                 config.solver = setup.params.solver;
-                if setup.params.solver == sph_core::Solver::Dfsph || !setup.sinks.is_empty() {
+                if !setup.sinks.is_empty() {
                     backend = SphBackend::Cpu;
                 }
             }

@@ -89,7 +89,7 @@ pub fn dress_scene_members(
 }
 
 /// The scene files the start panel offers: `scenes/*.ron` under the sandbox's asset folder, with
-/// what of each runs on the CPU backend only (DFSPH, drains), or why it does not build.
+/// what of each runs on the CPU backend only (drains), or why it does not build.
 #[derive(Resource, Default)]
 pub struct SceneFiles(pub Vec<(String, Result<SceneFileKind, String>)>);
 
@@ -97,7 +97,7 @@ pub struct SceneFiles(pub Vec<(String, Result<SceneFileKind, String>)>);
 pub struct SceneFileKind {
     /// Its solver.
     pub solver: sph_core::Solver,
-    /// What of it runs on the CPU backend only (DFSPH, drains), if anything.
+    /// What of it runs on the CPU backend only (drains), if anything.
     pub cpu_only: Option<&'static str>,
 }
 
@@ -123,9 +123,7 @@ impl SceneFiles {
                             .and_then(|scene| scene.build(&name, &text))
                             .map(|setup| SceneFileKind {
                                 solver: setup.params.solver,
-                                cpu_only: if setup.params.solver == sph_core::Solver::Dfsph {
-                                    Some("DFSPH")
-                                } else if !setup.sinks.is_empty() {
+                                cpu_only: if !setup.sinks.is_empty() {
                                     Some("its drain")
                                 } else {
                                     None

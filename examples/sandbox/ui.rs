@@ -124,8 +124,9 @@ pub fn setup_panel(
                 ui.radio_value(&mut config.solver, sph_core::Solver::Wcsph, "WCSPH");
                 ui.radio_value(&mut config.solver, sph_core::Solver::Dfsph, "DFSPH")
                     .on_hover_text(
-                        "Divergence-free SPH (Bender & Koschier 2017), its own time step; \
-                         CPU backend only for now: start the sandbox with --solver dfsph",
+                        "Divergence-free SPH (Bender & Koschier 2017), its own time step, \
+                         on either backend (on a software GPU such as lavapipe the CPU \
+                         backend, --cpu, is the faster one)",
                     );
                 ui.radio_value(&mut config.solver, sph_core::Solver::Pbf, "PBF")
                     .on_hover_text(

@@ -209,8 +209,9 @@ pub struct SphStats {
     pub collider_errors: Vec<SphColliderError>,
     /// Compute dispatches in the last step (GPU backend).
     pub dispatches_per_step: u32,
-    /// DFSPH: constant-density iterations per step, mean over the last frame's steps; PBF: its
-    /// constraint iterations, a fixed count per step on both backends (0 with WCSPH).
+    /// DFSPH: constant-density iterations per step, mean over the last frame's steps (GPU: over
+    /// the steps between the last two clock readings, which arrive a frame or two late); PBF:
+    /// its constraint iterations, a fixed count per step on both backends (0 with WCSPH).
     pub pressure_iterations_mean: f32,
     /// Simulated seconds per wall-clock second over the last half second or more of real time
     /// (1 = real time; GPU: from the clock as read back).
@@ -220,9 +221,11 @@ pub struct SphStats {
     /// The solver's mean compression, mean over particles of max(ρ/ρ0 − 1, 0) [%]: from the
     /// last step on the CPU backend, from the last snapshot on the GPU backend.
     pub density_error_mean_pct: f32,
-    /// DFSPH: the most constant-density iterations of one step in the last frame.
+    /// DFSPH: the most constant-density iterations of one step in the last frame (GPU: since the
+    /// last reset).
     pub pressure_iterations_max: u32,
-    /// DFSPH: divergence-free iterations per step, mean over the last frame's steps.
+    /// DFSPH: divergence-free iterations per step, mean over the last frame's steps (GPU: as
+    /// `pressure_iterations_mean`).
     pub divergence_iterations_mean: f32,
     /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports
     /// them and `RenderDiagnosticsPlugin` is added (GPU backend), wall clock (CPU backend).

@@ -160,8 +160,21 @@ pub struct SphSimulation {
     pub rule_dt: Option<f32>,
     /// Frames planned since the start (numbers the GPU's frame budgets).
     pub frame_number: u32,
+    /// DFSPH on the GPU: the clock's iteration sums at the last reading.
+    pub gpu_iterations: Option<GpuIterations>,
     /// This frame's plan, made first thing in the `Prepare` set.
     pub plan: FramePlan,
+}
+
+/// DFSPH's iteration sums of one clock reading (`GpuClock`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GpuIterations {
+    /// The clock's step.
+    pub step: u32,
+    /// Constant-density iterations since the reset.
+    pub density: u32,
+    /// Divergence-free iterations since the reset.
+    pub divergence: u32,
 }
 
 impl SphSimulation {
@@ -187,6 +200,7 @@ impl SphSimulation {
             wall_slip: sph_core::Slip::Free,
             rule_dt: None,
             frame_number: 0,
+            gpu_iterations: None,
             plan: FramePlan::default(),
         }
     }

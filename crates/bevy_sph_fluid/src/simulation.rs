@@ -5,7 +5,7 @@
 use crate::api::*;
 use crate::colliders::{sph_sync_colliders, sph_write_collider_forces};
 use crate::sets::SphSystems;
-use crate::shared::{ClockReadback, FramePlan, SphRenderFeedback, SphSimulation};
+use crate::shared::{ClockReadback, FramePlan, GpuIterations, SphRenderFeedback, SphSimulation};
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::render_resource::DownlevelFlags;
@@ -370,14 +370,6 @@ fn sph_plan_step(
                 .or_else(|| stats.scene_error.clone());
         }
         SphBackend::Gpu => {
-            if params.solver == sph_core::Solver::Dfsph {
-                stats.error = Some(format!(
-                    "SphParams::solver = {:?} runs on the CPU backend only (SphBackend::Cpu): its GPU passes are not built yet; the GPU keeps its last state",
-                    params.solver
-                ));
-                sim.frame.steps = 0;
-                return;
-            }
             if let Err(e) = sim.prepare_gpu_boundary(&container, &params.0) {
                 stats.error = Some(e.to_string());
                 sim.frame.steps = 0;
@@ -395,15 +387,52 @@ fn sph_plan_step(
             frame.budget = plan.budget.map(|b| (b, number));
             frame.number = number;
             stats.frame_steps = plan.steps;
-            // PBF's Jacobi iterations are a fixed count per step on the device.
-            let pbf = params.solver == sph_core::Solver::Pbf;
-            let iterations = if pbf { params.pbf.iterations } else { 0 };
-            stats.pressure_iterations_mean = iterations as f32;
-            stats.pressure_iterations_max = iterations;
-            stats.divergence_iterations_mean = 0.0;
+            // PBF's Jacobi iterations are a fixed count per step on the device; DFSPH's come
+            // back with the clock (`sph_update_stats`).
+            if params.solver != sph_core::Solver::Dfsph {
+                let pbf = params.solver == sph_core::Solver::Pbf;
+                let iterations = if pbf { params.pbf.iterations } else { 0 };
+                stats.pressure_iterations_mean = iterations as f32;
+                stats.pressure_iterations_max = iterations;
+                stats.divergence_iterations_mean = 0.0;
+            }
             frame.neighbor_counts = control.record_neighbor_counts;
             frame.rollback = control.rollback;
         }
+    }
+}
+
+/// DFSPH's iterations on the GPU: the means per step between the last two clock readings, and
+/// the most of one step since the reset. (WCSPH and PBF leave both sums at 0.)
+fn record_gpu_iterations(
+    last: &mut Option<GpuIterations>,
+    clock: &sph_core::gpu_layout::GpuClock,
+    stats: &mut SphStats,
+) {
+    let now = GpuIterations {
+        step: clock.step,
+        density: clock.density_iterations,
+        divergence: clock.divergence_iterations,
+    };
+    if now.density == 0 && now.divergence == 0 {
+        *last = Some(now);
+        return;
+    }
+    match *last {
+        // A reset or a rollback takes the sums or the step back: start again.
+        Some(before)
+            if before.step < now.step
+                && before.density <= now.density
+                && before.divergence <= now.divergence =>
+        {
+            let steps = (now.step - before.step) as f32;
+            stats.pressure_iterations_mean = (now.density - before.density) as f32 / steps;
+            stats.divergence_iterations_mean = (now.divergence - before.divergence) as f32 / steps;
+            stats.pressure_iterations_max = clock.density_iterations_max;
+            *last = Some(now);
+        }
+        Some(before) if before == now => {}
+        _ => *last = Some(now),
     }
 }
 
@@ -508,6 +537,7 @@ fn sph_update_stats(
                 stats.wall_corrections = clock.wall_corrections as u64;
                 stats.neighbor_list_overflows = clock.neighbor_list_overflows as u64;
                 stats.clock_steps = clock.step as u64;
+                record_gpu_iterations(&mut sim.gpu_iterations, &clock, &mut stats);
                 let scale = (-(clock.halvings as f32)).exp2();
                 sim.rule_dt = Some(f32::from_bits(clock.rule_dt_bits) * scale);
                 if clock.unstable_step != 0 {

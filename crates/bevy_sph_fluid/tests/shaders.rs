@@ -8,7 +8,7 @@ use naga_oil::compose::{
 };
 use std::collections::HashMap;
 
-const LIBRARY: [(&str, &str); 11] = [
+const LIBRARY: [(&str, &str); 12] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -50,6 +50,10 @@ const LIBRARY: [(&str, &str); 11] = [
         include_str!("../src/render/shaders/body_reactions.wgsl"),
     ),
     ("pbf.wgsl", include_str!("../src/render/shaders/pbf.wgsl")),
+    (
+        "dfsph.wgsl",
+        include_str!("../src/render/shaders/dfsph.wgsl"),
+    ),
 ];
 
 /// The WGSL of a registered stage: `sph_<stem>` lives in `stages/<stem>.wgsl`.

@@ -480,13 +480,6 @@ pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
         }
         None => configured_setup(args),
     };
-    let solver = setup.scene.params.solver;
-    if args.backend == Backend::Gpu && solver == Solver::Dfsph {
-        return Err(format!(
-            "--solver {} runs on the CPU backend only (--backend cpu): its GPU passes are not built yet",
-            solver.name()
-        ));
-    }
     let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
     run_setup(&setup, args.backend, args.substeps, duration, bars)
 }

@@ -582,19 +582,36 @@ impl Simulation for GpuSimulation {
     }
 
     fn iterations(&self) -> IterationTotals {
-        // The device runs PBF's fixed count of Jacobi iterations every step (WCSPH has none;
-        // DFSPH does not run on the GPU yet).
-        let params = self.app.world().resource::<SphParams>();
-        let per_step = match params.solver {
-            sph_core::Solver::Pbf => params.pbf.iterations,
-            _ => 0,
-        };
-        let steps = self.steps();
-        IterationTotals {
-            steps,
-            density: steps * per_step as u64,
-            density_max: per_step,
-            divergence: 0,
+        let world = self.app.world();
+        let params = world.resource::<SphParams>();
+        match params.solver {
+            // DFSPH's solves count their iterations on the device (the clock, read back).
+            sph_core::Solver::Dfsph => world
+                .get_resource::<bevy_sph_fluid::shared::ClockReadback>()
+                .and_then(|c| c.latest)
+                .map(|clock| IterationTotals {
+                    steps: clock.step as u64,
+                    density: clock.density_iterations as u64,
+                    density_max: clock.density_iterations_max,
+                    divergence: clock.divergence_iterations as u64,
+                })
+                .unwrap_or_default(),
+            // The device runs PBF's fixed count of Jacobi iterations every step (WCSPH has
+            // none).
+            solver => {
+                let per_step = if solver == sph_core::Solver::Pbf {
+                    params.pbf.iterations
+                } else {
+                    0
+                };
+                let steps = self.steps();
+                IterationTotals {
+                    steps,
+                    density: steps * per_step as u64,
+                    density_max: per_step,
+                    divergence: 0,
+                }
+            }
         }
     }
 

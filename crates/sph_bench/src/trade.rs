@@ -567,7 +567,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
             },
         ));
         if backend == Backend::Gpu {
-            // PBF's GPU passes (DFSPH's are not built yet), at every count of the sweep.
+            // PBF's and DFSPH's GPU passes, at every count of the sweep.
             for &n in &args.particles {
                 plan.push(Planned::new(
                     "particles",
@@ -580,17 +580,21 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                 ));
             }
         }
-        if backend == Backend::Cpu {
+        // DFSPH at every count of the sweep, on both backends.
+        {
             for &n in &args.particles {
                 plan.push(Planned::new(
                     "particles",
                     format!("about {n} particles, DFSPH"),
                     RunArgs {
                         particles: n,
+                        backend,
                         ..dfsph.clone()
                     },
                 ));
             }
+        }
+        if backend == Backend::Cpu {
             plan.push(Planned::new(
                 "hydrostatic",
                 "tank at rest, 1 s, DFSPH".into(),
@@ -636,6 +640,15 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                         scenario: Scenario::DamBreak32k,
                         solver: Solver::Pbf,
                         ..b.clone()
+                    },
+                ));
+                plan.push(Planned::new(
+                    "dambreak32k",
+                    "DFSPH, own dt rule".into(),
+                    RunArgs {
+                        scenario: Scenario::DamBreak32k,
+                        backend,
+                        ..dfsph.clone()
                     },
                 ));
             }
@@ -790,14 +803,19 @@ mod tests {
         let plan = plan(&args);
         // 12 integrator × dt, 4 DFSPH and 5 PBF variants; per backend 2 counts, search, surface
         // tension, viscosity, tank, 2 dambreak32k; the CPU adds 2 α, 2 DFSPH counts, a DFSPH
-        // tank and 3 DFSPH and 1 PBF dambreak32k runs; the GPU 2 PBF counts and 1 PBF
-        // dambreak32k run.
-        assert_eq!(plan.len(), 12 + 9 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 4 + 2 + 1);
-        let gpu_pbf = plan
-            .iter()
-            .filter(|p| p.args.backend == Backend::Gpu && p.args.solver == Solver::Pbf)
-            .count();
-        assert_eq!(gpu_pbf, 3);
+        // tank and 3 DFSPH and 1 PBF dambreak32k runs; the GPU 2 PBF counts, 2 DFSPH counts
+        // and 1 PBF and 1 DFSPH dambreak32k run.
+        assert_eq!(
+            plan.len(),
+            12 + 9 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 4 + 2 + 2 + 1 + 1
+        );
+        let on_the_gpu = |solver: Solver| {
+            plan.iter()
+                .filter(|p| p.args.backend == Backend::Gpu && p.args.solver == solver)
+                .count()
+        };
+        assert_eq!(on_the_gpu(Solver::Pbf), 3);
+        assert_eq!(on_the_gpu(Solver::Dfsph), 3);
         assert!(plan
             .iter()
             .all(|p| configured_setup(&p.args).rollback.enabled));

@@ -2,6 +2,7 @@
 //! so the CPU and GPU agree on every byte. WGSL twin: `bevy_sph_fluid/src/shaders/types.wgsl`.
 
 use crate::container::BoxContainer;
+use crate::dfsph_bender2017::rest_lattice_factor;
 use crate::kernel::Kernels;
 use crate::neighbor::grid::DenseGrid;
 use crate::neighbor::hash::hash_table_size;
@@ -73,6 +74,16 @@ pub struct GpuSphParams {
     pub pbf: [f32; 4],
     /// PBF: s_corr's n, the Jacobi iterations per step, [`PBF_MAX_NEIGHBORS`], 0.
     pub pbf_counts: [u32; 4],
+    /// DFSPH ([`crate::dfsph_bender2017`]): the largest mean density error (fraction of ρ0),
+    /// the largest mean divergence error [1/s], the cut-off of an isolated particle's factor
+    /// (a fraction of the rest lattice's D), warm start (1) or not (0).
+    pub dfsph: [f32; 4],
+    /// DFSPH: min and max constant-density iterations, min and max divergence-free iterations.
+    pub dfsph_counts: [u32; 4],
+    /// DFSPH: the spacing Δx [m] (the CFL rule's length), the warm starts' fractions
+    /// ([`crate::dfsph_bender2017::DENSITY_WARM_START`], [`crate::dfsph_bender2017::DIVERGENCE_WARM_START`]),
+    /// [`crate::dfsph_bender2017::MAX_CORRECTION`].
+    pub dfsph_b: [f32; 4],
 }
 
 /// The simulation clock (WGSL `SphClock`), a storage buffer written only by the GPU: the
@@ -134,9 +145,35 @@ pub struct GpuClock {
     /// PBF: particles that had more than [`PBF_MAX_NEIGHBORS`] neighbours in a step's lists
     /// (and lost the rest for that step), summed over the steps since the reset.
     pub neighbor_list_overflows: u32,
+    /// DFSPH: the workgroup count of the solve's next pass, then 1, 1: the indirect dispatch
+    /// arguments of the solves' passes, 0 once the solve converged (copied to the indirect
+    /// buffer after each of them).
+    pub dfsph_args: [u32; 3],
+    /// DFSPH: 1 once the solve in progress converged.
+    pub dfsph_done: u32,
+    /// DFSPH: the iterations the solve in progress applied.
+    pub dfsph_applied: u32,
+    /// DFSPH: the mean-error sums of the solve's sources, two 64-bit fixed-point accumulators
+    /// (low, high words; units of [`DFSPH_ERROR_UNIT`] ρ0 or ρ0/s) that the iterations
+    /// ping-pong.
+    pub dfsph_error: [u32; 4],
+    /// DFSPH: constant-density iterations summed over the steps since the reset.
+    pub density_iterations: u32,
+    /// DFSPH: the most constant-density iterations of one step since the reset.
+    pub density_iterations_max: u32,
+    /// DFSPH: divergence-free iterations summed over the steps since the reset.
+    pub divergence_iterations: u32,
+    /// DFSPH: the last constant-density solve's mean error (fraction of ρ0), f32 bits.
+    pub density_error_bits: u32,
+    /// DFSPH: the last divergence-free solve's mean error [1/s], f32 bits.
+    pub divergence_error_bits: u32,
     /// Padding.
     pub pad: [u32; 2],
 }
+
+/// The unit of DFSPH's error sums on the device ([`GpuClock::dfsph_error`]): 1e-9 of ρ0 (or
+/// ρ0 per second) per particle.
+pub const DFSPH_ERROR_UNIT: f64 = 1.0e-9;
 
 impl GpuClock {
     /// dt [s].
@@ -151,6 +188,9 @@ impl GpuClock {
 
     /// Byte offset of the `save_requested` flag (written by the CPU after an upload).
     pub const SAVE_REQUESTED_OFFSET: u64 = std::mem::offset_of!(GpuClock, save_requested) as u64;
+
+    /// Byte offset of `dfsph_args` (copied to the indirect buffer after each solve pass).
+    pub const DFSPH_ARGS_OFFSET: u64 = std::mem::offset_of!(GpuClock, dfsph_args) as u64;
 
     /// Byte offset of `has_checkpoint` (cleared by the CPU when the buffers are reallocated).
     pub const HAS_CHECKPOINT_OFFSET: u64 = std::mem::offset_of!(GpuClock, has_checkpoint) as u64;
@@ -193,6 +233,7 @@ impl GpuSphParams {
     ) -> Self {
         let k = Kernels::new(params.smoothing_radius);
         let pbf = PbfContext::of(params);
+        let d = &params.dfsph;
         let (lo, hi) = (container.min(), container.max());
         let v4 = |v: Vec3, w: f32| [v.x, v.y, v.z, w];
         Self {
@@ -245,6 +286,24 @@ impl GpuSphParams {
                 params.pbf.iterations,
                 PBF_MAX_NEIGHBORS,
                 0,
+            ],
+            dfsph: [
+                d.max_density_error,
+                d.max_divergence_error,
+                crate::dfsph_bender2017::FACTOR_EPSILON * rest_lattice_factor(params),
+                d.warm_start as u32 as f32,
+            ],
+            dfsph_counts: [
+                d.min_density_iterations,
+                d.max_density_iterations,
+                d.min_divergence_iterations,
+                d.max_divergence_iterations,
+            ],
+            dfsph_b: [
+                params.spacing(),
+                crate::dfsph_bender2017::DENSITY_WARM_START,
+                crate::dfsph_bender2017::DIVERGENCE_WARM_START,
+                crate::dfsph_bender2017::MAX_CORRECTION,
             ],
         }
     }

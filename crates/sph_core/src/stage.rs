@@ -93,6 +93,22 @@ pub enum CpuStage {
     PbfVorticity,
     /// PBF: vorticity confinement ([`crate::pbf_macklin2013::confine_vorticity`]).
     PbfConfinement,
+    /// DFSPH: the cubic-spline densities and the factors 1/D_i
+    /// ([`crate::neighbor_lists::NeighborLists::rebuild`]'s densities,
+    /// [`crate::dfsph_bender2017::compute_factors`]).
+    DfsphFactors,
+    /// DFSPH: the predicted velocities v* = v + dt a_np (step 3 of `CpuSolver`'s DFSPH step).
+    DfsphPredict,
+    /// DFSPH: v += dt a_p of the iteration's stiffness
+    /// ([`crate::dfsph_bender2017::apply_stiffness`]).
+    DfsphApply,
+    /// DFSPH: the solve's source and the next stiffness
+    /// ([`crate::dfsph_bender2017::density_source`], [`crate::dfsph_bender2017::divergence_source`],
+    /// [`crate::dfsph_bender2017::stiffness_from_source`]).
+    DfsphSource,
+    /// DFSPH: the bodies' reactions of a solve ([`crate::dfsph_bender2017::boundary_reactions`]);
+    /// after the divergence-free solve, the pressures and the pumps.
+    DfsphReactions,
 }
 
 /// The stages of one force evaluation for `params`, in order: sort, density, normals (with
@@ -104,6 +120,29 @@ pub fn evaluation_stages(params: &SphParams) -> Vec<CpuStage> {
         stages.push(CpuStage::Normals);
     }
     stages.push(CpuStage::Forces);
+    stages
+}
+
+/// The stages of one DFSPH step for `params` (`CpuSolver`'s DFSPH step, `solver/dfsph.rs`), each
+/// once in order: the sort, the lists, the densities and factors, the normals with surface
+/// tension, the non-pressure forces, v*, the solves' two passes and their reactions (the solves
+/// repeat them; the move and the second neighbourhood run the first stages again).
+pub fn dfsph_step_stages(params: &SphParams) -> Vec<CpuStage> {
+    let mut stages = vec![
+        CpuStage::Sort,
+        CpuStage::NeighborLists,
+        CpuStage::DfsphFactors,
+    ];
+    if params.has_surface_tension() {
+        stages.push(CpuStage::Normals);
+    }
+    stages.extend([
+        CpuStage::Forces,
+        CpuStage::DfsphPredict,
+        CpuStage::DfsphApply,
+        CpuStage::DfsphSource,
+        CpuStage::DfsphReactions,
+    ]);
     stages
 }
 

@@ -93,11 +93,14 @@ pub enum Buf {
     /// PBF: each particle's neighbours of the step (pairs within h at the predicted positions),
     /// at most `PBF_MAX_NEIGHBORS`, neighbour k of particle i at `k * capacity + i`.
     PbfNeighbors,
+    /// DFSPH: the same pairs with their weighted gradient, (m ∇W_ij, j as bits), written with
+    /// the factors after each sort and read by every iteration of the solves.
+    DfsphPairs,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 34] = [
+    pub const ALL: [Buf; 35] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -132,6 +135,7 @@ impl Buf {
         Buf::Probes,
         Buf::Meshes,
         Buf::PbfNeighbors,
+        Buf::DfsphPairs,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -176,6 +180,7 @@ impl Buf {
             Buf::Probes => "sph_probes",
             Buf::Meshes => "sph_meshes",
             Buf::PbfNeighbors => "sph_pbf_neighbors",
+            Buf::DfsphPairs => "sph_dfsph_pairs",
         }
     }
 }
@@ -201,6 +206,9 @@ pub struct GpuBuffers {
     pub bitonic_steps: Buffer,
     /// Number of bitonic steps.
     pub bitonic_step_count: u32,
+    /// DFSPH: the indirect dispatch arguments of the solve's passes, copied from the clock
+    /// ([`super::stage::copy_solve_arguments`]).
+    pub dfsph_arguments: Buffer,
 }
 
 impl GpuBuffers {
@@ -296,8 +304,10 @@ fn allocate(
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
             Buf::Pumps => std::mem::size_of::<sph_core::gpu_layout::GpuPumps>() as u64,
-            Buf::PbfNeighbors if key.pbf => 4 * n * PBF_MAX_NEIGHBORS as u64,
+            Buf::PbfNeighbors if key.pbf || key.dfsph => 4 * n * PBF_MAX_NEIGHBORS as u64,
             Buf::PbfNeighbors => 16,
+            Buf::DfsphPairs if key.dfsph => 16 * n * PBF_MAX_NEIGHBORS as u64,
+            Buf::DfsphPairs => 16,
             _ => 16 * n,
         }
     };
@@ -349,6 +359,12 @@ fn allocate(
         storage,
         bitonic_steps: bitonic,
         bitonic_step_count: steps.len() as u32,
+        dfsph_arguments: device.create_buffer(&BufferDescriptor {
+            label: Some("sph_dfsph_arguments"),
+            size: 16,
+            usage: BufferUsages::INDIRECT | BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }),
     }
 }
 
@@ -414,6 +430,7 @@ pub(crate) fn prepare_sph_buffers(
             || b.key.search != key.search
             || b.key.surface_tension != key.surface_tension
             || b.key.pbf != key.pbf
+            || b.key.dfsph != key.dfsph
             || b.at(Buf::Position).id() != position.id()
             || b.at(Buf::Density).id() != density.id()
     });
@@ -492,7 +509,12 @@ pub(crate) fn prepare_sph_buffers(
         };
         write(Buf::Position, &positions);
         write(Buf::Velocity, &velocities);
-        write(Buf::VelocityPredicted, &velocities);
+        // DFSPH keeps its solves' stiffness sums there (the warm starts): new particles have none.
+        if buffers.key.dfsph {
+            write(Buf::VelocityPredicted, &zeros);
+        } else {
+            write(Buf::VelocityPredicted, &velocities);
+        }
         write(Buf::Acceleration, &zeros);
         write(Buf::AccelerationStart, &zeros);
         state.forces_stale = true;
@@ -528,6 +550,12 @@ pub(crate) fn prepare_sph_buffers(
         if *generation != state.boundary_generation || needs_allocation {
             upload_boundary(&device, &queue, &mut state, samples);
             state.boundary_generation = *generation;
+            // DFSPH's factors hold the boundary samples near each particle (as the CPU, which
+            // rebuilds its neighbourhood when the boundary moved): the frame's first step
+            // starts from a new neighbourhood.
+            if frame.params.solver == sph_core::Solver::Dfsph {
+                state.forces_stale = true;
+            }
         }
     }
     let mut uniforms = GpuSphParams::with_grid(

@@ -19,6 +19,9 @@ pub struct VariantKey {
     pub pbf: bool,
     /// PBF's vorticity confinement stages (off: they are not in the list and cost nothing).
     pub vorticity: bool,
+    /// Divergence-free SPH (Bender & Koschier 2015, 2017) instead of WCSPH: the DFSPH stage
+    /// list.
+    pub dfsph: bool,
 }
 
 impl VariantKey {
@@ -31,17 +34,23 @@ impl VariantKey {
                 flags.into_iter().flat_map(move |surface_tension| {
                     flags.into_iter().flat_map(move |viscosity| {
                         flags.into_iter().flat_map(move |neighbor_counts| {
-                            // WCSPH, PBF, PBF with vorticity confinement.
-                            [(false, false), (true, false), (true, true)]
-                                .into_iter()
-                                .map(move |(pbf, vorticity)| VariantKey {
-                                    search,
-                                    surface_tension,
-                                    viscosity,
-                                    neighbor_counts,
-                                    pbf,
-                                    vorticity,
-                                })
+                            // WCSPH, PBF, PBF with vorticity confinement, DFSPH.
+                            [
+                                (false, false, false),
+                                (true, false, false),
+                                (true, true, false),
+                                (false, false, true),
+                            ]
+                            .into_iter()
+                            .map(move |(pbf, vorticity, dfsph)| VariantKey {
+                                search,
+                                surface_tension,
+                                viscosity,
+                                neighbor_counts,
+                                pbf,
+                                vorticity,
+                                dfsph,
+                            })
                         })
                     })
                 })
@@ -59,6 +68,7 @@ impl VariantKey {
             neighbor_counts,
             pbf,
             vorticity: pbf && params.pbf.vorticity_epsilon > 0.0,
+            dfsph: params.solver == Solver::Dfsph,
         }
     }
 
@@ -83,6 +93,9 @@ impl VariantKey {
         if self.vorticity {
             defs.push("VORTICITY".into());
         }
+        if self.dfsph {
+            defs.push("SOLVER_DFSPH".into());
+        }
         defs
     }
 }
@@ -100,6 +113,9 @@ pub enum PrePhase {
     /// PBF's prediction: keep x, v += g dt, x* = x + v dt, collide (Macklin & Müller 2013,
     /// Algorithm 1, lines 2-3).
     PbfPredict,
+    /// DFSPH's move after the constant-density solve: x += v dt, collide (Bender & Koschier
+    /// 2017, Algorithm 1).
+    DfsphMove,
 }
 
 /// What the forces pass does besides computing accelerations.
@@ -130,13 +146,110 @@ pub struct EvaluationPlan {
     pub time_step: TimeStepPoint,
     /// The PBF phase of this pass over the list (`None` with WCSPH).
     pub pbf: PbfPhase,
+    /// The DFSPH phase of this pass over the list (`None` with WCSPH and PBF).
+    pub dfsph: DfsphPhase,
 }
 
 impl EvaluationPlan {
-    /// Whether this evaluation sorts the particles (every WCSPH evaluation, PBF's prediction).
+    /// Whether this evaluation sorts the particles (every WCSPH evaluation, PBF's prediction,
+    /// DFSPH's neighbourhoods).
     pub fn sorts(&self) -> bool {
-        matches!(self.pbf, PbfPhase::None | PbfPhase::Predict)
+        match self.dfsph {
+            DfsphPhase::None => matches!(self.pbf, PbfPhase::None | PbfPhase::Predict),
+            DfsphPhase::Neighborhood | DfsphPhase::Move { .. } => true,
+            _ => false,
+        }
     }
+}
+
+/// One of DFSPH's two pressure solves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DfsphSolve {
+    /// The constant-density solve on v* (before the move).
+    Density,
+    /// The divergence-free solve on v (after the move).
+    Divergence,
+}
+
+/// Where a DFSPH step is (Bender & Koschier 2017, Algorithm 1; the CPU's `solver/dfsph.rs`):
+/// one pass over the stage list per phase, each running only its stages. A solve's Jacobi
+/// iterations are two passes each, the stiffness applied to the velocities and the next
+/// source; their indirect dispatches shrink to nothing once the device finds the solve
+/// converged, so the CPU encodes the most iterations and never waits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DfsphPhase {
+    /// Not DFSPH.
+    #[default]
+    None,
+    /// Sort, lists, densities and factors at the current positions (the first step, or after
+    /// spawns and parameter changes).
+    Neighborhood,
+    /// The non-pressure forces, the time step, v* = v + dt a_np, and the constant-density
+    /// solve's first source (its warm start's, when `warm`).
+    Predict {
+        /// The solves warm-start.
+        warm: bool,
+    },
+    /// The warm start's stiffness applied, then the solve's first source.
+    WarmApply(DfsphSolve),
+    /// Jacobi iteration k (from 0): the stiffness applied, then the next source.
+    Iterate(DfsphSolve, u32),
+    /// The constant-density solve's reactions and statistics.
+    DensityEnd,
+    /// x += v dt, the guard; sort, lists, densities and factors at the new positions; the
+    /// divergence-free solve's first source (its warm start's, when `warm`).
+    Move {
+        /// The solves warm-start.
+        warm: bool,
+    },
+    /// The divergence-free solve's reactions and statistics, the pressures, the pumps.
+    Finish,
+}
+
+/// Where DFSPH's sources write their error sum and the applying pass reads it: source j of a
+/// solve (0 the first) writes accumulator j % 2; iteration k reads accumulator k % 2.
+pub fn dfsph_parity(j: u32) -> usize {
+    (j % 2) as usize
+}
+
+/// The passes over the stage list of one DFSPH step: the neighbourhood first when it is stale,
+/// then each solve with `warm` start or not and its `max_*` iterations.
+pub fn dfsph_plans(
+    stale: bool,
+    warm: bool,
+    max_density: u32,
+    max_divergence: u32,
+) -> Vec<EvaluationPlan> {
+    let phase = |dfsph| EvaluationPlan {
+        dfsph,
+        ..EvaluationPlan::default()
+    };
+    let mut plans = Vec::new();
+    if stale {
+        plans.push(phase(DfsphPhase::Neighborhood));
+    }
+    plans.push(EvaluationPlan {
+        time_step: TimeStepPoint::BeforeIntegrate,
+        ..phase(DfsphPhase::Predict { warm })
+    });
+    for (solve, max) in [
+        (DfsphSolve::Density, max_density),
+        (DfsphSolve::Divergence, max_divergence),
+    ] {
+        if solve == DfsphSolve::Divergence {
+            plans.push(phase(DfsphPhase::DensityEnd));
+            plans.push(EvaluationPlan {
+                pre: PrePhase::DfsphMove,
+                ..phase(DfsphPhase::Move { warm })
+            });
+        }
+        if warm {
+            plans.push(phase(DfsphPhase::WarmApply(solve)));
+        }
+        plans.extend((0..max).map(|k| phase(DfsphPhase::Iterate(solve, k))));
+    }
+    plans.push(phase(DfsphPhase::Finish));
+    plans
 }
 
 /// Where a PBF step is: one pass over the stage list per phase, each running only its stages.
@@ -213,13 +326,19 @@ pub fn pbf_plans(iterations: u32, vorticity: bool) -> Vec<EvaluationPlan> {
     plans
 }
 
-/// The passes over the stage list of one step of `params`: PBF's phases ([`pbf_plans`]), or
+/// The passes over the stage list of one step of `params`: PBF's phases ([`pbf_plans`]), DFSPH's
+/// ([`dfsph_plans`]), or
 /// the WCSPH integrator's evaluations ([`evaluation_plans`]).
 pub fn step_plans(params: &SphParams, forces_stale: bool) -> Vec<EvaluationPlan> {
-    if params.solver == Solver::Pbf {
-        pbf_plans(params.pbf.iterations, params.pbf.vorticity_epsilon > 0.0)
-    } else {
-        evaluation_plans(params.integrator, forces_stale)
+    match params.solver {
+        Solver::Pbf => pbf_plans(params.pbf.iterations, params.pbf.vorticity_epsilon > 0.0),
+        Solver::Dfsph => dfsph_plans(
+            forces_stale,
+            params.dfsph.warm_start,
+            params.dfsph.max_density_iterations,
+            params.dfsph.max_divergence_iterations,
+        ),
+        Solver::Wcsph => evaluation_plans(params.integrator, forces_stale),
     }
 }
 

@@ -6,7 +6,7 @@
 use super::buffers::SphGpuState;
 use super::extract::ExtractedSphFrame;
 use super::pipelines::{pipelines_not_ready, SphPipelines};
-use super::plan::{step_plans, EvaluationPlan, PbfPhase, VariantKey};
+use super::plan::{step_plans, DfsphPhase, EvaluationPlan, PbfPhase, VariantKey};
 use super::stage::{encode_stage, StageRun};
 use crate::sets::SphStep;
 use crate::shared::SphRenderFeedback;
@@ -80,9 +80,11 @@ pub fn sph_simulate(world: &mut World) {
             {
                 let mut run = world.resource_mut::<StageRun>();
                 run.plan = plan;
-                // The first step's first evaluation, or every phase of a PBF step (each of its
-                // stages runs in one phase; the iterations' passes are timed in the last).
-                run.timed = step == 0 && (k == 0 || plan.pbf != PbfPhase::None);
+                // The first step's first evaluation, or every phase of a PBF or DFSPH step (each
+                // of its stages runs in some phases; the iterations' passes are timed in the
+                // last).
+                run.timed = step == 0
+                    && (k == 0 || plan.pbf != PbfPhase::None || plan.dfsph != DfsphPhase::None);
             }
             world.run_schedule(SphStep);
         }

@@ -20,6 +20,22 @@ pub enum Dispatch {
     Threads(fn(&StageRun) -> u32),
     /// One dispatch over the sort slots per bitonic step, group 1 at the step's dynamic offset.
     BitonicSteps,
+    /// One indirect dispatch whose workgroup count the device wrote (DFSPH's solve passes:
+    /// none once the solve converged), from `GpuBuffers::dfsph_arguments`.
+    Indirect,
+}
+
+/// Copies the DFSPH solve's dispatch arguments from the clock to the indirect buffer (after each
+/// pass that may change them: a pass cannot read its own dispatch arguments from a buffer it
+/// binds for writing).
+pub fn copy_solve_arguments(encoder: &mut CommandEncoder, run: &StageRun) {
+    encoder.copy_buffer_to_buffer(
+        run.buffers.at(Buf::Clock),
+        sph_core::gpu_layout::GpuClock::DFSPH_ARGS_OFFSET,
+        &run.buffers.dfsph_arguments,
+        0,
+        Some(12),
+    );
 }
 
 /// A GPU stage, declared by its `stages/<name>.rs` as a `const` and listed in `stages/mod.rs`.
@@ -145,6 +161,10 @@ pub fn encode_stage(
             }
             None => 0,
         },
+        Dispatch::Indirect => {
+            pass.dispatch_workgroups_indirect(&run.buffers.dfsph_arguments, 0);
+            1
+        }
     };
     span.end(&mut pass);
     drop(pass);

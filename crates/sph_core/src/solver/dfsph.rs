@@ -19,7 +19,8 @@ use crate::boundary::BodyForceSum;
 use crate::boundary::Boundary;
 use crate::dfsph_bender2017::{
     apply_stiffness, boundary_reactions, compute_factors, density_source, dfsph_time_step,
-    divergence_source, stiffness_from_source, ParticleFactor,
+    divergence_source, rest_lattice_factor, stiffness_from_source, ParticleFactor,
+    DENSITY_WARM_START, DIVERGENCE_WARM_START,
 };
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::frame_budget::StepDt;
@@ -34,18 +35,6 @@ use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::compute_normals;
 use glam::Vec3;
 use rayon::prelude::*;
-
-/// The fraction of the previous step's stiffness the constant-density solve starts from, where
-/// the fluid is compressed before it (Bender & Koschier 2017 warm-start from the previous
-/// stiffness; SPlisHSPlasH does it only where the predicted density exceeds ρ0, and so do we).
-/// The whole of it: measured on the 8,000-particle dam break (docs/dfsph.md), 2.4 iterations
-/// per step against 26 with half of each solve's stiffness.
-pub const DENSITY_WARM_START: f32 = 1.0;
-
-/// The same for the divergence-free solve, where the fluid is being compressed. Half of it: with
-/// the whole, a tank at rest keeps moving (mean speed 0.029 m/s against 0.005) because the
-/// divergence stiffness corrects transients rather than carrying a lasting pressure.
-pub const DIVERGENCE_WARM_START: f32 = 0.5;
 
 /// DFSPH's per-step scratch arrays.
 #[derive(Clone, Debug)]
@@ -87,22 +76,6 @@ struct SolveOutcome {
     reactions: Vec<BodyForceSum>,
 }
 
-/// D_i of a particle in the rest lattice: Σ_j |m ∇W|² over the lattice neighbours (the sum of
-/// the gradients vanishes there); the scale of [`compute_factors`]'s cut-off.
-fn rest_factor(params: &SphParams, kernel: &CubicSpline) -> f32 {
-    let dx = params.spacing();
-    let mut sum = 0.0;
-    for i in -2i32..=2 {
-        for j in -2i32..=2 {
-            for k in -2i32..=2 {
-                let r = Vec3::new(i as f32, j as f32, k as f32) * dx;
-                sum += kernel.gradient(r, r.length()).length_squared();
-            }
-        }
-    }
-    sum * params.particle_mass * params.particle_mass
-}
-
 /// The time step DFSPH's rule gives now: [`dfsph_time_step`] of the largest speed the
 /// non-pressure accelerations would give over the largest step, max |v + a_np dt_max|, and of
 /// the boundary's samples.
@@ -136,7 +109,7 @@ impl DfsphStep<'_> {
             self.parts.params.spacing(),
         );
         self.scratch.kernel = kernel;
-        self.scratch.rest_factor = rest_factor(self.parts.params, &kernel);
+        self.scratch.rest_factor = rest_lattice_factor(self.parts.params);
         self.parts.sort_by_cell();
         let (neighbors, p, t) = (
             &*self.parts.neighbors,

@@ -606,7 +606,12 @@ impl CpuSolver {
                 | CpuStage::PbfVelocity
                 | CpuStage::PbfXsph
                 | CpuStage::PbfVorticity
-                | CpuStage::PbfConfinement => {}
+                | CpuStage::PbfConfinement
+                | CpuStage::DfsphFactors
+                | CpuStage::DfsphPredict
+                | CpuStage::DfsphApply
+                | CpuStage::DfsphSource
+                | CpuStage::DfsphReactions => {}
             }
         }
     }

@@ -57,3 +57,6 @@
 // PBF: each particle's neighbours of the step, neighbour k of particle i at k * capacity + i
 // (written by the pbf_neighbors pass; its count in neighbor_count).
 @group(0) @binding(34) var<storage, read_write> pbf_neighbors: array<u32>;
+// DFSPH: the same pairs with their weighted gradient (m ∇W_ij, j as bits), pair k of particle
+// i at k * capacity + i (written by the dfsph_density pass after each sort).
+@group(0) @binding(35) var<storage, read_write> dfsph_pairs: array<vec4<f32>>;

@@ -38,6 +38,14 @@ struct SphUniforms {
     pbf: vec4<f32>,
     // PBF: s_corr's n, iterations per step, the neighbour lists' length, 0
     pbf_counts: vec4<u32>,
+    // DFSPH (sph_core::dfsph_bender2017): the largest mean density error (fraction of ρ0), the
+    // largest mean divergence error [1/s], the factor's cut-off, warm start (1) or not (0)
+    dfsph: vec4<f32>,
+    // DFSPH: min and max constant-density iterations, min and max divergence-free iterations
+    dfsph_counts: vec4<u32>,
+    // DFSPH: the spacing Δx [m], the warm starts' fractions of the last stiffness (density,
+    // divergence), the largest correction per step (fraction of ρ0)
+    dfsph_b: vec4<f32>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).
@@ -84,6 +92,24 @@ struct SphClock {
     // PBF: particles with more neighbours than the lists hold (sph_core::gpu_layout::
     // PBF_MAX_NEIGHBORS), summed over the steps since the reset.
     neighbor_list_overflows: atomic<u32>,
+    // DFSPH (see shaders/dfsph.wgsl): the solve's indirect dispatch arguments (x = 0 once it
+    // converged), its converged flag, its applied iterations, its two error sums (64-bit fixed
+    // point), the iterations summed since the reset (constant density, its most in one step,
+    // divergence-free), the last solves' mean errors.
+    dfsph_args_x: u32,
+    dfsph_args_y: u32,
+    dfsph_args_z: u32,
+    dfsph_done: u32,
+    dfsph_applied: u32,
+    dfsph_error_a_lo: atomic<u32>,
+    dfsph_error_a_hi: atomic<u32>,
+    dfsph_error_b_lo: atomic<u32>,
+    dfsph_error_b_hi: atomic<u32>,
+    density_iterations: u32,
+    density_iterations_max: u32,
+    divergence_iterations: u32,
+    density_error: f32,
+    divergence_error: f32,
     pad_d: u32,
     pad_e: u32,
 }

@@ -14,7 +14,7 @@ use sph_core::CpuStage;
 
 /// Clears the cell counts (grid) and counts every particle into its cell, or writes every
 /// slot's hash key (hash, padded to the sort length). Roles: no pre-phase, kick-drift,
-/// leapfrog drift, PBF's prediction (the drifting roles run right after the time-step pass, so
+/// leapfrog drift, PBF's prediction, DFSPH's move (the first three drifting roles run right after the time-step pass, so
 /// they apply the checkpoint).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_count_cells",
@@ -43,6 +43,7 @@ pub const STAGE: GpuStage = GpuStage {
         &["PRE_KDK", "APPLY_CHECKPOINT"],
         &["PRE_LEAPFROG", "APPLY_CHECKPOINT"],
         &["PRE_PBF", "APPLY_CHECKPOINT"],
+        &["PRE_DFSPH"],
     ],
     role: |plan: &EvaluationPlan| {
         if !plan.sorts() {
@@ -53,6 +54,7 @@ pub const STAGE: GpuStage = GpuStage {
             PrePhase::KickDrift => 1,
             PrePhase::LeapfrogDrift => 2,
             PrePhase::PbfPredict => 3,
+            PrePhase::DfsphMove => 4,
         })
     },
     dispatch: Dispatch::Threads(|run: &StageRun| {

@@ -4,12 +4,14 @@
 // PRE_PBF       x_prev = x; v += g dt; x* = x + v dt; collide      (Macklin & Müller 2013,
 //               Algorithm 1, lines 2-3; x_prev is kept in acceleration_start, which the sort
 //               carries along)
+// PRE_DFSPH     x += v dt; collide, unless a state is being restored (Bender & Koschier 2017,
+//               Algorithm 1, line 8: the move after the constant-density solve)
 // (skipped while the clock is frozen), after the rollback checkpoint is saved or restored
 // (APPLY_CHECKPOINT: the roles that run right after the time-step pass), then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
 #import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, cell_of, rank_in_cell, cell_counts, sort_keys, sort_values}
 #import sph::guard::guard
 #import sph::clock::{step_dt, frozen}
-#import sph::checkpoint::apply_checkpoint
+#import sph::checkpoint::{apply_checkpoint, restoring}
 #import sph::neighbors::{grid_cell, grid_index, hash_cell, hash_key}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
@@ -63,6 +65,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if integrating {
     acceleration_start[i] = vec4<f32>(x, 0.0);
     let v = velocity[i].xyz + params.gravity.xyz * dt;
+    let moved = guard(x + v * dt, v);
+    x = moved.x;
+    velocity[i] = vec4<f32>(moved.v, 0.0);
+    position[i] = vec4<f32>(x, position[i].w);
+    }
+#endif
+#ifdef PRE_DFSPH
+    if integrating && !restoring() {
+    let v = velocity[i].xyz;
     let moved = guard(x + v * dt, v);
     x = moved.x;
     velocity[i] = vec4<f32>(moved.v, 0.0);

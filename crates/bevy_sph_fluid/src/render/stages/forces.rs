@@ -2,7 +2,7 @@
 //! `sph_core::forces` and `sph_core::integrate::{kick, leapfrog_kick}`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{EvaluationPlan, ForcesRole};
+use crate::render::plan::{DfsphPhase, EvaluationPlan, ForcesRole};
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
@@ -45,6 +45,10 @@ pub const STAGE: GpuStage = GpuStage {
         &["USE_PREDICTED_VELOCITY", "POST_LEAPFROG_KICK"],
     ],
     role: |plan: &EvaluationPlan| {
+        // DFSPH: the non-pressure accelerations, once per step.
+        if plan.dfsph != DfsphPhase::None {
+            return matches!(plan.dfsph, DfsphPhase::Predict { .. }).then_some(0);
+        }
         Some(match plan.forces {
             ForcesRole::Plain => 0,
             ForcesRole::KickClose => 1,

@@ -15,6 +15,8 @@
 // |a| is recorded for the time-step pass (except by the leapfrog's second evaluation, whose
 // acceleration the next step does not start from), |v| by the closing kicks; nothing is
 // integrated or recorded while the clock is frozen.
+// SOLVER_DFSPH: the non-pressure accelerations a_np only (no pressure terms; DFSPH's solves
+// are the pressure), and |v + a_np dt_max| is recorded for its time step.
 // The reaction -m a_ib of every boundary pair goes to the sample's body (Akinci 2012's two-way
 // coupling, summed by shaders/body_reactions.wgsl).
 // Rust twin: sph_core::forces (compute_accelerations and its per-body sums).
@@ -104,7 +106,9 @@ fn particle(i: u32) {
             }
             let rho_j = density[j];
             let r_len = sqrt(r2);
+#ifndef SOLVER_DFSPH
             pressure_sum -= spiky_grad(r, r_len) * (p_i + pressure[j] / (rho_j * rho_j));
+#endif
 #ifdef VISCOSITY
             viscosity_sum += (viscosity_velocity(j) - v_i) * (viscosity_laplacian(r_len) / rho_j);
 #endif
@@ -136,6 +140,10 @@ fn particle(i: u32) {
                 continue;
             }
             let r_len = sqrt(r2);
+#ifdef SOLVER_DFSPH
+            // DFSPH's pressure solves answer for the boundary (dfsph_apply).
+            var a_b = vec3<f32>(0.0);
+#else
             if mirrored < 0.0 {
                 var p_wall = pressure[i];
                 if p_wall <= 0.0 {
@@ -144,6 +152,7 @@ fn particle(i: u32) {
                 mirrored = p_wall / (rho_i * rho_i) + p_wall / (rho0 * rho0);
             }
             var a_b = spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
+#endif
             let u = boundary_velocity[b];
             if u.w > 0.0 {
                 a_b += (u.xyz - v_i) * (u.w * viscous * sample.w * viscosity_laplacian(r_len));
@@ -163,6 +172,10 @@ fn particle(i: u32) {
     }
 #ifndef POST_LEAPFROG_KICK
     record_acceleration(a);
+#endif
+#ifdef SOLVER_DFSPH
+    // DFSPH's CFL rule reads max |v + a_np dt_max| (sph_core::solver::dfsph::next_time_step).
+    record_speed(velocity[i].xyz + a * params.time_step.x);
 #endif
 #ifdef POST_KDK
     let v = pumped(x_i, collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v, dt);

@@ -6,6 +6,11 @@
 pub mod bitonic_sort;
 pub mod count_cells;
 pub mod density;
+pub mod dfsph_apply;
+pub mod dfsph_density;
+pub mod dfsph_predict;
+pub mod dfsph_reactions;
+pub mod dfsph_source;
 pub mod forces;
 pub mod hash_offsets;
 pub mod integrate;
@@ -51,6 +56,24 @@ pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
         }
         return list;
     }
+    if key.dfsph {
+        // Bender & Koschier 2017: the plan's phases (render::plan::dfsph_plans) run the
+        // neighbourhood (lists, densities, factors, normals), the forces, the time step and v*,
+        // then each solve's iterations (apply, source) and its end.
+        list.extend([&pbf_neighbors::STAGE, &dfsph_density::STAGE]);
+        if key.surface_tension {
+            list.push(&normals::STAGE);
+        }
+        list.extend([
+            &forces::STAGE,
+            &time_step::BEFORE_INTEGRATE,
+            &dfsph_predict::STAGE,
+            &dfsph_apply::STAGE,
+            &dfsph_source::STAGE,
+            &dfsph_reactions::STAGE,
+        ]);
+        return list;
+    }
     list.push(&density::STAGE);
     if key.surface_tension {
         list.push(&normals::STAGE);
@@ -83,7 +106,7 @@ pub fn all_stages() -> Vec<&'static GpuStage> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sph_core::stage::{evaluation_stages, pbf_step_stages};
+    use sph_core::stage::{dfsph_step_stages, evaluation_stages, pbf_step_stages};
     use sph_core::{CpuStage, SphParams};
 
     /// The CPU solver's evaluation mirrors the GPU list: mapping each GPU stage to its CPU twin
@@ -145,6 +168,7 @@ mod tests {
                     neighbor_counts: false,
                     pbf: true,
                     vorticity,
+                    dfsph: false,
                 };
                 let list = stage_list(&key);
                 let mut runs: Vec<(&str, usize)> = Vec::new();
@@ -177,10 +201,103 @@ mod tests {
         }
     }
 
+    /// DFSPH's list mirrors the CPU's DFSPH step: the GPU stages' twins (the time step aside),
+    /// each once, are `dfsph_step_stages`.
+    #[test]
+    fn the_dfsph_stage_list_mirrors_the_cpu_step() {
+        for search in [NeighborSearch::Grid, NeighborSearch::Hash] {
+            for surface_tension in [0.0, 0.5] {
+                let mut params = SphParams::water();
+                params.use_solver(sph_core::Solver::Dfsph);
+                params.neighbor_search = search;
+                params.surface_tension = surface_tension;
+                let key = VariantKey::of(&params, false);
+                assert!(key.dfsph && !key.pbf);
+                let mut twins: Vec<CpuStage> = stage_list(&key)
+                    .iter()
+                    .map(|stage| stage.cpu_twin)
+                    .filter(|twin| *twin != CpuStage::TimeStep)
+                    .collect();
+                twins.dedup();
+                assert_eq!(twins, dfsph_step_stages(&params), "{key:?}");
+            }
+        }
+    }
+
+    /// A DFSPH step runs each stage where it belongs: two sorts (one without a stale
+    /// neighbourhood), the forces, time step and v* once, per solve one first source (after the
+    /// warm start's apply when on), then per iteration one apply reading the sum the source
+    /// before wrote and one source writing the other, and one end.
+    #[test]
+    fn dfsph_phases_run_each_stage_where_it_belongs() {
+        use crate::render::plan::{dfsph_plans, DfsphPhase};
+        let mut params = SphParams::water();
+        params.use_solver(sph_core::Solver::Dfsph);
+        let list = stage_list(&VariantKey::of(&params, false));
+        for stale in [false, true] {
+            for warm in [false, true] {
+                for (most_density, most_divergence) in [(1, 1), (2, 5), (100, 100)] {
+                    let plans = dfsph_plans(stale, warm, most_density, most_divergence);
+                    let mut runs: Vec<(&str, usize, DfsphPhase)> = Vec::new();
+                    for plan in &plans {
+                        for stage in &list {
+                            if let Some(role) = (stage.role)(plan) {
+                                runs.push((stage.name, role, plan.dfsph));
+                            }
+                        }
+                    }
+                    let count = |name: &str| runs.iter().filter(|r| r.0 == name).count();
+                    let sorts = 1 + stale as usize;
+                    assert_eq!(count("sph_count_cells"), sorts);
+                    assert_eq!(count("sph_pbf_neighbors"), sorts);
+                    assert_eq!(count("sph_dfsph_density"), sorts);
+                    assert_eq!(count("sph_forces"), 1);
+                    assert_eq!(count("sph_time_step"), 1);
+                    assert_eq!(count("sph_dfsph_predict"), 1);
+                    assert_eq!(count("sph_dfsph_reactions"), 2);
+                    let warm_passes = 2 * warm as usize;
+                    assert_eq!(
+                        count("sph_dfsph_apply"),
+                        (most_density + most_divergence) as usize + warm_passes
+                    );
+                    assert_eq!(
+                        count("sph_dfsph_source"),
+                        (most_density + most_divergence) as usize + 2 + warm_passes
+                    );
+                    // Iteration k reads sum k % 2 (roles 1, 2 and 4, 5), which source k wrote:
+                    // the first source (role 1 or 5) writes a, source j > 0 writes j % 2.
+                    let mut last_written = None;
+                    for (name, role, _) in &runs {
+                        match *name {
+                            "sph_dfsph_source" if role % 4 == 1 => last_written = Some(0),
+                            "sph_dfsph_source" if role % 4 >= 2 => {
+                                last_written = Some(role % 4 - 2)
+                            }
+                            "sph_dfsph_apply" if role % 3 != 0 => {
+                                assert_eq!(Some(role % 3 - 1), last_written, "{runs:?}");
+                            }
+                            _ => {}
+                        }
+                    }
+                    // The move comes after the density solve's end and before the divergence
+                    // solve's first source.
+                    let at = |name: &str, role: usize| {
+                        runs.iter()
+                            .position(|r| r.0 == name && r.1 == role)
+                            .unwrap()
+                    };
+                    assert!(at("sph_dfsph_reactions", 0) < at("sph_count_cells", 4));
+                    assert!(at("sph_count_cells", 4) < at("sph_dfsph_source", 5 - warm as usize));
+                    assert_eq!(runs.last().unwrap().0, "sph_dfsph_reactions");
+                }
+            }
+        }
+    }
+
     #[test]
     fn names_are_unique_except_the_two_places_of_the_time_step() {
         let all = all_stages();
-        assert_eq!(all.len(), 18, "every stage file, the time step twice");
+        assert_eq!(all.len(), 23, "every stage file, the time step twice");
         let mut names: Vec<&str> = all.iter().map(|s| s.name).collect();
         names.sort_unstable();
         names.dedup();

@@ -1,8 +1,9 @@
-//! PBF's neighbour lists of the step, after the sort of the predicted positions
+//! PBF's neighbour lists of the step, after the sort of the predicted positions (and DFSPH's,
+//! after each of its sorts)
 //! (`pbf_neighbors.wgsl`; CPU twin `sph_core::neighbor_lists::NeighborLists::rebuild`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{EvaluationPlan, PbfPhase};
+use crate::render::plan::{DfsphPhase, EvaluationPlan, PbfPhase};
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
@@ -10,6 +11,7 @@ use sph_core::CpuStage;
 
 /// The pairs within h at x* of every particle, once per PBF step (in its prediction phase):
 /// the iterations then visit about 33 neighbours each instead of the 27 cells' candidates.
+/// DFSPH builds the same lists after each of its sorts, for its solves' dozens of passes.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_pbf_neighbors",
     cpu_twin: CpuStage::NeighborLists,
@@ -26,7 +28,10 @@ pub const STAGE: GpuStage = GpuStage {
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],
-    role: |plan: &EvaluationPlan| (plan.pbf == PbfPhase::Predict).then_some(0),
+    role: |plan: &EvaluationPlan| {
+        let dfsph = plan.dfsph != DfsphPhase::None && plan.sorts();
+        (plan.pbf == PbfPhase::Predict || dfsph).then_some(0)
+    },
     dispatch: Dispatch::Threads(GpuStage::per_particle),
     before: None,
     after: None,

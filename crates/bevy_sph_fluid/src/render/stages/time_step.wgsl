@@ -11,7 +11,8 @@
 //    when one is due (none yet, particles were added, or `interval` steps since the last);
 // 4. dt = time_step, or with the adaptive rule
 //    min(time_step, λ h / (c0 + v_max), 0.125 h² ρ0/μ, 0.25 sqrt(h / a_max)), times 2^-halvings
-//    (SOLVER_PBF: min(time_step, λ h / v_max), and only a non-finite state is unstable);
+//    (SOLVER_PBF: min(time_step, λ h / v_max), and only a non-finite state is unstable;
+//    SOLVER_DFSPH: min(time_step, λ Δx / v_max, 0.125 h² ρ0/μ));
 // 5. real-time mode (sph_core::frame_budget::budget_dt): a new frame number starts a budget of
 //    the frame's time in its planned steps; dt = min(dt, remaining / steps left), so the frame
 //    never oversteps its time and ends on it when the plan's step count was right;
@@ -101,6 +102,16 @@ fn main() {
             rule_dt = min(rule_dt, params.time_step.y * h / v_max);
         }
 #else
+#ifdef SOLVER_DFSPH
+        // DFSPH's rule (sph_core::dfsph_bender2017::dfsph_time_step): min(time_step, λ Δx / v_max,
+        // 0.125 h² ρ0/μ) with v_max = max |v + a_np dt_max|, as the forces pass records it.
+        if params.flags.z != 0u {
+            if v_max > 0.0 {
+                rule_dt = min(rule_dt, params.time_step.y * params.dfsph_b.x / v_max);
+            }
+            rule_dt = min(rule_dt, params.time_step.z);
+        }
+#else
         if params.flags.z != 0u {
             rule_dt = min(rule_dt, params.time_step.y * h / (params.time_step.w + v_max));
             rule_dt = min(rule_dt, params.time_step.z);
@@ -108,6 +119,7 @@ fn main() {
                 rule_dt = min(rule_dt, 0.25 * sqrt(h / a_max));
             }
         }
+#endif
 #endif
         let due = clock.has_checkpoint == 0u || clock.save_requested != 0u || clock.step >= clock.checkpoint_step + rollback.y;
         if rollback.x != 0u && due {

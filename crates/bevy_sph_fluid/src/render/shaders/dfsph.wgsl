@@ -1,0 +1,167 @@
+// Divergence-free SPH (Bender & Koschier 2015, 2017) on the GPU: where each DFSPH pass finds
+// its arrays, and the solves' shared sums. Rust twin: sph_core::dfsph_bender2017 and
+// sph_core::solver::dfsph.
+//
+// Notation as in the Rust twin: g_ij = m ∇W(x_i - x_j) (W the cubic spline normalised on the
+// rest lattice), g_ib = Ψ_b ∇W(x_i - x_b) with Ψ_b = ρ0 V_b; the stiffness κ_i = p_i/ρ_i²;
+// a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib; Dρ_i/Dt = Σ_j (v_i - v_j)·g_ij + Σ_b (v_i - v_b)·g_ib.
+//
+// The arrays a DFSPH step borrows (none of them is used otherwise by its stage list):
+// - `density`: ρ_i, the cubic-spline density of the lists;
+// - `acceleration_start`: (Σ_b g_ib, 1/D_i), the factor (0 for an isolated particle);
+// - `sorted_acceleration_start`: (Σ_b v_b·g_ib, fluid and boundary neighbours, 0, 0) (the
+//   sort's scratch, free after the scatter);
+// - `pressure`: κ_i of the iteration, during the solves (the last pass writes the pressures);
+// - `velocity_predicted`: (κ summed by the constant-density solve, κ summed by the
+//   divergence-free solve, 0, 0), carried by the sort: the next step's warm starts;
+// - `neighbor_count`, `pbf_neighbors`: the pairs within h after each sort (the lists pass),
+//   and `dfsph_pairs`: the same pairs with g_ij (the factors pass), read by every iteration.
+// The solve in progress keeps its state in the clock (dfsph_*): the applied iterations, the
+// converged flag, two error sums, and the indirect dispatch arguments of its passes.
+#define_import_path sph::dfsph
+
+#import sph::bindings::{params, clock, pressure, acceleration_start, sorted_acceleration_start, velocity_predicted, dfsph_pairs}
+
+// Isolated particles: fewer neighbours than this is a free surface, left out of the
+// divergence-free solve (sph_core::dfsph_bender2017::INTERIOR_NEIGHBORS).
+const INTERIOR_NEIGHBORS: f32 = 20.0;
+
+// 2^32 in units of the error sums' fixed point (sph_core::gpu_layout::DFSPH_ERROR_UNIT = 1e-9).
+const HIGH_WORD: f32 = 4.294967296;
+const UNITS_PER_ONE: f32 = 1.0e9;
+
+fn mass() -> f32 {
+    return params.gravity.w;
+}
+
+fn rest_density() -> f32 {
+    return params.material.x;
+}
+
+// The particle spacing Δx (the CFL rule's length).
+fn spacing() -> f32 {
+    return params.dfsph_b.x;
+}
+
+struct Factor {
+    boundary_grad: vec3<f32>,
+    inverse: f32,
+    boundary_flux: f32,
+    neighbors: f32,
+}
+
+fn factor(i: u32) -> Factor {
+    let a = acceleration_start[i];
+    let b = sorted_acceleration_start[i];
+    return Factor(a.xyz, a.w, b.x, b.y);
+}
+
+// κ_j of the iteration (in `pressure`, free during the solves: the step's last pass writes
+// the pressures).
+fn stiffness(j: u32) -> f32 {
+    return pressure[j];
+}
+
+fn set_stiffness(i: u32, k: f32) {
+    pressure[i] = k;
+}
+
+// The stiffness the solve in progress summed for particle i.
+fn total(i: u32) -> f32 {
+#ifdef DIVERGENCE_SOLVE
+    return velocity_predicted[i].y;
+#else
+    return velocity_predicted[i].x;
+#endif
+}
+
+fn set_total(i: u32, k: f32) {
+#ifdef DIVERGENCE_SOLVE
+    velocity_predicted[i].y = k;
+#else
+    velocity_predicted[i].x = k;
+#endif
+}
+
+// Neighbour k of particle i and g_ij, as the factors pass stored them.
+struct Pair {
+    j: u32,
+    grad: vec3<f32>,
+}
+
+fn pair(i: u32, k: u32) -> Pair {
+    let e = dfsph_pairs[k * params.capacity + i];
+    return Pair(bitcast<u32>(e.w), e.xyz);
+}
+
+fn set_pair(i: u32, k: u32, j: u32, grad: vec3<f32>) {
+    dfsph_pairs[k * params.capacity + i] = vec4<f32>(grad, bitcast<f32>(j));
+}
+
+// A solve starts: nothing applied, no error summed, its passes dispatched over every particle
+// (workgroups of `threads`).
+fn open_solve(threads: u32) {
+    clock.dfsph_done = 0u;
+    clock.dfsph_applied = 0u;
+    clock.dfsph_error_a_lo = 0u;
+    clock.dfsph_error_a_hi = 0u;
+    clock.dfsph_error_b_lo = 0u;
+    clock.dfsph_error_b_hi = 0u;
+    clock.dfsph_args_x = (params.particle_count + threads - 1u) / threads;
+    clock.dfsph_args_y = 1u;
+    clock.dfsph_args_z = 1u;
+}
+
+// The solve converged: its remaining passes dispatch no workgroup.
+fn close_solve() {
+    clock.dfsph_done = 1u;
+    clock.dfsph_args_x = 0u;
+}
+
+// Adds a workgroup's sum (of s_i/ρ0, non-negative) to error sum `b` (0: a, 1: b) in 64-bit
+// fixed point.
+fn add_error(b: u32, sum: f32) {
+    let units = max(sum, 0.0) * UNITS_PER_ONE;
+    let high = floor(units / 4294967296.0);
+    let low = u32(units - high * 4294967296.0);
+    var old: u32;
+    if b == 0u {
+        old = atomicAdd(&clock.dfsph_error_a_lo, low);
+    } else {
+        old = atomicAdd(&clock.dfsph_error_b_lo, low);
+    }
+    let carry = select(0u, 1u, old + low < old);
+    let add_high = u32(high) + carry;
+    if add_high != 0u {
+        if b == 0u {
+            atomicAdd(&clock.dfsph_error_a_hi, add_high);
+        } else {
+            atomicAdd(&clock.dfsph_error_b_hi, add_high);
+        }
+    }
+}
+
+// The mean error of sum `b`: Σ s_i / (n ρ0).
+fn mean_error(b: u32) -> f32 {
+    var lo: u32;
+    var hi: u32;
+    if b == 0u {
+        lo = atomicLoad(&clock.dfsph_error_a_lo);
+        hi = atomicLoad(&clock.dfsph_error_a_hi);
+    } else {
+        lo = atomicLoad(&clock.dfsph_error_b_lo);
+        hi = atomicLoad(&clock.dfsph_error_b_hi);
+    }
+    let sum = f32(hi) * HIGH_WORD + f32(lo) / UNITS_PER_ONE;
+    return sum / f32(max(params.particle_count, 1u));
+}
+
+fn clear_error(b: u32) {
+    if b == 0u {
+        atomicStore(&clock.dfsph_error_a_lo, 0u);
+        atomicStore(&clock.dfsph_error_a_hi, 0u);
+    } else {
+        atomicStore(&clock.dfsph_error_b_lo, 0u);
+        atomicStore(&clock.dfsph_error_b_hi, 0u);
+    }
+}

@@ -1,0 +1,65 @@
+// The first pass of a DFSPH Jacobi iteration (Bender & Koschier 2017, Algorithms 2 and 3):
+// first the decision, then v_i += dt a_i with a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib (see
+// shaders/dfsph.wgsl), and the stiffness joins the solve's sum.
+// The decision (every thread takes the same): with `applied` iterations done and the last
+// source's mean error e (sum a, or FROM_B sum b), the solve goes on while
+// (applied < min or e > η) and applied < max; otherwise thread 0 closes it (the remaining
+// passes dispatch nothing) and the pass returns. Going on, thread 0 clears the other sum for
+// the next source.
+// DFSPH_WARM: the warm start's stiffness, applied without a decision (it is the sum already).
+// Constant density by default, DIVERGENCE_SOLVE the divergence-free solve's limits.
+// Rust twins: sph_core::dfsph_bender2017::apply_stiffness and the loop of
+// sph_core::solver::dfsph.
+#import sph::bindings::{params, clock, velocity, neighbor_count}
+#import sph::clock::{step_dt, frozen}
+#import sph::checkpoint::restoring
+#import sph::dfsph::{factor, pair, stiffness, total, set_total, mean_error, clear_error, close_solve}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if frozen() || restoring() || clock.dfsph_done != 0u {
+        return;
+    }
+#ifndef DFSPH_WARM
+#ifdef FROM_B
+    let read = 1u;
+#else
+    let read = 0u;
+#endif
+    let applied = clock.dfsph_applied;
+#ifdef DIVERGENCE_SOLVE
+    let least = params.dfsph_counts.z;
+    let most = params.dfsph_counts.w;
+    let eta = params.dfsph.y;
+#else
+    let least = params.dfsph_counts.x;
+    let most = params.dfsph_counts.y;
+    let eta = params.dfsph.x;
+#endif
+    let go_on = (applied < least || mean_error(read) > eta) && applied < most;
+    if !go_on {
+        if i == 0u {
+            close_solve();
+        }
+        return;
+    }
+    if i == 0u {
+        clear_error(1u - read);
+    }
+#endif
+    if i >= params.particle_count {
+        return;
+    }
+    let k_i = stiffness(i);
+    var a = -k_i * factor(i).boundary_grad;
+    let fluid = neighbor_count[i];
+    for (var k = 0u; k < fluid; k++) {
+        let p = pair(i, k);
+        a -= (k_i + stiffness(p.j)) * p.grad;
+    }
+    velocity[i] = vec4<f32>(velocity[i].xyz + a * step_dt(), 0.0);
+#ifndef DFSPH_WARM
+    set_total(i, total(i) + k_i);
+#endif
+}

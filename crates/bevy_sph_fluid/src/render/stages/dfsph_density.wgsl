@@ -1,0 +1,69 @@
+// DFSPH's densities and factors after each sort (Bender & Koschier 2017, eq. 9 with our κ):
+// over the lists' pairs and the boundary samples within h,
+// ρ_i = m Σ_j W_ij (self included) + Σ_b Ψ_b W_ib,
+// D_i = |Σ_j g_ij + Σ_b g_ib|² + Σ_j |g_ij|²  ->  1/D_i (0 below the cut-off params.dfsph.z),
+// and Σ_b g_ib, Σ_b v_b·g_ib, the neighbour count and each pair's g_ij for the solves
+// (shaders/dfsph.wgsl).
+// Thread 0 opens the next solve (the divergence-free one after the move).
+// Rust twins: sph_core::neighbor_lists::NeighborLists::rebuild (the densities) and
+// sph_core::dfsph_bender2017::compute_factors.
+#import sph::bindings::{params, position, density, neighbor_count, pbf_neighbors, acceleration_start, sorted_acceleration_start, boundary_position, boundary_velocity}
+#import sph::kernels::{cubic, cubic_grad}
+#import sph::neighbors::{grid_cell, boundary_range}
+#import sph::dfsph::{mass, rest_density, set_pair, open_solve}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i == 0u {
+        open_solve(#{WORKGROUP_SIZE}u);
+    }
+    if i >= params.particle_count {
+        return;
+    }
+    let x_i = position[i].xyz;
+    let m = mass();
+    let rho0 = rest_density();
+    let h2 = params.kernel_a.y;
+    var rho = m * cubic(0.0);
+    var sum = vec3<f32>(0.0);
+    var squares = 0.0;
+    let fluid = neighbor_count[i];
+    for (var k = 0u; k < fluid; k++) {
+        let j = pbf_neighbors[k * params.capacity + i];
+        let r = x_i - position[j].xyz;
+        let r_len = length(r);
+        let g = cubic_grad(r, r_len) * m;
+        set_pair(i, k, j, g);
+        rho += m * cubic(r_len);
+        sum += g;
+        squares += dot(g, g);
+    }
+    var boundary_grad = vec3<f32>(0.0);
+    var boundary_flux = 0.0;
+    var solid = 0u;
+    let cell = grid_cell(x_i);
+    for (var q = 0u; q < 9u; q++) {
+        let range = boundary_range(cell, q);
+        for (var b = range.x; b < range.y; b++) {
+            let sample = boundary_position[b];
+            let r = x_i - sample.xyz;
+            let r2 = dot(r, r);
+            if r2 >= h2 {
+                continue;
+            }
+            let r_len = sqrt(r2);
+            let psi = rho0 * sample.w;
+            rho += psi * cubic(r_len);
+            let g = cubic_grad(r, r_len) * psi;
+            boundary_grad += g;
+            boundary_flux += dot(boundary_velocity[b].xyz, g);
+            solid += 1u;
+        }
+    }
+    let d = dot(sum + boundary_grad, sum + boundary_grad) + squares;
+    let inverse = select(0.0, 1.0 / d, d > params.dfsph.z);
+    density[i] = rho;
+    acceleration_start[i] = vec4<f32>(boundary_grad, inverse);
+    sorted_acceleration_start[i] = vec4<f32>(boundary_flux, f32(fluid + solid), 0.0, 0.0);
+}

@@ -1,0 +1,32 @@
+//! DFSPH's predicted velocities v* = v + dt a_np after the time step, with the rollback
+//! checkpoint (`dfsph_predict.wgsl`; CPU twin: step 3 of `sph_core::solver::dfsph`).
+
+use crate::render::buffers::Buf;
+use crate::render::plan::{DfsphPhase, EvaluationPlan};
+use crate::render::stage::{copy_solve_arguments, Dispatch, GpuStage};
+use bevy::asset::{embedded_asset, load_embedded_asset};
+use sph_core::gpu_layout::WORKGROUP_SIZE;
+use sph_core::CpuStage;
+
+/// The checkpoint, then v += dt a for every particle, once per DFSPH step; opens the
+/// constant-density solve.
+pub const STAGE: GpuStage = GpuStage {
+    name: "sph_dfsph_predict",
+    cpu_twin: CpuStage::DfsphPredict,
+    embed: |app| embedded_asset!(app, "dfsph_predict.wgsl"),
+    shader: |server| load_embedded_asset!(server, "dfsph_predict.wgsl"),
+    bindings: &[
+        Buf::Position,
+        Buf::Velocity,
+        Buf::Acceleration,
+        Buf::AccelerationStart,
+        Buf::Clock,
+        Buf::Checkpoint,
+    ],
+    workgroup_size: WORKGROUP_SIZE,
+    roles: &[&[]],
+    role: |plan: &EvaluationPlan| matches!(plan.dfsph, DfsphPhase::Predict { .. }).then_some(0),
+    dispatch: Dispatch::Threads(GpuStage::per_particle),
+    before: None,
+    after: Some(copy_solve_arguments),
+};

@@ -1,0 +1,77 @@
+// The end of a DFSPH solve: the bodies' reactions, the solve's statistics, and after the
+// divergence-free solve the step's close.
+// - Reactions (Akinci 2012's two-way coupling): each boundary pair's -m a_ib = m κ_i g_ib with
+//   the stiffness the solve summed, at the sample (summed by shaders/body_reactions.wgsl).
+// - Thread 0 adds the solve's applied iterations to the clock's sums and keeps its last mean
+//   error (the sum its last source wrote: a after an even count, b after an odd one).
+// - DIVERGENCE_SOLVE: p_i = (κ_i + κ_i^v) ρ_i², the pumps, the probes.
+// Nothing is summed while the clock is frozen or a state is being restored.
+// Rust twins: sph_core::dfsph_bender2017::boundary_reactions, the end of
+// sph_core::solver::dfsph::DfsphStep::advance, sph_core::pump::apply_pumps (CpuSolver::step).
+#import sph::bindings::{params, clock, position, velocity, velocity_predicted, density, pressure, boundary_position, boundary_body}
+#import sph::kernels::cubic_grad
+#import sph::neighbors::{grid_cell, boundary_range}
+#import sph::clock::{step_dt, frozen}
+#import sph::checkpoint::restoring
+#import sph::pumps::pumped
+#import sph::probes::record_probes
+#import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
+#import sph::dfsph::{mass, rest_density, total, mean_error}
+
+fn particle(i: u32) {
+    let x_i = position[i].xyz;
+    let k = total(i) * mass();
+    if k != 0.0 {
+        let h2 = params.kernel_a.y;
+        let rho0 = rest_density();
+        let cell = grid_cell(x_i);
+        for (var q = 0u; q < 9u; q++) {
+            let range = boundary_range(cell, q);
+            for (var b = range.x; b < range.y; b++) {
+                let sample = boundary_position[b];
+                let r = x_i - sample.xyz;
+                let r2 = dot(r, r);
+                if r2 >= h2 {
+                    continue;
+                }
+                let g = cubic_grad(r, sqrt(r2)) * (rho0 * sample.w);
+                add_reaction(boundary_body[b], g * k, sample.xyz);
+            }
+        }
+    }
+#ifdef DIVERGENCE_SOLVE
+    let rho = density[i];
+    let sums = velocity_predicted[i];
+    pressure[i] = (sums.x + sums.y) * rho * rho;
+    let v = pumped(x_i, velocity[i].xyz, step_dt());
+    velocity[i] = vec4<f32>(v, 0.0);
+    record_probes(i, x_i, v);
+#endif
+}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = id.x;
+    let live = !frozen() && !restoring();
+    begin_reactions(local, #{WORKGROUP_SIZE}u);
+    if i < params.particle_count && live {
+        particle(i);
+        flush_reaction();
+    }
+    end_reactions(local, #{WORKGROUP_SIZE}u);
+    if i == 0u && live {
+        let applied = clock.dfsph_applied;
+        let error = mean_error(applied % 2u);
+#ifdef DIVERGENCE_SOLVE
+        clock.divergence_iterations += applied;
+        clock.divergence_error = error;
+#else
+        clock.density_iterations += applied;
+        clock.density_iterations_max = max(clock.density_iterations_max, applied);
+        clock.density_error = error;
+#endif
+    }
+}

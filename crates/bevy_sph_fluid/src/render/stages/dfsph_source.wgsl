@@ -1,0 +1,100 @@
+// A DFSPH solve's source and next stiffness (Bender & Koschier 2017, Algorithms 2 and 3, with
+// κ = p/ρ²; see shaders/dfsph.wgsl), at the current velocities:
+// constant density (default):  s_i = clamp(ρ_i + dt Dρ_i/Dt - ρ0, 0, MAX_CORRECTION ρ0),
+//                              κ_i = s_i / (dt² D_i);
+// divergence-free (DIVERGENCE_SOLVE): s_i = max(Dρ_i/Dt, 0) for particles with at least
+//                              INTERIOR_NEIGHBORS neighbours, else 0; κ_i = s_i / (dt D_i).
+// DFSPH_WARM: the warm start instead: κ_i = fraction × the stiffness the solve summed last
+// step where s_i > 0, else 0, and the sum starts from it.
+// Otherwise Σ s_i/ρ0 goes to the error sum the next applying pass reads (TO_B: sum b, else
+// a): each workgroup reduces its threads' terms and adds them in 64-bit fixed point.
+// DFSPH_FIRST: the solve's first source (without the warm start its sum starts at 0); the
+// sources after it count the iteration the pass before applied.
+// Dispatched indirectly: no workgroup runs once the solve converged.
+// Rust twins: sph_core::dfsph_bender2017::{density_source, divergence_source,
+// stiffness_from_source} and the warm start of sph_core::solver::dfsph.
+#import sph::bindings::{params, clock, velocity, density, neighbor_count}
+#import sph::clock::{step_dt, frozen}
+#import sph::checkpoint::restoring
+#import sph::dfsph::{INTERIOR_NEIGHBORS, rest_density, factor, pair, set_stiffness, total, set_total, add_error}
+
+var<workgroup> partial: array<f32, #{WORKGROUP_SIZE}>;
+
+// The solve's source of particle i (see above).
+fn source(i: u32) -> f32 {
+    let f = factor(i);
+    let v_i = velocity[i].xyz;
+    var rate = dot(v_i, f.boundary_grad) - f.boundary_flux;
+    let fluid = neighbor_count[i];
+    for (var k = 0u; k < fluid; k++) {
+        let p = pair(i, k);
+        rate += dot(v_i - velocity[p.j].xyz, p.grad);
+    }
+#ifdef DIVERGENCE_SOLVE
+    if f.neighbors < INTERIOR_NEIGHBORS {
+        return 0.0;
+    }
+    return max(rate, 0.0);
+#else
+    let rho0 = rest_density();
+    return clamp(density[i] + step_dt() * rate - rho0, 0.0, params.dfsph_b.w * rho0);
+#endif
+}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = id.x;
+    var term = 0.0;
+    if i < params.particle_count && !frozen() && !restoring() {
+        let s = source(i);
+        let dt = step_dt();
+#ifdef DFSPH_WARM
+#ifdef DIVERGENCE_SOLVE
+        let fraction = params.dfsph_b.z;
+#else
+        let fraction = params.dfsph_b.y;
+#endif
+        let k = select(0.0, total(i) * fraction, s > 0.0);
+        set_stiffness(i, k);
+        set_total(i, k);
+#else
+#ifdef DIVERGENCE_SOLVE
+        let scale = 1.0 / dt;
+#else
+        let scale = 1.0 / (dt * dt);
+#endif
+        set_stiffness(i, scale * s * factor(i).inverse);
+#ifdef DFSPH_FIRST
+        if params.dfsph.w == 0.0 {
+            set_total(i, 0.0);
+        }
+#endif
+        term = s / rest_density();
+#endif
+    }
+#ifndef DFSPH_WARM
+    partial[local] = term;
+    workgroupBarrier();
+    for (var stride = #{WORKGROUP_SIZE}u / 2u; stride > 0u; stride /= 2u) {
+        if local < stride {
+            partial[local] += partial[local + stride];
+        }
+        workgroupBarrier();
+    }
+    if local == 0u {
+#ifdef TO_B
+        add_error(1u, partial[0]);
+#else
+        add_error(0u, partial[0]);
+#endif
+    }
+#ifndef DFSPH_FIRST
+    if i == 0u {
+        clock.dfsph_applied += 1u;
+    }
+#endif
+#endif
+}
