@@ -119,6 +119,14 @@ fn one_pbf_gpu_step_with_colliders_matches_the_cpu_solver() {
     one_step_with_colliders_matches(Solver::Pbf);
 }
 
+/// DFSPH's boundary: the samples in the factors, the solves and the reactions summed on the
+/// device by `dfsph_reactions`, over two steps (the second one's force compared).
+#[test]
+fn one_dfsph_gpu_step_with_colliders_matches_the_cpu_solver() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    one_step_with_colliders_matches(Solver::Dfsph);
+}
+
 fn one_step_with_colliders_matches(solver: Solver) {
     let (params, container, block) = scene_for(solver);
     let mut cpu = CpuSolver::new(params, container, block.count()).unwrap();
@@ -127,8 +135,9 @@ fn one_step_with_colliders_matches(solver: Solver) {
     }
     let report = cpu.spawn(&block.positions(), spawn_velocity(solver));
     assert!(report.inside_colliders > 0);
-    // Two PBF steps, the second one's force compared (the GPU reports the last frame's).
-    let steps = if solver == Solver::Pbf { 2 } else { 1 };
+    // Two PBF or DFSPH steps, the second one's force compared (the GPU reports the last
+    // frame's).
+    let steps = if solver == Solver::Wcsph { 1 } else { 2 };
     for _ in 1..steps {
         cpu.step();
     }
