@@ -83,11 +83,19 @@ fn blue_pixels(w: u32, rgb: &[u8]) -> usize {
 }
 
 #[test]
-fn dfsph_water_on_the_cpu_backend_is_drawn() {
-    // `--solver dfsph` runs the CPU backend; the plugin copies its particles into the draw buffers.
-    let (w, _, rgb) = screenshot(&["--particles", "4096", "--frames", "20", "--solver", "dfsph"]);
-    let blue = blue_pixels(w, &rgb);
-    assert!(blue >= 3_000, "only {blue} blue particle pixels in the box");
+fn dfsph_water_is_drawn_on_both_backends() {
+    // The GPU backend draws its own buffers; with `--cpu` the plugin copies the CPU solver's
+    // particles into them.
+    for backend in [None, Some("--cpu")] {
+        let mut args = vec!["--particles", "4096", "--frames", "20", "--solver", "dfsph"];
+        args.extend(backend);
+        let (w, _, rgb) = screenshot(&args);
+        let blue = blue_pixels(w, &rgb);
+        assert!(
+            blue >= 3_000,
+            "{backend:?}: only {blue} blue particle pixels in the box"
+        );
+    }
 }
 
 #[test]

@@ -191,8 +191,10 @@ mod shipped_scenes {
         };
         let report = run(&args, &Bars::new(true)).unwrap_or_else(|e| panic!("{file}: {e}"));
         assert_eq!(report.health, "ok", "{file}");
+        // The GPU plans a frame's steps ahead and may end a few steps past 2 s.
+        let past = if backend == Backend::Gpu { 0.1 } else { 0.01 };
         assert!(
-            (report.sim_time - 2.0).abs() < 0.01,
+            report.sim_time > 1.99 && report.sim_time < 2.0 + past,
             "{file}: {}",
             report.sim_time
         );
@@ -223,11 +225,19 @@ mod shipped_scenes {
         }
     }
 
-    /// The GPU runs the scenes its passes cover: WCSPH without drains (the ramp's meshes
-    /// guarded on the device).
+    /// The GPU runs the scenes its passes cover, every solver, all but aquaplay.ron (its drain
+    /// has no GPU pass yet): WCSPH (the ramp's meshes guarded on the device), PBF (the pipe,
+    /// the lock) and DFSPH (the gate).
     #[test]
-    fn the_wcsph_scenes_run_two_seconds_on_the_gpu() {
-        two_seconds("dam_break.ron", Backend::Gpu);
-        two_seconds("ramp.ron", Backend::Gpu);
+    fn the_scenes_without_drains_run_two_seconds_on_the_gpu() {
+        for file in [
+            "dam_break.ron",
+            "ramp.ron",
+            "pipe_fill.ron",
+            "lock.ron",
+            "gate.ron",
+        ] {
+            two_seconds(file, Backend::Gpu);
+        }
     }
 }
