@@ -123,6 +123,60 @@ fn worst_difference(gpu: &[Vec3], gpu_order: &[usize], cpu: &[Vec3], cpu_order: 
         .fold(0.0, f32::max)
 }
 
+/// The worst differences between the GPU's snapshot and the CPU solver's state, particles
+/// matched by id (every id present once on the GPU), with the scale they are judged against.
+struct Differences {
+    /// Largest |Δx| [m].
+    dx: f32,
+    /// Largest |Δv| [m/s].
+    dv: f32,
+    /// Largest relative density difference.
+    drho: f32,
+    /// The CPU's largest speed [m/s].
+    v_max: f32,
+    /// The farthest a CPU particle moved from its spawn position [m].
+    moved: f32,
+}
+
+fn differences(s: &SphSnapshot, cpu: &CpuSolver, block: &BlockSpawn, what: &str) -> Differences {
+    let cpu_p = cpu.particles();
+    let n = cpu_p.len();
+    let mut cpu_order: Vec<usize> = (0..n).collect();
+    cpu_order.sort_by_key(|&k| cpu_p.id[k]);
+    assert_eq!(s.ids.len(), n, "{what}");
+    let gpu_order = by_id(s);
+    let gpu_ids: Vec<u32> = gpu_order.iter().map(|&k| s.ids[k]).collect();
+    assert!(gpu_ids.iter().copied().eq(0..n as u32), "{what}: ids");
+    let dx = worst_difference(&s.positions, &gpu_order, &cpu_p.position, &cpu_order);
+    let dv = worst_difference(&s.velocities, &gpu_order, &cpu_p.velocity, &cpu_order);
+    let drho = gpu_order
+        .iter()
+        .zip(&cpu_order)
+        .map(|(&g, &c)| (s.densities[g] - cpu_p.density[c]).abs() / cpu_p.density[c])
+        .fold(0.0, f32::max);
+    let v_max = cpu_p
+        .velocity
+        .iter()
+        .map(|v| v.length())
+        .fold(0.0, f32::max);
+    let start = block.positions();
+    let moved = cpu_order
+        .iter()
+        .map(|&c| (cpu_p.position[c] - start[cpu_p.id[c] as usize]).length())
+        .fold(0.0, f32::max);
+    eprintln!(
+        "{what}: worst |Δx| {dx:.2e} m (moved up to {moved:.2e} m), |Δv| {dv:.2e} m/s \
+         (v_max {v_max:.3} m/s), density {drho:.2e} relative"
+    );
+    Differences {
+        dx,
+        dv,
+        drho,
+        v_max,
+        moved,
+    }
+}
+
 /// PBF (Macklin & Müller 2013) on the GPU: three steps at PBF's own dt (1/120 s) from the same
 /// jittered block give the CPU solver's positions, velocities and densities, in both search
 /// modes, with and without vorticity confinement. Both take the pairs within h at the predicted
@@ -146,9 +200,6 @@ fn pbf_steps_on_the_gpu_match_the_cpu_solver() {
             for _ in 0..steps {
                 cpu.step();
             }
-            let cpu_p = cpu.particles();
-            let mut cpu_order: Vec<usize> = (0..n).collect();
-            cpu_order.sort_by_key(|&k| cpu_p.id[k]);
 
             let mut app = headless_app(n as u32, SphBackend::Gpu);
             app.insert_resource(SphParams(params));
@@ -164,31 +215,13 @@ fn pbf_steps_on_the_gpu_match_the_cpu_solver() {
             assert_eq!(stats.pressure_iterations_max, params.pbf.iterations);
             assert_eq!(stats.neighbor_list_overflows, 0, "{what}");
             let s = snapshot(&mut app);
-            assert_eq!(s.ids.len(), n, "{what}");
-            let gpu_order = by_id(&s);
-            let gpu_ids: Vec<u32> = gpu_order.iter().map(|&k| s.ids[k]).collect();
-            assert!(gpu_ids.iter().copied().eq(0..n as u32), "{what}: ids");
-            let dx = worst_difference(&s.positions, &gpu_order, &cpu_p.position, &cpu_order);
-            let dv = worst_difference(&s.velocities, &gpu_order, &cpu_p.velocity, &cpu_order);
-            let drho = gpu_order
-                .iter()
-                .zip(&cpu_order)
-                .map(|(&g, &c)| (s.densities[g] - cpu_p.density[c]).abs() / cpu_p.density[c])
-                .fold(0.0, f32::max);
-            let v_max = cpu_p
-                .velocity
-                .iter()
-                .map(|v| v.length())
-                .fold(0.0, f32::max);
-            let start = block.positions();
-            let moved = cpu_order
-                .iter()
-                .map(|&c| (cpu_p.position[c] - start[cpu_p.id[c] as usize]).length())
-                .fold(0.0, f32::max);
-            eprintln!(
-                "{what}: worst |Δx| {dx:.2e} m (moved up to {moved:.2e} m), |Δv| {dv:.2e} m/s \
-                 (v_max {v_max:.3} m/s), density {drho:.2e} relative"
-            );
+            let Differences {
+                dx,
+                dv,
+                drho,
+                v_max,
+                moved,
+            } = differences(&s, &cpu, &block, &what);
             assert!(moved > 1e-3, "{what}: the water moves");
             assert!(dx <= 1e-6, "{what}: positions differ by {dx} m");
             assert!(dv <= 1e-4 * v_max, "{what}: velocities differ by {dv} m/s");
@@ -222,9 +255,6 @@ fn dfsph_steps_on_the_gpu_match_the_cpu_solver() {
                 density_iterations += cpu.solver_stats().density_iterations;
                 divergence_iterations += cpu.solver_stats().divergence_iterations;
             }
-            let cpu_p = cpu.particles();
-            let mut cpu_order: Vec<usize> = (0..n).collect();
-            cpu_order.sort_by_key(|&k| cpu_p.id[k]);
 
             let mut app = headless_app(n as u32, SphBackend::Gpu);
             app.insert_resource(SphParams(params));
@@ -254,31 +284,13 @@ fn dfsph_steps_on_the_gpu_match_the_cpu_solver() {
                 divergence_iterations,
                 clock.dt()
             );
-            assert_eq!(s.ids.len(), n, "{what}");
-            let gpu_order = by_id(&s);
-            let gpu_ids: Vec<u32> = gpu_order.iter().map(|&k| s.ids[k]).collect();
-            assert!(gpu_ids.iter().copied().eq(0..n as u32), "{what}: ids");
-            let dx = worst_difference(&s.positions, &gpu_order, &cpu_p.position, &cpu_order);
-            let dv = worst_difference(&s.velocities, &gpu_order, &cpu_p.velocity, &cpu_order);
-            let drho = gpu_order
-                .iter()
-                .zip(&cpu_order)
-                .map(|(&g, &c)| (s.densities[g] - cpu_p.density[c]).abs() / cpu_p.density[c])
-                .fold(0.0, f32::max);
-            let v_max = cpu_p
-                .velocity
-                .iter()
-                .map(|v| v.length())
-                .fold(0.0, f32::max);
-            let start = block.positions();
-            let moved = cpu_order
-                .iter()
-                .map(|&c| (cpu_p.position[c] - start[cpu_p.id[c] as usize]).length())
-                .fold(0.0, f32::max);
-            eprintln!(
-                "{what}: worst |Δx| {dx:.2e} m (moved up to {moved:.2e} m), |Δv| {dv:.2e} m/s \
-                 (v_max {v_max:.3} m/s), density {drho:.2e} relative"
-            );
+            let Differences {
+                dx,
+                dv,
+                drho,
+                v_max,
+                moved,
+            } = differences(&s, &cpu, &block, &what);
             assert_eq!(clock.step as u64, steps, "{what}");
             assert_eq!(
                 (clock.density_iterations, clock.divergence_iterations),
