@@ -230,6 +230,10 @@ pub struct SphStats {
     /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports
     /// them and `RenderDiagnosticsPlugin` is added (GPU backend), wall clock (CPU backend).
     pub stage_ms: Vec<(String, f64)>,
+    /// GPU time of the water surface's passes in the last measured frame [ms] (depth,
+    /// thickness, the filter's passes summed, normals, composite) for the first `SphSurface` camera:
+    /// GPU timestamps when the adapter supports them and `RenderDiagnosticsPlugin` is added.
+    pub surface_ms: Vec<(String, f64)>,
     /// GPU memory of the particle buffers per particle slot [bytes].
     pub gpu_bytes_per_particle: u32,
     /// Health as last measured.

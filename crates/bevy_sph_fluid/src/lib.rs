@@ -40,6 +40,7 @@ pub mod scene_asset;
 mod sets;
 pub mod shared;
 mod simulation;
+pub mod surface;
 
 pub use api::*;
 #[cfg(feature = "avian")]
@@ -50,6 +51,7 @@ pub use scene_asset::{
     SphDynamicBody, SphHinge, SphScene, SphSceneAsset, SphSceneControls, SphSceneMember,
 };
 pub use sets::{SphGraphSystems, SphStep, SphSystems};
+pub use surface::settings::{SphSurface, SphSurfaceError, SphSurfaceStatus};
 
 /// Commonly used items.
 pub mod prelude {
@@ -60,4 +62,5 @@ pub mod prelude {
     pub use crate::plugin::SphFluidPlugin;
     pub use crate::scene_asset::{SphScene, SphSceneAsset, SphSceneControls, SphSceneMember};
     pub use crate::sets::SphSystems;
+    pub use crate::surface::settings::{SphSurface, SphSurfaceError, SphSurfaceStatus};
 }

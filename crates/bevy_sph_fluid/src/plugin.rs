@@ -72,6 +72,7 @@ impl Plugin for SphFluidPlugin {
         // Spawns consumed by the render world are cleared before the next frame's spawners run.
         app.add_systems(First, simulation::clear_frame);
         render::build(app);
+        crate::surface::build(app, self.schedule);
     }
 
     fn finish(&self, app: &mut App) {

@@ -1,0 +1,151 @@
+//! The surface's composite (`surface_composite.wgsl`): the lit water over the view's colour,
+//! in `Core3dSystems::EarlyPostProcess` (before tonemapping). Specialized by the view's colour
+//! format and whether its depth is multisampled.
+
+use super::view::{ExtractedSphSurface, GpuSurfaceUniform};
+use bevy::asset::{embedded_asset, load_embedded_asset};
+use bevy::core_pipeline::FullscreenShader;
+use bevy::prelude::*;
+use bevy::render::render_resource::binding_types::{
+    sampler, texture_2d, texture_depth_2d, texture_depth_2d_multisampled, uniform_buffer,
+};
+use bevy::render::render_resource::{
+    BindGroupLayoutDescriptor, BindGroupLayoutEntries, CachedRenderPipelineId, ColorTargetState,
+    ColorWrites, FragmentState, PipelineCache, RenderPipelineDescriptor, Sampler,
+    SamplerBindingType, SamplerDescriptor, ShaderStages, SpecializedRenderPipeline,
+    SpecializedRenderPipelines, TextureFormat, TextureSampleType,
+};
+use bevy::render::renderer::RenderDevice;
+use bevy::render::view::{Msaa, ViewTarget};
+
+/// Pass name (GPU timings, labels).
+pub const NAME: &str = "sph_surface_composite";
+
+/// The composite's layouts (single-sampled and multisampled view depth), shader and sampler.
+#[derive(Resource)]
+pub struct SurfaceCompositePipeline {
+    /// `[single-sampled, multisampled]` view depth.
+    pub layouts: [BindGroupLayoutDescriptor; 2],
+    shader: Handle<Shader>,
+    vertex: bevy::render::render_resource::VertexState,
+    /// Bilinear, clamped: the scene colour and the thickness.
+    pub sampler: Sampler,
+}
+
+/// The composite's variant: the view's colour format, and whether its depth is multisampled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CompositeKey {
+    /// The view target's main texture format.
+    pub format: TextureFormat,
+    /// MSAA on the view (its depth texture is multisampled).
+    pub multisampled: bool,
+}
+
+impl SpecializedRenderPipeline for SurfaceCompositePipeline {
+    type Key = CompositeKey;
+
+    fn specialize(&self, key: CompositeKey) -> RenderPipelineDescriptor {
+        let mut shader_defs = Vec::new();
+        if key.multisampled {
+            shader_defs.push("MULTISAMPLED_DEPTH".into());
+        }
+        RenderPipelineDescriptor {
+            label: Some(NAME.into()),
+            layout: vec![self.layouts[key.multisampled as usize].clone()],
+            vertex: self.vertex.clone(),
+            fragment: Some(FragmentState {
+                shader: self.shader.clone(),
+                shader_defs,
+                targets: vec![Some(ColorTargetState {
+                    format: key.format,
+                    blend: None,
+                    write_mask: ColorWrites::ALL,
+                })],
+                ..default()
+            }),
+            ..default()
+        }
+    }
+}
+
+/// A surface view's composite pipeline and the layout it was made with.
+#[derive(Component)]
+pub struct SurfaceCompositeVariant {
+    /// The specialized pipeline.
+    pub pipeline: CachedRenderPipelineId,
+    /// Whether the view's depth is multisampled.
+    pub multisampled: bool,
+}
+
+pub(crate) fn embed(app: &mut App) {
+    embedded_asset!(app, "surface_composite.wgsl");
+}
+
+pub(crate) fn init_surface_composite_pipeline(
+    mut commands: Commands,
+    server: Res<AssetServer>,
+    device: Res<RenderDevice>,
+    fullscreen: Option<Res<FullscreenShader>>,
+) {
+    // Without Bevy's core pipeline there are no views to draw a surface in.
+    let Some(fullscreen) = fullscreen else {
+        return;
+    };
+    let layout = |multisampled: bool| {
+        let depth = if multisampled {
+            texture_depth_2d_multisampled()
+        } else {
+            texture_depth_2d()
+        };
+        BindGroupLayoutDescriptor::new(
+            NAME,
+            &BindGroupLayoutEntries::sequential(
+                ShaderStages::FRAGMENT,
+                (
+                    uniform_buffer::<GpuSurfaceUniform>(true),
+                    texture_2d(TextureSampleType::Float { filterable: true }),
+                    sampler(SamplerBindingType::Filtering),
+                    texture_2d(TextureSampleType::Float { filterable: false }),
+                    texture_2d(TextureSampleType::Float { filterable: true }),
+                    texture_2d(TextureSampleType::Float { filterable: true }),
+                    depth,
+                ),
+            ),
+        )
+    };
+    commands.insert_resource(SurfaceCompositePipeline {
+        layouts: [layout(false), layout(true)],
+        shader: load_embedded_asset!(server.as_ref(), "surface_composite.wgsl"),
+        vertex: fullscreen.to_vertex_state(),
+        sampler: device.create_sampler(&SamplerDescriptor {
+            label: Some(NAME),
+            mag_filter: bevy::render::render_resource::FilterMode::Linear,
+            min_filter: bevy::render::render_resource::FilterMode::Linear,
+            ..default()
+        }),
+    });
+}
+
+/// Chooses each surface view's composite variant.
+pub(crate) fn queue_sph_surface_composite(
+    mut commands: Commands,
+    views: Query<(Entity, &ViewTarget, &Msaa), With<ExtractedSphSurface>>,
+    pipeline: Option<Res<SurfaceCompositePipeline>>,
+    mut specialized: ResMut<SpecializedRenderPipelines<SurfaceCompositePipeline>>,
+    cache: Res<PipelineCache>,
+) {
+    let Some(pipeline) = pipeline else {
+        return;
+    };
+    for (entity, target, msaa) in &views {
+        let key = CompositeKey {
+            format: target.main_texture_format(),
+            multisampled: msaa.samples() > 1,
+        };
+        let id = specialized.specialize(&cache, &pipeline, key);
+        commands.entity(entity).insert(SurfaceCompositeVariant {
+            pipeline: id,
+            multisampled: key.multisampled,
+        });
+    }
+}

@@ -1,0 +1,68 @@
+// Composite: the water surface over the view's colour, before tonemapping. Per pixel of the
+// view: the scaled targets' normal (bilinear: its w is the water's coverage) and thickness; the
+// scene behind refracted along the normal by the thickness; Beer-Lambert absorption toward the
+// deep-water colour over the thickness; Fresnel (Schlick, F0 = 0.02) reflection of the sky; a
+// Blinn-Phong highlight of the sun (van der Laan, Green & Sainz 2009). Opaque geometry nearer
+// than the water (the view's depth) hides it.
+
+#import bevy_sph_fluid::surface_types::{SurfaceUniform, unproject, pixel_ndc}
+
+@group(0) @binding(0) var<uniform> surface: SurfaceUniform;
+@group(0) @binding(1) var scene_color: texture_2d<f32>;
+@group(0) @binding(2) var linear_sampler: sampler;
+@group(0) @binding(3) var fluid_depth: texture_2d<f32>;
+@group(0) @binding(4) var normals: texture_2d<f32>;
+@group(0) @binding(5) var thickness: texture_2d<f32>;
+#ifdef MULTISAMPLED_DEPTH
+@group(0) @binding(6) var scene_depth: texture_depth_multisampled_2d;
+#else
+@group(0) @binding(6) var scene_depth: texture_depth_2d;
+#endif
+
+// Water reflects about 2 % of the light at normal incidence.
+const WATER_F0: f32 = 0.02;
+const SHININESS: f32 = 256.0;
+
+@fragment
+fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
+    let uv = position.xy / surface.view_size;
+    // Exact texel loads where there is no water: most of the view, so the cheapest path.
+    let behind_water = textureLoad(scene_color, vec2<i32>(position.xy), 0);
+    let last = vec2<i32>(surface.target_size) - vec2<i32>(1);
+    let scaled = uv * surface.target_size;
+    let corner = clamp(vec2<i32>(scaled - 0.5), vec2<i32>(0), last);
+    let near_water = textureLoad(normals, corner, 0).w + textureLoad(normals, min(corner + vec2<i32>(1, 1), last), 0).w
+        + textureLoad(normals, min(corner + vec2<i32>(1, 0), last), 0).w + textureLoad(normals, min(corner + vec2<i32>(0, 1), last), 0).w;
+    if near_water == 0.0 {
+        return behind_water;
+    }
+    let sampled = textureSampleLevel(normals, linear_sampler, uv, 0.0);
+    if sampled.w < 0.5 {
+        return behind_water;
+    }
+    // Opaque geometry in front of the water hides it.
+    let depth = textureLoad(fluid_depth, clamp(vec2<i32>(uv * surface.target_size), vec2<i32>(0), last), 0).r;
+    let ndc = pixel_ndc(position.xy, surface.view_size);
+    let opaque = textureLoad(scene_depth, vec2<i32>(position.xy), 0);
+    if opaque > 0.0 && depth > 0.0 && -unproject(surface, ndc, opaque).z < depth {
+        return behind_water;
+    }
+    let normal = normalize(sampled.xyz);
+    var to_eye = vec3<f32>(0.0, 0.0, 1.0);
+    if surface.orthographic == 0u {
+        to_eye = -normalize(unproject(surface, ndc, 1.0));
+    }
+    let water = textureSampleLevel(thickness, linear_sampler, uv, 0.0).r;
+    // Refraction: the scene behind, moved along the normal's screen direction by the thickness.
+    let offset = vec2<f32>(normal.x, -normal.y) * surface.refraction_strength * water;
+    let refracted = textureSampleLevel(scene_color, linear_sampler, clamp(uv - offset, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
+    let transmittance = exp(-surface.absorption.rgb * water);
+    let transmitted = refracted * transmittance + surface.deep_color.rgb * (1.0 - transmittance);
+    let cos_view = clamp(dot(normal, to_eye), 0.0, 1.0);
+    let fresnel = WATER_F0 + (1.0 - WATER_F0) * pow(1.0 - cos_view, 5.0);
+    let sun = normalize(surface.sun_direction.xyz);
+    let half_way = normalize(sun + to_eye);
+    let highlight = surface.sun_direction.w * pow(max(dot(normal, half_way), 0.0), SHININESS);
+    let color = mix(transmitted, surface.sky_color.rgb, fresnel) + vec3<f32>(highlight);
+    return vec4<f32>(color, behind_water.a);
+}
