@@ -1,6 +1,8 @@
 //! Runs the sandbox under Xvfb on the software Vulkan driver, lets it render, saves a screenshot
 //! and looks at it: blue particle pixels inside the box, the obstacles (`--obstacles`: a ball and
-//! a box in orange, and the gate) and the runtime panel present.
+//! a box in orange, and the gate) and the runtime panel present; the water surface
+//! (`--render surface`) smoother than the particles and covering at least as much, on both
+//! backends.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -87,7 +89,16 @@ fn dfsph_water_is_drawn_on_both_backends() {
     // The GPU backend draws its own buffers; with `--cpu` the plugin copies the CPU solver's
     // particles into them.
     for backend in [None, Some("--cpu")] {
-        let mut args = vec!["--particles", "4096", "--frames", "20", "--solver", "dfsph"];
+        let mut args = vec![
+            "--particles",
+            "4096",
+            "--frames",
+            "20",
+            "--solver",
+            "dfsph",
+            "--render",
+            "particles",
+        ];
         args.extend(backend);
         let (w, _, rgb) = screenshot(&args);
         let blue = blue_pixels(w, &rgb);
@@ -106,7 +117,8 @@ fn the_lock_aquaplay_and_ramp_scene_files_render() {
         "assets/scenes/ramp.ron",
     ] {
         let path = format!("{}/{file}", env!("CARGO_MANIFEST_DIR"));
-        let (w, _, rgb) = screenshot(&["--scene", &path, "--frames", "20"]);
+        let (w, _, rgb) =
+            screenshot(&["--scene", &path, "--frames", "20", "--render", "particles"]);
         let blue = blue_pixels(w, &rgb);
         assert!(
             blue >= 2_000,
@@ -117,7 +129,15 @@ fn the_lock_aquaplay_and_ramp_scene_files_render() {
 
 #[test]
 fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
-    let (w, h, rgb) = screenshot(&["--particles", "8192", "--frames", "30", "--obstacles"]);
+    let (w, h, rgb) = screenshot(&[
+        "--particles",
+        "8192",
+        "--frames",
+        "30",
+        "--obstacles",
+        "--render",
+        "particles",
+    ]);
     assert_eq!((w, h), (1280, 720));
     let pixel = |x: u32, y: u32| {
         let i = 3 * (y * w + x) as usize;
@@ -161,5 +181,96 @@ fn sandbox_screenshot_shows_water_in_the_box_and_the_panel() {
     assert!(
         r >= 36 || g >= 36 || b >= 36,
         "background looks like the panel"
+    );
+}
+
+/// The pixels right of the runtime panel where `picture` differs from `empty` (the same view
+/// without water) by more than 10 in the sum of the channels: the water, faint or not (the
+/// same scene renders identically, so any change is the water's).
+fn water_mask(w: u32, h: u32, empty: &[u8], picture: &[u8]) -> Vec<bool> {
+    (0..w * h)
+        .map(|p| {
+            let (x, i) = (p % w, 3 * p as usize);
+            let difference: i32 = (0..3)
+                .map(|c| (picture[i + c] as i32 - empty[i + c] as i32).abs())
+                .sum();
+            x >= WATER_VIEW_LEFT && difference > 10
+        })
+        .collect()
+}
+
+/// Left edge of the part of the window the water tests look at (the panel is left of it).
+const WATER_VIEW_LEFT: u32 = 390;
+
+/// Mean absolute Laplacian of luminance over the water pixels whose four neighbours are water
+/// too (silhouettes excluded), and the number of such pixels.
+fn mean_laplacian(w: u32, h: u32, rgb: &[u8], water: &[bool]) -> (f64, usize) {
+    let luminance = |x: u32, y: u32| {
+        let i = 3 * (y * w + x) as usize;
+        0.299 * rgb[i] as f64 + 0.587 * rgb[i + 1] as f64 + 0.114 * rgb[i + 2] as f64
+    };
+    let (mut sum, mut count) = (0.0, 0);
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            let at = |x: u32, y: u32| water[(y * w + x) as usize];
+            if at(x, y) && at(x - 1, y) && at(x + 1, y) && at(x, y - 1) && at(x, y + 1) {
+                let laplacian = 4.0 * luminance(x, y)
+                    - luminance(x - 1, y)
+                    - luminance(x + 1, y)
+                    - luminance(x, y - 1)
+                    - luminance(x, y + 1);
+                sum += laplacian.abs();
+                count += 1;
+            }
+        }
+    }
+    (sum / count.max(1) as f64, count)
+}
+
+#[test]
+fn the_surface_is_smoother_than_the_particles_and_covers_as_much_on_both_backends() {
+    // Paused: the three pictures show the same water (the block before it falls).
+    let base = ["--particles", "8192", "--frames", "30", "--paused"];
+    let run = |more: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend(more);
+        screenshot(&args)
+    };
+    // The same view without water: what is not in it is water.
+    let (w, h, empty) = run(&["--hide-particles"]);
+    let (_, _, particles) = run(&["--render", "particles"]);
+    let (_, _, surface) = run(&["--render", "surface"]);
+    let particle_water = water_mask(w, h, &empty, &particles);
+    let surface_water = water_mask(w, h, &empty, &surface);
+    let covered = |mask: &[bool]| mask.iter().filter(|&&m| m).count();
+    let (particle_roughness, particle_inside) = mean_laplacian(w, h, &particles, &particle_water);
+    let (surface_roughness, surface_inside) = mean_laplacian(w, h, &surface, &surface_water);
+    println!(
+        "particles: {} water pixels, mean |Laplacian| {particle_roughness:.2} over {particle_inside}; \
+         surface: {} water pixels, mean |Laplacian| {surface_roughness:.2} over {surface_inside}",
+        covered(&particle_water),
+        covered(&surface_water)
+    );
+    assert!(
+        covered(&particle_water) >= 20_000,
+        "the particles cover only {} pixels",
+        covered(&particle_water)
+    );
+    assert!(
+        covered(&surface_water) >= covered(&particle_water),
+        "the surface covers {} pixels, the particles {}",
+        covered(&surface_water),
+        covered(&particle_water)
+    );
+    assert!(
+        surface_roughness <= 0.5 * particle_roughness,
+        "surface mean |Laplacian| {surface_roughness:.2} against the particles' {particle_roughness:.2}"
+    );
+    // The CPU backend's particles are copied into the same buffers: its surface is drawn too.
+    let (_, _, cpu_surface) = run(&["--render", "surface", "--cpu"]);
+    let cpu_water = covered(&water_mask(w, h, &empty, &cpu_surface));
+    assert!(
+        cpu_water >= 20_000,
+        "the CPU backend's surface covers only {cpu_water} pixels"
     );
 }

@@ -3,7 +3,10 @@
 //! file's dynamic bodies are avian bodies on the water's clock (`SphWaterTime`).
 //!
 //! `cargo run --release --example sandbox -- [--particles N] [--start] [--paused]
-//!     [--hide-particles] [--no-gpu-timings] [--debug] [--obstacles] [--screenshot FILE --frames N]`
+//!     [--hide-particles] [--no-gpu-timings] [--debug] [--obstacles] [--render surface|particles]
+//!     [--screenshot FILE --frames N]`
+//! `--render surface` draws the plugin's water surface (`SphSurface` on the camera) instead of
+//! the particles; the runtime panel switches between them.
 //! `--screenshot` starts the scene at once, renders N frames, saves a PNG, prints the median
 //! frame time and exits; `--paused` and `--hide-particles` isolate the simulation's and the
 //! particle drawing's share of the frame.
@@ -17,6 +20,7 @@ mod ranges;
 mod scene;
 mod scene_file;
 mod scene_panel;
+mod surface;
 mod ui;
 
 use bevy::diagnostic::FrameTimeDiagnosticsPlugin;
@@ -62,6 +66,8 @@ struct Cli {
     solver: Option<sph_core::Solver>,
     /// `--cpu`: the CPU backend instead of the GPU.
     cpu: bool,
+    /// `--render surface|particles`: how the water is drawn.
+    render: surface::RenderMode,
 }
 
 fn parse_cli() -> Result<Cli, String> {
@@ -111,6 +117,10 @@ fn parse_cli() -> Result<Cli, String> {
                 cli.start = true;
                 k += 1;
             }
+            "--render" => {
+                cli.render = value()?.parse()?;
+                k += 1;
+            }
             "--solver" => {
                 cli.solver = match value()?.as_str() {
                     "wcsph" => Some(sph_core::Solver::Wcsph),
@@ -155,12 +165,17 @@ fn main() {
             eprintln!(
                 "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
                  [--hide-particles] [--no-gpu-timings] [--debug] [--adaptive] \
-                 [--obstacles] [--solver wcsph|dfsph|pbf] [--real-time] [--cpu] [--scene FILE] [--screenshot FILE --frames N]"
+                 [--obstacles] [--solver wcsph|dfsph|pbf] [--real-time] [--cpu] [--scene FILE] [--render surface|particles] \
+                 [--screenshot FILE --frames N]"
             );
             std::process::exit(2);
         }
     };
     let no_gpu_timings = cli.no_gpu_timings;
+    let render_view = surface::RenderView {
+        mode: cli.render,
+        hide_water: cli.hide_particles,
+    };
     let mut config = config::SandboxConfig::default();
     if let Some(n) = cli.particles {
         config.budget = n;
@@ -248,6 +263,7 @@ fn main() {
         running: false,
         ..default()
     })
+    .insert_resource(render_view)
     .init_resource::<ui::DebugView>()
     .init_resource::<ui::History>()
     .init_resource::<scene_panel::ProbeHistory>()
@@ -267,6 +283,7 @@ fn main() {
             debug::draw_debug,
             take_screenshot,
             apply_cli_toggles,
+            surface::apply_render_mode,
             obstacles::lift_gate,
             scene_file::dress_scene_members,
             scene_panel::record_probe_readings,
@@ -313,27 +330,25 @@ fn auto_start(cli: Res<Cli>, mut next: ResMut<NextState<AppState>>) {
     }
 }
 
-/// `--paused`, `--hide-particles` and `--debug`, applied once the scene runs.
+/// `--paused` and `--debug`, applied once the scene runs (`--hide-particles` is
+/// `surface::RenderView::hide_water`).
 fn apply_cli_toggles(
     cli: Res<Cli>,
     mut control: ResMut<SphControl>,
-    mut particles: Query<&mut Visibility, With<scene::ParticleMesh>>,
     mut debug: ResMut<ui::DebugView>,
     drawing: Option<ResMut<particles::ParticleDrawing>>,
+    mut render: ResMut<surface::RenderView>,
 ) {
     if cli.debug && !debug.0 {
         if let Some(mut drawing) = drawing {
             debug.0 = true;
             drawing.color_mode = particles::ColorMode::Neighbors;
+            // The debug colours are the particles'.
+            render.mode = surface::RenderMode::Particles;
         }
     }
     if cli.paused {
         control.running = false;
-    }
-    if cli.hide_particles {
-        for mut visibility in &mut particles {
-            *visibility = Visibility::Hidden;
-        }
     }
 }
 

@@ -6,6 +6,7 @@ use crate::obstacles::{Gate, GateLift};
 use crate::particles::{ColorMode, ParticleDrawing};
 use crate::ranges;
 use crate::scene_file::{SceneFileKind, SceneFiles};
+use crate::surface::{surface_controls, RenderMode, RenderView};
 use crate::AppState;
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
@@ -297,6 +298,8 @@ pub fn runtime_panel(
     mut next: ResMut<NextState<AppState>>,
     gate: Option<ResMut<GateLift>>,
     gates: Query<(), With<Gate>>,
+    mut render: ResMut<RenderView>,
+    mut surfaces: Query<(&mut SphSurface, Option<&SphSurfaceStatus>)>,
 ) -> Result {
     egui::Window::new("Simulation")
         .anchor(egui::Align2::LEFT_TOP, [8.0, 8.0])
@@ -404,8 +407,10 @@ pub fn runtime_panel(
                     next.set(AppState::Setup);
                 }
             });
+            surface_controls(ui, &mut render, &mut surfaces, &stats);
             let mut drawing_mode = drawing;
-            if let Some(drawing) = drawing_mode.as_deref_mut() {
+            let particle_mode = render.mode == RenderMode::Particles;
+            if let Some(drawing) = drawing_mode.as_deref_mut().filter(|_| particle_mode) {
                 ui.horizontal(|ui| {
                     ui.label("colour");
                     for (mode, label) in [
@@ -425,6 +430,8 @@ pub fn runtime_panel(
             );
             if let Some(drawing) = drawing_mode.as_deref_mut() {
                 if debug.0 && !was {
+                    // The debug colours are the particles'.
+                    render.mode = RenderMode::Particles;
                     drawing.color_mode = ColorMode::Neighbors;
                 } else if !debug.0 && was {
                     drawing.color_mode = ColorMode::Density;

@@ -1,0 +1,154 @@
+//! How the water is drawn: particles (sphere impostors coloured by density, the debug view) or
+//! the plugin's screen-space surface (`SphSurface` on the camera), and the surface's live
+//! settings in the runtime panel.
+
+use crate::scene::ParticleMesh;
+use bevy::prelude::*;
+use bevy_egui::egui::{self, Color32, SliderClamping};
+use bevy_sph_fluid::prelude::*;
+
+/// Particles or surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RenderMode {
+    /// Sphere impostors coloured by density, speed, pressure or neighbours (the debug view).
+    Particles,
+    /// The plugin's water surface.
+    #[default]
+    Surface,
+}
+
+impl std::str::FromStr for RenderMode {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "particles" => Ok(Self::Particles),
+            "surface" => Ok(Self::Surface),
+            other => Err(format!("--render = {other:?}: allowed surface, particles")),
+        }
+    }
+}
+
+/// The chosen mode, and `--hide-particles` (nothing drawn, to time the simulation alone).
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct RenderView {
+    /// Particles or surface.
+    pub mode: RenderMode,
+    /// Draw no water at all.
+    pub hide_water: bool,
+}
+
+/// Puts `SphSurface` on the camera in surface mode (keeping its settings while it stays), and
+/// shows the particle mesh only in particle mode.
+pub fn apply_render_mode(
+    mut commands: Commands,
+    view: Res<RenderView>,
+    cameras: Query<(Entity, Has<SphSurface>), With<Camera3d>>,
+    mut particles: Query<&mut Visibility, With<ParticleMesh>>,
+) {
+    let surface = view.mode == RenderMode::Surface && !view.hide_water;
+    for (camera, has) in &cameras {
+        if surface && !has {
+            commands.entity(camera).insert(SphSurface::default());
+        } else if !surface && has {
+            commands.entity(camera).remove::<SphSurface>();
+        }
+    }
+    let wanted = if view.mode == RenderMode::Particles && !view.hide_water {
+        Visibility::Inherited
+    } else {
+        Visibility::Hidden
+    };
+    for mut visibility in &mut particles {
+        if *visibility != wanted {
+            *visibility = wanted;
+        }
+    }
+}
+
+fn f32_slider<'a>(
+    value: &'a mut f32,
+    range: std::ops::RangeInclusive<f32>,
+    text: &str,
+) -> egui::Slider<'a> {
+    egui::Slider::new(value, range)
+        .text(text)
+        .clamping(SliderClamping::Always)
+}
+
+/// The render mode choice and, in surface mode, the surface's settings and GPU times.
+pub fn surface_controls(
+    ui: &mut egui::Ui,
+    view: &mut RenderView,
+    surfaces: &mut Query<(&mut SphSurface, Option<&SphSurfaceStatus>)>,
+    stats: &SphStats,
+) {
+    ui.horizontal(|ui| {
+        ui.label("draw");
+        ui.radio_value(&mut view.mode, RenderMode::Particles, "particles");
+        ui.radio_value(&mut view.mode, RenderMode::Surface, "surface");
+    });
+    let Some((mut surface, status)) = surfaces.iter_mut().next() else {
+        return;
+    };
+    let mut s = surface.clone();
+    ui.add(f32_slider(
+        &mut s.resolution_scale,
+        0.1..=1.0,
+        "surface resolution scale",
+    ));
+    ui.add(f32_slider(
+        &mut s.sphere_scale,
+        0.25..=4.0,
+        "sphere radius [spacings]",
+    ));
+    ui.add(f32_slider(
+        &mut s.filter_radius,
+        0.0..=0.2,
+        "filter radius [m]",
+    ));
+    ui.add(
+        egui::Slider::new(&mut s.filter_iterations, 0..=16)
+            .text("filter iterations")
+            .clamping(SliderClamping::Always),
+    );
+    ui.add(f32_slider(
+        &mut s.refraction_strength,
+        0.0..=1.0,
+        "refraction strength",
+    ));
+    ui.horizontal(|ui| {
+        ui.label("absorption r g b [1/m]");
+        for k in 0..3 {
+            ui.add(
+                egui::DragValue::new(&mut s.absorption[k])
+                    .range(0.0..=50.0)
+                    .speed(0.05),
+            );
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.label("sky colour");
+        let mut rgb = s.sky_color.to_array();
+        ui.color_edit_button_rgb(&mut rgb);
+        s.sky_color = Vec3::from_array(rgb);
+        ui.label("deep-water colour");
+        let mut rgb = s.deep_color.to_array();
+        ui.color_edit_button_rgb(&mut rgb);
+        s.deep_color = Vec3::from_array(rgb);
+    });
+    if s != *surface {
+        *surface = s;
+    }
+    if let Some(error) = status.and_then(|s| s.error.as_ref()) {
+        ui.colored_label(Color32::RED, error);
+    }
+    let times: Vec<String> = stats
+        .surface_ms
+        .iter()
+        .map(|(name, ms)| format!("{} {ms:.2}", name.trim_start_matches("sph_surface_")))
+        .collect();
+    if !times.is_empty() {
+        ui.label(format!("surface GPU ms: {}", times.join(", ")));
+    }
+}
