@@ -1,6 +1,6 @@
 //! The water surface (`SphSurface`) drawn on lavapipe into an image: it shows water where the
-//! particles are, an opaque box in front hides it, and refused settings leave the previous ones
-//! drawing.
+//! particles are, an opaque box in front hides it, every pass's output matches its CPU twin
+//! (`bevy_sph_fluid::surface::cpu_twin`), and refused settings leave the previous ones drawing.
 
 mod common;
 
@@ -10,6 +10,8 @@ use bevy::prelude::*;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy_sph_fluid::prelude::*;
+use bevy_sph_fluid::surface::cpu_twin;
+use bevy_sph_fluid::surface::view::GpuSurfaceUniform;
 use common::{headless_app, GPU};
 use sph_core::{BlockSpawn, BoxContainer, SpacingDerivation};
 
@@ -22,7 +24,7 @@ const LOOK_AT: Vec3 = Vec3::new(0.5, 0.2, 0.5);
 #[derive(Resource, Default)]
 struct Captured(Option<Image>);
 
-/// A paused GPU app: a 1 m box with a block of water 0.8 x 0.4 x 0.8 m (spacing 0.04 m), a
+/// A paused GPU app: a 1 m box with a block of water 0.7 x 0.4 x 0.7 m (spacing 0.04 m), a
 /// camera with `SphSurface` and default MSAA rendering into an image; with `hdr`, an HDR camera
 /// (its main texture is `Rgba16Float`) with Bevy's default tonemapping.
 fn water_in_view(hdr: bool) -> (App, Handle<Image>) {
@@ -261,4 +263,198 @@ fn refused_surface_settings_are_named_and_the_previous_ones_stay() {
     app.update();
     assert_eq!(status(&app).applied, better);
     assert_eq!(status(&app).error, None);
+}
+
+const TWIN_WIDTH: u32 = 160;
+const TWIN_HEIGHT: u32 = 120;
+
+/// Draws `settings` (a debug view, at full resolution) into an `Rgba32Float` image through an
+/// HDR camera without tonemapping; returns each pixel's rgb.
+fn draw_debug_view(
+    app: &mut App,
+    camera: Entity,
+    target: &Handle<Image>,
+    settings: SphSurface,
+) -> Vec<Vec3> {
+    *app.world_mut().get_mut::<SphSurface>(camera).unwrap() = settings;
+    for _ in 0..3 {
+        app.update();
+    }
+    app.world_mut().resource_mut::<Captured>().0 = None;
+    app.world_mut()
+        .spawn(Screenshot::image(target.clone()))
+        .observe(
+            |captured: On<ScreenshotCaptured>, mut out: ResMut<Captured>| {
+                out.0 = Some(captured.image.clone());
+            },
+        );
+    for _ in 0..100 {
+        app.update();
+        if let Some(image) = app.world_mut().resource_mut::<Captured>().0.take() {
+            let bytes = image.data.expect("captured pixels");
+            let floats: Vec<f32> = bytes
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect();
+            return floats
+                .chunks_exact(4)
+                .map(|p| Vec3::new(p[0], p[1], p[2]))
+                .collect();
+        }
+    }
+    panic!("no screenshot after 100 frames");
+}
+
+/// The share of `pairs` within `tolerance` of each other, and the largest difference.
+fn agreement(pairs: &[(f32, f32)], tolerance: impl Fn(f32) -> f32) -> (f64, f32) {
+    let within = pairs
+        .iter()
+        .filter(|(g, c)| (g - c).abs() <= tolerance(*c))
+        .count();
+    let worst = pairs.iter().map(|(g, c)| (g - c).abs()).fold(0.0, f32::max);
+    (within as f64 / pairs.len().max(1) as f64, worst)
+}
+
+#[test]
+fn every_surface_pass_matches_its_cpu_twin() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let mut app = headless_app(8192, SphBackend::Gpu);
+    let spacing = 0.04;
+    app.insert_resource(SphParams(sph_core::SphParams::from_spacing(
+        SpacingDerivation {
+            spacing,
+            ..Default::default()
+        },
+    )));
+    let world = app.world_mut();
+    world.spawn(SphContainer(BoxContainer::from_min_max(
+        Vec3::ZERO,
+        Vec3::ONE,
+    )));
+    world.spawn(SphBlockSpawn {
+        block: BlockSpawn::new(Vec3::new(0.4, 0.0, 0.4), Vec3::new(0.6, 0.16, 0.6), spacing),
+        velocity: Vec3::ZERO,
+    });
+    let mut image =
+        Image::new_target_texture(TWIN_WIDTH, TWIN_HEIGHT, TextureFormat::Rgba32Float, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    let target = world.resource_mut::<Assets<Image>>().add(image);
+    let camera = world
+        .spawn((
+            Camera3d::default(),
+            Camera {
+                clear_color: ClearColorConfig::Custom(CLEAR),
+                ..default()
+            },
+            RenderTarget::Image(target.clone().into()),
+            Hdr,
+            Tonemapping::None,
+            Msaa::Off,
+            Transform::from_xyz(0.62, 0.42, 0.98).looking_at(Vec3::new(0.5, 0.08, 0.5), Vec3::Y),
+            SphSurface::default(),
+        ))
+        .id();
+    world.init_resource::<Captured>();
+    for _ in 0..5 {
+        app.update();
+    }
+    let twin = |iterations: u32, debug_view: SphSurfaceDebugView| SphSurface {
+        resolution_scale: 1.0,
+        filter_iterations: iterations,
+        debug_view,
+        ..default()
+    };
+    let depth_raw = draw_debug_view(
+        &mut app,
+        camera,
+        &target,
+        twin(0, SphSurfaceDebugView::Depth),
+    );
+    let depth_smooth = draw_debug_view(
+        &mut app,
+        camera,
+        &target,
+        twin(2, SphSurfaceDebugView::Depth),
+    );
+    let thickness = draw_debug_view(
+        &mut app,
+        camera,
+        &target,
+        twin(0, SphSurfaceDebugView::Thickness),
+    );
+    let normals = draw_debug_view(
+        &mut app,
+        camera,
+        &target,
+        twin(2, SphSurfaceDebugView::Normals),
+    );
+
+    // The CPU twins on the same particles, seen by the same camera.
+    let positions = common::snapshot(&mut app).positions;
+    let world = app.world();
+    let clip_from_view = world.get::<Camera>(camera).unwrap().clip_from_view();
+    let world_from_view = world.get::<GlobalTransform>(camera).unwrap().to_matrix();
+    let block = |settings: &SphSurface| {
+        GpuSurfaceUniform::new(
+            settings,
+            clip_from_view,
+            world_from_view,
+            UVec2::new(TWIN_WIDTH, TWIN_HEIGHT),
+            positions.len() as u32,
+            spacing,
+        )
+    };
+    let raw_block = block(&twin(0, SphSurfaceDebugView::Depth));
+    let smooth_block = block(&twin(2, SphSurfaceDebugView::Depth));
+    let cpu_raw = cpu_twin::depth_pass(&raw_block, &positions);
+    let cpu_smooth = cpu_twin::filtered_depth(&smooth_block, &cpu_raw, 2);
+    let cpu_thickness = cpu_twin::thickness_pass(&raw_block, &positions);
+    let cpu_normals = cpu_twin::normals_pass(&smooth_block, &cpu_smooth);
+
+    let water = cpu_raw.iter().filter(|&&d| d > 0.0).count();
+    assert!(water > 2_000, "the block covers {water} pixels");
+    let mask_differences = cpu_raw
+        .iter()
+        .zip(&depth_raw)
+        .filter(|(c, g)| (**c > 0.0) != (g.x > 0.0))
+        .count();
+    // The GPU's image is f16 (the HDR view target): 1e-3 m at these distances.
+    let pairs = |gpu: &[Vec3], cpu: &[f32]| -> Vec<(f32, f32)> {
+        gpu.iter()
+            .zip(cpu)
+            .filter(|(g, c)| g.x > 0.0 && **c > 0.0)
+            .map(|(g, c)| (g.x, *c))
+            .collect()
+    };
+    let (raw_share, raw_worst) = agreement(&pairs(&depth_raw, &cpu_raw), |_| 1.5e-3);
+    let (smooth_share, smooth_worst) = agreement(&pairs(&depth_smooth, &cpu_smooth), |_| 1.5e-3);
+    let (thickness_share, thickness_worst) =
+        agreement(&pairs(&thickness, &cpu_thickness), |c| 1e-3 + 0.01 * c);
+    let normal_pairs: Vec<f32> = normals
+        .iter()
+        .zip(&cpu_normals)
+        .filter(|(g, c)| c.w > 0.5 && g.length_squared() > 0.0)
+        .map(|(g, c)| (2.0 * *g - Vec3::ONE).normalize_or_zero().dot(c.truncate()))
+        .collect();
+    let normals_within = normal_pairs.iter().filter(|&&d| d >= 0.99).count() as f64
+        / normal_pairs.len().max(1) as f64;
+    println!(
+        "{water} water pixels, {mask_differences} differ in coverage; depth: {:.2} % within \
+         1.5 mm (worst {raw_worst:.2e} m); filtered depth: {:.2} % (worst {smooth_worst:.2e} m); \
+         thickness: {:.2} % within 1 mm + 1 % (worst {thickness_worst:.2e} m); normals: {:.2} % \
+         within 8° ({} pixels)",
+        100.0 * raw_share,
+        100.0 * smooth_share,
+        100.0 * thickness_share,
+        100.0 * normals_within,
+        normal_pairs.len()
+    );
+    assert!(
+        mask_differences * 100 <= water,
+        "{mask_differences} of {water} pixels differ in coverage"
+    );
+    assert!(raw_share >= 0.99, "depth: {raw_share}");
+    assert!(smooth_share >= 0.99, "filtered depth: {smooth_share}");
+    assert!(thickness_share >= 0.99, "thickness: {thickness_share}");
+    assert!(normals_within >= 0.98, "normals: {normals_within}");
 }

@@ -137,6 +137,17 @@ pub fn surface_controls(
         ui.color_edit_button_rgb(&mut rgb);
         s.deep_color = Vec3::from_array(rgb);
     });
+    ui.horizontal(|ui| {
+        ui.label("show");
+        for (view, label) in [
+            (SphSurfaceDebugView::None, "surface"),
+            (SphSurfaceDebugView::Depth, "depth"),
+            (SphSurfaceDebugView::Thickness, "thickness"),
+            (SphSurfaceDebugView::Normals, "normals"),
+        ] {
+            ui.radio_value(&mut s.debug_view, view, label);
+        }
+    });
     if s != *surface {
         *surface = s;
     }

@@ -51,7 +51,7 @@ pub use scene_asset::{
     SphDynamicBody, SphHinge, SphScene, SphSceneAsset, SphSceneControls, SphSceneMember,
 };
 pub use sets::{SphGraphSystems, SphStep, SphSystems};
-pub use surface::settings::{SphSurface, SphSurfaceError, SphSurfaceStatus};
+pub use surface::settings::{SphSurface, SphSurfaceDebugView, SphSurfaceError, SphSurfaceStatus};
 
 /// Commonly used items.
 pub mod prelude {
@@ -62,5 +62,7 @@ pub mod prelude {
     pub use crate::plugin::SphFluidPlugin;
     pub use crate::scene_asset::{SphScene, SphSceneAsset, SphSceneControls, SphSceneMember};
     pub use crate::sets::SphSystems;
-    pub use crate::surface::settings::{SphSurface, SphSurfaceError, SphSurfaceStatus};
+    pub use crate::surface::settings::{
+        SphSurface, SphSurfaceDebugView, SphSurfaceError, SphSurfaceStatus,
+    };
 }

@@ -6,6 +6,7 @@
 //! tonemapping (van der Laan, Green & Sainz 2009). This module only wires them.
 
 pub mod composite;
+pub mod cpu_twin;
 pub mod depth;
 pub mod filter;
 pub mod impostor;
@@ -32,6 +33,7 @@ pub(crate) fn build(app: &mut App, schedule: bevy::ecs::schedule::InternedSchedu
     composite::embed(app);
     app.register_type::<settings::SphSurface>()
         .register_type::<settings::SphSurfaceStatus>()
+        .register_type::<settings::SphSurfaceDebugView>()
         .add_systems(
             schedule,
             (

@@ -50,6 +50,25 @@ pub struct SphSurface {
     pub sun_direction: Vec3,
     /// Strength of the specular highlight, 0 ..= 100.
     pub specular: f32,
+    /// Draw one pass's output instead of the lit surface (for tuning, and the parity tests).
+    pub debug_view: SphSurfaceDebugView,
+}
+
+/// What a surface camera draws: the lit surface, or one of its passes' outputs, raw (best seen
+/// on an HDR camera without tonemapping).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Reflect)]
+#[reflect(Default, Clone)]
+#[repr(u32)]
+pub enum SphSurfaceDebugView {
+    /// The lit water surface.
+    #[default]
+    None = 0,
+    /// The filtered fluid depth: distance along the view axis [m] in r, g and b; 0 without water.
+    Depth = 1,
+    /// The water's thickness [m] in r, g and b.
+    Thickness = 2,
+    /// The view-space normal n as 0.5 + 0.5 n in r, g and b; 0 without water.
+    Normals = 3,
 }
 
 impl Default for SphSurface {
@@ -66,6 +85,7 @@ impl Default for SphSurface {
             refraction_strength: 0.15,
             sun_direction: Vec3::new(1.0, 3.0, 2.0),
             specular: 2.0,
+            debug_view: SphSurfaceDebugView::None,
         }
     }
 }

@@ -30,6 +30,22 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let behind_water = textureLoad(scene_color, vec2<i32>(position.xy), 0);
     let last = vec2<i32>(surface.target_size) - vec2<i32>(1);
     let scaled = uv * surface.target_size;
+    if surface.debug_view != 0u {
+        // One pass's output, raw, from the texel under the pixel.
+        let texel = clamp(vec2<i32>(scaled), vec2<i32>(0), last);
+        switch surface.debug_view {
+            case 1u: {
+                return vec4<f32>(vec3<f32>(textureLoad(fluid_depth, texel, 0).r), 1.0);
+            }
+            case 2u: {
+                return vec4<f32>(vec3<f32>(textureLoad(thickness, texel, 0).r), 1.0);
+            }
+            default: {
+                let n = textureLoad(normals, texel, 0);
+                return vec4<f32>(select(vec3<f32>(0.0), 0.5 + 0.5 * n.xyz, n.w > 0.5), 1.0);
+            }
+        }
+    }
     let corner = clamp(vec2<i32>(scaled - 0.5), vec2<i32>(0), last);
     let near_water = textureLoad(normals, corner, 0).w + textureLoad(normals, min(corner + vec2<i32>(1, 1), last), 0).w
         + textureLoad(normals, min(corner + vec2<i32>(1, 0), last), 0).w + textureLoad(normals, min(corner + vec2<i32>(0, 1), last), 0).w;

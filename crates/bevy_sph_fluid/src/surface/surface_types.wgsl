@@ -27,6 +27,8 @@ struct SurfaceUniform {
     orthographic: u32,
     // Water volume per sphere volume: summed chords times this is the water's thickness.
     chord_weight: f32,
+    // 0 = the lit surface, 1 depth, 2 thickness, 3 normals (SphSurfaceDebugView).
+    debug_view: u32,
 }
 
 // The view-space point of normalized device coordinates `ndc` at clip depth `z`.

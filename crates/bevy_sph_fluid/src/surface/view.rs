@@ -108,6 +108,54 @@ pub struct GpuSurfaceUniform {
     /// Water volume per sphere volume (Δx³ / (4/3 π r³)): summed chords times this is the
     /// water's thickness.
     pub chord_weight: f32,
+    /// `SphSurfaceDebugView` as a number (0 = the lit surface).
+    pub debug_view: u32,
+}
+
+impl GpuSurfaceUniform {
+    /// The block for a view of `view_size` pixels with this projection and camera pose, drawing
+    /// `particle_count` particles of spacing `spacing` [m] with `settings`.
+    pub fn new(
+        settings: &SphSurface,
+        clip_from_view: Mat4,
+        world_from_view: Mat4,
+        view_size: UVec2,
+        particle_count: u32,
+        spacing: f32,
+    ) -> Self {
+        let view_size = view_size.max(UVec2::ONE);
+        let size = (view_size.as_vec2() * settings.resolution_scale)
+            .ceil()
+            .as_uvec2()
+            .max(UVec2::ONE);
+        let view_from_world = world_from_view.inverse();
+        let sun = view_from_world
+            .transform_vector3(settings.sun_direction)
+            .normalize_or(Vec3::Y);
+        let sphere_radius = settings.sphere_scale * spacing;
+        Self {
+            clip_from_view,
+            view_from_clip: clip_from_view.inverse(),
+            view_from_world,
+            absorption: settings.absorption.extend(0.0),
+            sky_color: settings.sky_color.extend(0.0),
+            deep_color: settings.deep_color.extend(0.0),
+            sun_direction: sun.extend(settings.specular),
+            target_size: size.as_vec2(),
+            view_size: view_size.as_vec2(),
+            particle_count,
+            sphere_radius,
+            filter_radius: settings.filter_radius,
+            filter_max_pixels: settings.filter_max_pixels,
+            // Surfaces nearer than two spheres belong together (Truong & Yuksel 2018's range).
+            depth_range: 4.0 * sphere_radius,
+            refraction_strength: settings.refraction_strength,
+            orthographic: (clip_from_view.w_axis.w == 1.0) as u32,
+            chord_weight: spacing.powi(3)
+                / (4.0 / 3.0 * std::f32::consts::PI * sphere_radius.powi(3)).max(1e-30),
+            debug_view: settings.debug_view as u32,
+        }
+    }
 }
 
 /// Every surface camera's uniform block this frame.
@@ -149,37 +197,15 @@ pub(crate) fn prepare_sph_surface_views(
     };
     for (entity, view, surface) in &views {
         let settings = &surface.0;
-        let view_size = view.viewport.zw().max(UVec2::ONE);
-        let size = (view_size.as_vec2() * settings.resolution_scale)
-            .ceil()
-            .as_uvec2()
-            .max(UVec2::ONE);
-        let view_from_world = view.world_from_view.to_matrix().inverse();
-        let sun = view_from_world
-            .transform_vector3(settings.sun_direction)
-            .normalize_or(Vec3::Y);
-        let sphere_radius = settings.sphere_scale * particles.spacing;
-        let block = GpuSurfaceUniform {
-            clip_from_view: view.clip_from_view,
-            view_from_clip: view.clip_from_view.inverse(),
-            view_from_world,
-            absorption: settings.absorption.extend(0.0),
-            sky_color: settings.sky_color.extend(0.0),
-            deep_color: settings.deep_color.extend(0.0),
-            sun_direction: sun.extend(settings.specular),
-            target_size: size.as_vec2(),
-            view_size: view_size.as_vec2(),
-            particle_count: particles.count,
-            sphere_radius,
-            filter_radius: settings.filter_radius,
-            filter_max_pixels: settings.filter_max_pixels,
-            // Surfaces nearer than two spheres belong together (Truong & Yuksel 2018's range).
-            depth_range: 4.0 * sphere_radius,
-            refraction_strength: settings.refraction_strength,
-            orthographic: (view.clip_from_view.w_axis.w == 1.0) as u32,
-            chord_weight: particles.spacing.powi(3)
-                / (4.0 / 3.0 * std::f32::consts::PI * sphere_radius.powi(3)).max(1e-30),
-        };
+        let block = GpuSurfaceUniform::new(
+            settings,
+            view.clip_from_view,
+            view.world_from_view.to_matrix(),
+            view.viewport.zw(),
+            particles.count,
+            particles.spacing,
+        );
+        let size = block.target_size.as_uvec2();
         let uniform_offset = writer.write(&block);
         let mut texture = |label: &'static str, format: TextureFormat| {
             cache.get(
