@@ -187,14 +187,14 @@ fn main() {
     if let Some(solver) = cli.solver {
         config.solver = solver;
     }
-    let mut backend = if cli.cpu {
+    let backend = if cli.cpu {
         SphBackend::Cpu
     } else {
         SphBackend::Gpu
     };
     if let Some(path) = &cli.scene {
-        // Read once here to choose the backend (drains run on the CPU) and to refuse a
-        // broken file before the window opens; the asset system loads and watches it.
+        // Read once here to refuse a broken file before the window opens; the asset system
+        // loads and watches it.
         let file = format!("{}/assets/{path}", env!("CARGO_MANIFEST_DIR"));
         let built = std::fs::read_to_string(&file)
             .map_err(|e| format!("{file}: {e}"))
@@ -204,12 +204,7 @@ fn main() {
                     .map_err(|e| e.to_string())
             });
         match built {
-            Ok(setup) => {
-                config.solver = setup.params.solver;
-                if !setup.sinks.is_empty() {
-                    backend = SphBackend::Cpu;
-                }
-            }
+            Ok(setup) => config.solver = setup.params.solver,
             Err(e) => {
                 eprintln!("sandbox: --scene: {e}");
                 std::process::exit(2);

@@ -44,6 +44,14 @@ pub fn scene_dir(test: &str, text: &str) -> std::path::PathBuf {
 /// A paused CPU app of `capacity` particles whose assets live in `dir`, with the scene
 /// `scene.ron` spawned (it loads over the next updates).
 pub fn app_with_scene(dir: &std::path::Path, capacity: u32) -> App {
+    app_with_scene_on(dir, capacity, SphBackend::Cpu)
+}
+
+/// [`app_with_scene`] on `backend` (the GPU's requires a Vulkan adapter).
+pub fn app_with_scene_on(dir: &std::path::Path, capacity: u32, backend: SphBackend) -> App {
+    if backend == SphBackend::Gpu {
+        require_vulkan_adapter();
+    }
     let plugins = DefaultPlugins
         .build()
         .disable::<bevy::winit::WinitPlugin>()
@@ -51,7 +59,7 @@ pub fn app_with_scene(dir: &std::path::Path, capacity: u32) -> App {
             file_path: dir.to_string_lossy().into_owned(),
             ..default()
         });
-    let mut app = bevy_sph_fluid::headless::headless_app(plugins, capacity, SphBackend::Cpu, false);
+    let mut app = bevy_sph_fluid::headless::headless_app(plugins, capacity, backend, false);
     let handle = app
         .world()
         .resource::<AssetServer>()

@@ -11,9 +11,11 @@
 //!
 //! Pumps and probes run on both backends. The GPU applies up to 16 pumps in its closing kicks,
 //! and sums up to 16 probes there too, over each frame's steps (level: the highest; flux and
-//! count: the mean), read back a frame or two later without a stall. Drains run on the CPU
-//! backend; on the GPU backend their pass is not built yet, which is logged once and reported
-//! in [`SphStats::flow_error`] (the simulation goes on without them).
+//! count: the mean), read back a frame or two later without a stall. Drains run on both: the
+//! CPU removes the particles after the frame's steps; the GPU marks them at every step's sort
+//! and sorts them to the tail of the live range, where nothing sees them, and the live count
+//! drops by the tail read back a frame or two later (docs/scenes.md). Drains share the GPU's
+//! 16 pump slots.
 
 use crate::api::*;
 use crate::sets::SphSystems;
@@ -301,24 +303,16 @@ fn sph_sync_pumps(
     }
 }
 
-/// Names a device whose GPU pass does not exist yet.
-fn gpu_not_built(stats: &mut SphStats, what: &str) {
-    report(
-        stats,
-        format!("{what} runs on the CPU backend only (SphBackend::Cpu): its GPU pass is not built yet; the simulation goes on without it"),
-    );
-}
-
 /// Removes the particles inside open drains after the frame's steps, and counts them (a paused
-/// frame drains nothing).
+/// frame drains nothing). On the GPU the device marks the particles inside open drains and
+/// sorts them to the tail of the live range; the count drops by the tail's size read back
+/// (`lower_gpu_count`).
 fn sph_drain(
     sinks: Query<(Entity, &SphSink, &GlobalTransform)>,
+    clock: Option<Res<crate::shared::ClockReadback>>,
     mut sim: ResMut<SphSimulation>,
     mut stats: ResMut<SphStats>,
 ) {
-    if sinks.is_empty() || sim.plan.steps == 0 {
-        return;
-    }
     let mut placed = Vec::new();
     for (entity, sink, transform) in &sinks {
         let s = sink.placed(transform);
@@ -330,13 +324,61 @@ fn sph_drain(
     let sim = &mut *sim;
     match (sim.backend, &mut sim.cpu) {
         (SphBackend::Cpu, Some(solver)) => {
+            if placed.is_empty() || sim.plan.steps == 0 {
+                return;
+            }
             let drained = solver.drain(&placed) as u32;
             sim.drained += drained as u64;
             sim.particle_count = sim.particle_count.saturating_sub(drained);
         }
-        (SphBackend::Gpu, _) => gpu_not_built(&mut stats, "SphSink"),
+        (SphBackend::Gpu, _) => {
+            let (_, left_out) =
+                sph_core::gpu_layout::GpuPumps::with_sinks(&sim.frame.pumps, &placed);
+            if left_out > 0 {
+                report(
+                    &mut stats,
+                    format!(
+                        "SphSink: {left_out} open drains found no slot on the GPU (pumps and \
+                         drains share {} slots); they are left out",
+                        sph_core::gpu_layout::MAX_GPU_PUMPS
+                    ),
+                );
+            }
+            sim.frame.sinks = placed.into_iter().filter(|s| s.open).collect();
+            lower_gpu_count(sim, clock.and_then(|c| c.latest));
+        }
         _ => {}
     }
+}
+
+/// The GPU backend's drains, in the main world: the live count drops by the drained
+/// particles the device sorted to the tail, from a clock read at a sort that came after the
+/// last spawns were uploaded (they would follow the tail) and after the last drop (its tail is
+/// gone). Marked particles only add up between sorts, so the last `tail_size` slots are all
+/// drained; the next spawns overwrite them. A reset starts again.
+fn lower_gpu_count(sim: &mut SphSimulation, clock: Option<sph_core::gpu_layout::GpuClock>) {
+    let number = sim.frame.number;
+    let sync = &mut sim.gpu_drains;
+    if sim.frame.reset {
+        sync.lowered_from = number;
+    }
+    if !sim.frame.spawn_positions.is_empty() {
+        sync.last_spawn_frame = number;
+    }
+    let Some(clock) = clock else {
+        return;
+    };
+    if clock.tail_size == 0
+        || clock.tail_frame < sync.last_spawn_frame
+        || clock.tail_frame < sync.lowered_from
+    {
+        return;
+    }
+    let dropped = clock.tail_size.min(sim.particle_count);
+    sim.particle_count -= dropped;
+    sim.drained += dropped as u64;
+    // The drop takes effect with the next frame's spawn offset.
+    sync.lowered_from = number.wrapping_add(1);
 }
 
 /// Measures the probes that are due and sends their readings.

@@ -66,6 +66,16 @@ impl FramePlan {
     }
 }
 
+/// The GPU backend's drains in the main world (see `flow::lower_gpu_count`): a tail read back
+/// is used only if its sort came at or after both frames.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GpuDrainSync {
+    /// The last frame that uploaded spawns.
+    pub last_spawn_frame: u32,
+    /// The frame from which the last drop (or reset) holds.
+    pub lowered_from: u32,
+}
+
 /// What the render world does this frame; extracted every frame.
 #[derive(Resource, Clone, Debug, Default)]
 pub struct SphFrame {
@@ -98,6 +108,8 @@ pub struct SphFrame {
     pub buffers: Option<SphGpuBuffers>,
     /// The pumps (the first `sph_core::gpu_layout::MAX_GPU_PUMPS` are applied).
     pub pumps: Vec<sph_core::Pump>,
+    /// The open drains (in the pumps' slots left; the GPU marks the particles inside).
+    pub sinks: Vec<sph_core::Sink>,
     /// The probes (the first `sph_core::gpu_layout::MAX_GPU_PROBES` are measured).
     pub probes: Vec<sph_core::ProbeKind>,
     /// The main world's number of this frame (`SphSimulation::frame_number`).
@@ -160,6 +172,8 @@ pub struct SphSimulation {
     pub rule_dt: Option<f32>,
     /// Frames planned since the start (numbers the GPU's frame budgets).
     pub frame_number: u32,
+    /// The GPU backend's drains: when the live count may drop by a tail read back.
+    pub gpu_drains: GpuDrainSync,
     /// DFSPH on the GPU: the clock's iteration sums at the last reading.
     pub gpu_iterations: Option<GpuIterations>,
     /// This frame's plan, made first thing in the `Prepare` set.
@@ -200,6 +214,7 @@ impl SphSimulation {
             wall_slip: sph_core::Slip::Free,
             rule_dt: None,
             frame_number: 0,
+            gpu_drains: GpuDrainSync::default(),
             gpu_iterations: None,
             plan: FramePlan::default(),
         }

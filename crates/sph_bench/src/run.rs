@@ -566,27 +566,5 @@ mod tests {
             "{:?}",
             flow.readings.last()
         );
-        // The GPU backend refuses a file's drain, naming the file (before looking for an
-        // adapter).
-        let wcsph = std::env::temp_dir().join(format!("sph_bench_sink_{}.ron", std::process::id()));
-        std::fs::write(
-            &wcsph,
-            "(container: (min: (0.0, 0.0, 0.0), max: (0.4, 0.4, 0.4)), \
-             sinks: [(name: \"d\", min: (0.0, 0.0, 0.0), max: (0.1, 0.1, 0.1))])",
-        )
-        .unwrap();
-        let gpu = run(
-            &RunArgs {
-                backend: Backend::Gpu,
-                scene: Some(wcsph.clone()),
-                ..args.clone()
-            },
-            &Bars::new(true),
-        );
-        let error = gpu.unwrap_err();
-        assert!(
-            error.contains("CPU backend only") && error.contains(&wcsph.display().to_string()),
-            "{error}"
-        );
     }
 }

@@ -209,6 +209,12 @@ mod shipped_scenes {
             report.probes.iter().all(|p| !p.readings.is_empty()),
             "{file}"
         );
+        if file == "aquaplay.ron" {
+            assert!(
+                report.particles_drained > 0,
+                "{file}: its drain took nothing"
+            );
+        }
     }
 
     #[test]
@@ -225,17 +231,18 @@ mod shipped_scenes {
         }
     }
 
-    /// The GPU runs the scenes its passes cover, every solver, all but aquaplay.ron (its drain
-    /// has no GPU pass yet): WCSPH (the ramp's meshes guarded on the device), PBF (the pipe,
-    /// the lock) and DFSPH (the gate).
+    /// The GPU runs every shipped scene, every solver: WCSPH (the ramp's meshes guarded on
+    /// the device), PBF (the pipe, the lock, aquaplay's drain, pump and probes) and DFSPH (the
+    /// gate).
     #[test]
-    fn the_scenes_without_drains_run_two_seconds_on_the_gpu() {
+    fn every_shipped_scene_runs_two_seconds_on_the_gpu() {
         for file in [
             "dam_break.ron",
             "ramp.ron",
             "pipe_fill.ron",
             "lock.ron",
             "gate.ron",
+            "aquaplay.ron",
         ] {
             two_seconds(file, Backend::Gpu);
         }

@@ -350,14 +350,6 @@ impl GpuSimulation {
                 "--walls off is CPU only (the GPU backend always samples the walls)".into(),
             );
         }
-        if let Some(extras) = &setup.extras {
-            if !extras.sinks.is_empty() {
-                return Err(format!(
-                    "{}: drains run on the CPU backend only (--backend cpu): their GPU pass is not built yet",
-                    extras.file
-                ));
-            }
-        }
         let adapter = headless::vulkan_adapter()?;
         let s = &setup.scene;
         let mut app = headless::headless_app(
@@ -414,6 +406,10 @@ impl GpuSimulation {
         for (_, pump) in &extras.pumps {
             app.world_mut()
                 .spawn(bevy_sph_fluid::SphPump::from_world(pump));
+        }
+        for sink in extras.sink_list() {
+            app.world_mut()
+                .spawn(bevy_sph_fluid::SphSink::from_world(&sink));
         }
         let probes = extras
             .probes

@@ -84,6 +84,9 @@ pub struct GpuSphParams {
     /// ([`crate::dfsph_bender2017::DENSITY_WARM_START`], [`crate::dfsph_bender2017::DIVERGENCE_WARM_START`]),
     /// [`crate::dfsph_bender2017::MAX_CORRECTION`].
     pub dfsph_b: [f32; 4],
+    /// Drains: the main world's frame number (recorded with each sort's tail), the open drains
+    /// in [`GpuPumps`] (0 = none), 0, 0.
+    pub drains: [u32; 4],
 }
 
 /// The simulation clock (WGSL `SphClock`), a storage buffer written only by the GPU: the
@@ -167,8 +170,15 @@ pub struct GpuClock {
     pub density_error_bits: u32,
     /// DFSPH: the last divergence-free solve's mean error [1/s], f32 bits.
     pub divergence_error_bits: u32,
+    /// Drains: particles marked as drained counted by the sort under way (the sort's pass 1
+    /// adds, pass 2 takes the sum and zeroes it).
+    pub marked: u32,
+    /// Drains: how many marked particles the last sort moved to the tail of the live range.
+    pub tail_size: u32,
+    /// Drains: the main world's frame number of that sort (`GpuSphParams::drains[0]`).
+    pub tail_frame: u32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 /// The unit of DFSPH's error sums on the device ([`GpuClock::dfsph_error`]): 1e-9 of ρ0 (or
@@ -305,6 +315,7 @@ impl GpuSphParams {
                 crate::dfsph_bender2017::DIVERGENCE_WARM_START,
                 crate::dfsph_bender2017::MAX_CORRECTION,
             ],
+            drains: [0; 4],
         }
     }
 
@@ -364,9 +375,13 @@ pub fn id_to_w(id: u32) -> f32 {
     f32::from_bits(id)
 }
 
-/// The particle id stored in a position's w component.
+/// The bit of a position's w that marks a particle a drain took (the GPU backend's drains: it
+/// stays in the live range, sorted to its tail, until the main world lowers its count).
+pub const DRAINED_BIT: u32 = 1 << 31;
+
+/// The particle id stored in a position's w component (without the drained mark).
 pub fn w_to_id(w: f32) -> u32 {
-    w.to_bits()
+    w.to_bits() & !DRAINED_BIT
 }
 
 /// A collider as the GPU guard reads it (WGSL `GpuCollider`): where it is, its shape and its
@@ -627,9 +642,11 @@ pub struct GpuPump {
 pub struct GpuPumps {
     /// Pumps in use.
     pub count: u32,
+    /// Open drains, in the slots after the pumps (as boxes: centre, rotation, half extents).
+    pub sink_count: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 3],
-    /// The pumps; slots past `count` are ignored.
+    pub pad: [u32; 2],
+    /// The pumps, then the drains; slots past `count + sink_count` are ignored.
     pub pumps: [GpuPump; MAX_GPU_PUMPS],
 }
 
@@ -652,6 +669,27 @@ impl GpuPumps {
         }
         out.count = pumps.len().min(MAX_GPU_PUMPS) as u32;
         out
+    }
+
+    /// [`Self::of`] `pumps`, then the open ones of `sinks` in the slots left (a pump's box with
+    /// no strength); returns the drains that found no slot.
+    pub fn with_sinks(pumps: &[crate::pump::Pump], sinks: &[crate::sink::Sink]) -> (Self, usize) {
+        let mut out = Self::of(pumps);
+        let open: Vec<&crate::sink::Sink> = sinks.iter().filter(|s| s.open).collect();
+        let first = out.count as usize;
+        for (slot, sink) in out.pumps[first..].iter_mut().zip(&open) {
+            let c = sink.region.pose.translation;
+            let q = sink.region.pose.rotation.inverse();
+            let h = sink.region.half_extents;
+            *slot = GpuPump {
+                center_speed: [c.x, c.y, c.z, 0.0],
+                to_local: [q.x, q.y, q.z, q.w],
+                half_extents_strength: [h.x, h.y, h.z, 0.0],
+                direction: [0.0; 4],
+            };
+        }
+        out.sink_count = open.len().min(MAX_GPU_PUMPS - first) as u32;
+        (out, open.len() - out.sink_count as usize)
     }
 }
 

@@ -481,7 +481,9 @@ pub(crate) fn prepare_sph_buffers(
         queue.write_buffer(
             buffers.at(Buf::Pumps),
             0,
-            bytemuck::bytes_of(&sph_core::gpu_layout::GpuPumps::of(&frame.pumps)),
+            bytemuck::bytes_of(
+                &sph_core::gpu_layout::GpuPumps::with_sinks(&frame.pumps, &frame.sinks).0,
+            ),
         );
         // The probes with zero sums; the closing kicks sum the frame's steps.
         queue.write_buffer(
@@ -523,6 +525,15 @@ pub(crate) fn prepare_sph_buffers(
             buffers.at(Buf::Clock),
             GpuClock::SAVE_REQUESTED_OFFSET,
             &1u32.to_ne_bytes(),
+        );
+    }
+    if !frame.reset && frame.spawn_offset < state.particle_count {
+        // The main world dropped the drained particles from the tail (docs/scenes.md): a
+        // checkpoint from before holds them among the live ones, so it cannot be restored.
+        queue.write_buffer(
+            buffers.at(Buf::Clock),
+            GpuClock::HAS_CHECKPOINT_OFFSET,
+            &0u32.to_ne_bytes(),
         );
     }
     state.particle_count = frame.particle_count();
@@ -570,6 +581,8 @@ pub(crate) fn prepare_sph_buffers(
         uniforms = uniforms.with_frame_budget(duration, frame.steps, number);
     }
     uniforms.flags[3] = state.boundary_colliders;
+    let drains = sph_core::gpu_layout::GpuPumps::with_sinks(&frame.pumps, &frame.sinks).0;
+    uniforms.drains = [frame.number, drains.sink_count, 0, 0];
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
 }
 

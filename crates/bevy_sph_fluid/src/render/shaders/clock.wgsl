@@ -1,7 +1,8 @@
 // Reading the clock from the integrating passes (see stages/time_step.wgsl).
 #define_import_path sph::clock
 
-#import sph::bindings::clock
+#import sph::bindings::{clock, position}
+#import sph::types::drained
 
 // dt of the step in progress, chosen by the time-step pass at the start of the step.
 fn step_dt() -> f32 {
@@ -13,15 +14,20 @@ fn frozen() -> bool {
     return clock.unstable_step != 0u;
 }
 
-// Record |v| (a step's final velocity) and |a| (the acceleration the next integration phase
-// uses) for the time-step pass. Lengths are non-negative, so their f32 bits order like the
-// values; NaN and infinity order above them all.
-fn record_speed(v: vec3<f32>) {
-    atomicMax(&clock.max_speed_bits, bitcast<u32>(length(v)));
+// Record particle i's |v| (a step's final velocity) and |a| (the acceleration the next
+// integration phase uses) for the time-step pass; a particle a drain took is no longer water
+// and is left out. Lengths are non-negative, so their f32 bits order like the values; NaN and
+// infinity order above them all.
+fn record_speed(i: u32, v: vec3<f32>) {
+    if !drained(position[i].w) {
+        atomicMax(&clock.max_speed_bits, bitcast<u32>(length(v)));
+    }
 }
 
-fn record_acceleration(a: vec3<f32>) {
-    atomicMax(&clock.max_acceleration_bits, bitcast<u32>(length(a)));
+fn record_acceleration(i: u32, a: vec3<f32>) {
+    if !drained(position[i].w) {
+        atomicMax(&clock.max_acceleration_bits, bitcast<u32>(length(a)));
+    }
 }
 
 // Count a particle the guard moved out of a collider or (`wall`) back into the box.

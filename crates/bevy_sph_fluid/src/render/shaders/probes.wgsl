@@ -3,10 +3,11 @@
 // the vertical line (atomicMax on an order-keeping key); flux: the particles in the slab and
 // their Σ v·n in fixed point (sph_core::gpu_layout::PROBE_SPEED_UNIT); count: the particles in
 // the box. Particle 0 counts the steps summed (the CPU averages over them) and stamps the last
-// one's step and time.
+// one's step and time. Particles a drain took are left out.
 #define_import_path sph::probes
 
-#import sph::bindings::{params, probes, clock}
+#import sph::bindings::{params, probes, clock, position}
+#import sph::types::drained
 #import sph::guard::rotate
 
 const PROBE_SPEED_UNIT: f32 = 1e-4;
@@ -30,6 +31,10 @@ fn record_probes(i: u32, x: vec3<f32>, v: vec3<f32>) {
         probes.step = clock.step;
         probes.time_ns_lo = clock.time_ns_lo;
         probes.time_ns_hi = clock.time_ns_hi;
+    }
+    // A particle a drain took is no longer water.
+    if drained(position[i].w) {
+        return;
     }
     for (var k = 0u; k < count; k++) {
         let p = probes.probes[k];

@@ -28,3 +28,18 @@ fn pumped(x: vec3<f32>, v: vec3<f32>, dt: f32) -> vec3<f32> {
     }
     return out;
 }
+
+// Whether x lies inside an open drain (the boxes after the pumps; Rust twin:
+// sph_core::sink::drained_by_any).
+fn in_open_sink(x: vec3<f32>) -> bool {
+    let first = min(pumps.count, 16u);
+    let end = min(first + pumps.sink_count, 16u);
+    for (var k = first; k < end; k++) {
+        let p = pumps.pumps[k];
+        let local = rotate(p.to_local, x - p.center_speed.xyz);
+        if all(abs(local) <= p.half_extents_strength.xyz) {
+            return true;
+        }
+    }
+    return false;
+}

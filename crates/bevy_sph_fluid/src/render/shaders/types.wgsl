@@ -46,6 +46,8 @@ struct SphUniforms {
     // DFSPH: the spacing Δx [m], the warm starts' fractions of the last stiffness (density,
     // divergence), the largest correction per step (fraction of ρ0)
     dfsph_b: vec4<f32>,
+    // Drains: the main world's frame number, the open drains in SphPumps (0 = none), 0, 0.
+    drains: vec4<u32>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).
@@ -110,8 +112,11 @@ struct SphClock {
     divergence_iterations: u32,
     density_error: f32,
     divergence_error: f32,
+    // Drains: marked particles counted by the sort under way; the last sort's tail and frame.
+    marked: atomic<u32>,
+    tail_size: u32,
+    tail_frame: u32,
     pad_d: u32,
-    pad_e: u32,
 }
 
 struct BitonicStep {
@@ -159,7 +164,8 @@ struct GpuPump {
 // The frame's pumps (Rust twin: sph_core::gpu_layout::GpuPumps).
 struct SphPumps {
     count: u32,
-    pad_a: u32,
+    // Open drains, in the slots after the pumps (a pump's box, no strength).
+    sink_count: u32,
     pad_b: u32,
     pad_c: u32,
     pumps: array<GpuPump, 16>,
@@ -188,4 +194,12 @@ struct SphProbes {
     pad_b: u32,
     probes: array<GpuProbe, 16>,
     sums: array<atomic<u32>, 64>,
+}
+
+// A particle's id carries this bit once a drain took it (sph_core::gpu_layout::DRAINED_BIT).
+const DRAINED_BIT: u32 = 0x80000000u;
+
+// Whether the position's w marks a particle a drain took.
+fn drained(w: f32) -> bool {
+    return (bitcast<u32>(w) & DRAINED_BIT) != 0u;
 }

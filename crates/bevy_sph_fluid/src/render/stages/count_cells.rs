@@ -36,6 +36,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Checkpoint,
         Buf::Colliders,
         Buf::Meshes,
+        Buf::Pumps,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[

@@ -8,11 +8,16 @@
 //               Algorithm 1, line 8: the move after the constant-density solve)
 // (skipped while the clock is frozen), after the rollback checkpoint is saved or restored
 // (APPLY_CHECKPOINT: the roles that run right after the time-step pass), then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
-#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, cell_of, rank_in_cell, cell_counts, sort_keys, sort_values}
+#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, cell_of, rank_in_cell, cell_counts, sort_keys, sort_values, clock}
+#import sph::pumps::in_open_sink
+#import sph::types::{drained, DRAINED_BIT}
 #import sph::guard::guard
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::{apply_checkpoint, restoring}
 #import sph::neighbors::{grid_cell, grid_index, hash_cell, hash_key}
+
+// Hash mode: the key of a drained particle, after every bucket and before the padding.
+const MARKED_KEY: u32 = 0xfffffffeu;
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -37,7 +42,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
     var x = position[i].xyz;
     let dt = step_dt();
-    let integrating = !frozen();
+    // A particle a drain took stays where it is, still, until the main world drops it.
+    let was_drained = drained(position[i].w);
+    if was_drained {
+        velocity[i] = vec4<f32>(0.0);
+#ifdef PRE_PBF
+        // Its velocity from positions (v = (x - x_prev)/dt) starts from here.
+        acceleration_start[i] = vec4<f32>(x, 0.0);
+#endif
+    }
+    let integrating = !frozen() && !was_drained;
 #ifdef PRE_KDK
     if integrating {
     let a = acceleration[i].xyz;
@@ -80,6 +94,23 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     position[i] = vec4<f32>(x, position[i].w);
     }
 #endif
+    // Drains: a particle inside an open drain is marked (its id's high bit) and sorted to the
+    // tail of the live range, after every cell, where no neighbour loop visits it; the sort's
+    // pass 2 records how many (docs/scenes.md).
+    if !was_drained && params.drains.y > 0u && in_open_sink(x) {
+        position[i] = vec4<f32>(position[i].xyz, bitcast<f32>(bitcast<u32>(position[i].w) | DRAINED_BIT));
+    }
+    if drained(position[i].w) {
+        let rank = atomicAdd(&clock.marked, 1u);
+#ifdef SEARCH_HASH
+        sort_keys[i] = MARKED_KEY;
+        sort_values[i] = i;
+#else
+        cell_of[i] = params.cell_count;
+        rank_in_cell[i] = rank;
+#endif
+        return;
+    }
 #ifdef SEARCH_HASH
     sort_keys[i] = hash_key(hash_cell(x));
     sort_values[i] = i;

@@ -15,6 +15,7 @@
 #import sph::checkpoint::restoring
 #import sph::pumps::pumped
 #import sph::probes::record_probes
+#import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
 #import sph::dfsph::{mass, rest_density, total, mean_error}
 
@@ -35,7 +36,9 @@ fn particle(i: u32) {
                     continue;
                 }
                 let g = cubic_grad(r, sqrt(r2)) * (rho0 * sample.w);
-                add_reaction(boundary_body[b], g * k, sample.xyz);
+                if !drained(position[i].w) {
+                    add_reaction(boundary_body[b], g * k, sample.xyz);
+                }
             }
         }
     }

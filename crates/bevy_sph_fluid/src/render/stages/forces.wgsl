@@ -26,6 +26,7 @@
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
 #import sph::pumps::pumped
 #import sph::probes::record_probes
+#import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
 
 fn viscosity_velocity(j: u32) -> vec3<f32> {
@@ -158,7 +159,9 @@ fn particle(i: u32) {
                 a_b += (u.xyz - v_i) * (u.w * viscous * sample.w * viscosity_laplacian(r_len));
             }
             wall += a_b;
-            add_reaction(boundary_body[b], a_b * -m, sample.xyz);
+            if !drained(position[i].w) {
+                add_reaction(boundary_body[b], a_b * -m, sample.xyz);
+            }
         }
     }
     var a = pressure_sum * m + viscosity_sum * (params.material.z * m / rho_i) + wall + params.gravity.xyz;
@@ -171,16 +174,16 @@ fn particle(i: u32) {
         return;
     }
 #ifndef POST_LEAPFROG_KICK
-    record_acceleration(a);
+    record_acceleration(i, a);
 #endif
 #ifdef SOLVER_DFSPH
     // DFSPH's CFL rule reads max |v + a_np dt_max| (sph_core::solver::dfsph::next_time_step).
-    record_speed(velocity[i].xyz + a * params.time_step.x);
+    record_speed(i, velocity[i].xyz + a * params.time_step.x);
 #endif
 #ifdef POST_KDK
     let v = pumped(x_i, collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v, dt);
     velocity[i] = vec4<f32>(v, 0.0);
-    record_speed(v);
+    record_speed(i, v);
     record_probes(i, x_i, v);
 #endif
 #ifdef POST_LEAPFROG_SAVE
@@ -190,7 +193,7 @@ fn particle(i: u32) {
     let a0 = acceleration_start[i].xyz;
     let v = pumped(x_i, collide(x_i, velocity[i].xyz + (a0 + a) * (0.5 * dt)).v, dt);
     velocity[i] = vec4<f32>(v, 0.0);
-    record_speed(v);
+    record_speed(i, v);
     record_probes(i, x_i, v);
 #endif
 }

@@ -14,7 +14,7 @@ pub const STAGE: GpuStage = GpuStage {
     cpu_twin: CpuStage::Sort,
     embed: |app| embedded_asset!(app, "hash_offsets.wgsl"),
     shader: |server| load_embedded_asset!(server, "hash_offsets.wgsl"),
-    bindings: &[Buf::SortKeys, Buf::BucketStart, Buf::BucketEnd],
+    bindings: &[Buf::SortKeys, Buf::BucketStart, Buf::BucketEnd, Buf::Clock],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],
     role: GpuStage::every_evaluation,

@@ -28,6 +28,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let pushed = pumped(moved.x, moved.v, dt);
     position[i] = vec4<f32>(moved.x, position[i].w);
     velocity[i] = vec4<f32>(pushed, 0.0);
-    record_speed(pushed);
+    record_speed(i, pushed);
     record_probes(i, moved.x, pushed);
 }

@@ -12,6 +12,7 @@
 #import sph::neighbors::{grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen}
 #import sph::pbf::{current_position, write_next_position, mass, rest_density}
+#import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
@@ -68,7 +69,7 @@ fn particle(i: u32) {
             let r2 = dot(r, r);
             let moved = cubic_grad(r, sqrt(r2)) * (sample.w * l_i);
             sum += moved;
-            if l_i != 0.0 {
+            if l_i != 0.0 && !drained(position[i].w) {
                 add_reaction(boundary_body[b], moved * reaction, sample.xyz);
             }
         }

@@ -55,7 +55,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     acceleration[i] = vec4<f32>((v - v_i) / dt + params.gravity.xyz, 0.0);
 #ifndef VORTICITY
     v = pumped(x_i, v, dt);
-    record_speed(v + params.gravity.xyz * params.box_max.w);
+    record_speed(i, v + params.gravity.xyz * params.box_max.w);
     record_probes(i, x_i, v);
 #endif
     velocity[i] = vec4<f32>(v, 0.0);

@@ -13,7 +13,7 @@ pub const STAGE: GpuStage = GpuStage {
     cpu_twin: CpuStage::Sort,
     embed: |app| embedded_asset!(app, "prefix_sum.wgsl"),
     shader: |server| load_embedded_asset!(server, "prefix_sum.wgsl"),
-    bindings: &[Buf::CellCounts, Buf::CellStart],
+    bindings: &[Buf::CellCounts, Buf::CellStart, Buf::Clock],
     workgroup_size: PREFIX_SUM_THREADS,
     roles: &[&[]],
     role: GpuStage::every_evaluation,

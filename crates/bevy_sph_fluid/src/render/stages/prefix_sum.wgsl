@@ -1,7 +1,8 @@
 // Pass 2 of the grid sort: exclusive prefix sum of the per-cell counts into cell_start
-// (cell_count + 1 entries), in one workgroup: serial chunk sums, a Hillis-Steele scan of the
+// (cell_count + 1 entries; the drained particles, in no cell, land after cell_start[cell_count]
+// and their count goes to the clock), in one workgroup: serial chunk sums, a Hillis-Steele scan of the
 // 256 chunk sums in workgroup memory, then each chunk writes its offsets.
-#import sph::bindings::{params, cell_counts, cell_start}
+#import sph::bindings::{params, cell_counts, cell_start, clock}
 
 const THREADS: u32 = #{WORKGROUP_SIZE}u;
 
@@ -35,6 +36,9 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
         running += atomicLoad(&cell_counts[c]);
     }
     if t == THREADS - 1u {
+        // The live particles in cells; the drained ones follow (their cell is n).
         cell_start[n] = partial[t];
+        clock.tail_size = atomicExchange(&clock.marked, 0u);
+        clock.tail_frame = params.drains.x;
     }
 }
