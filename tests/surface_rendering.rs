@@ -4,7 +4,7 @@
 
 mod common;
 
-use bevy::camera::{Hdr, RenderTarget};
+use bevy::camera::{Hdr, RenderTarget, Viewport};
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
@@ -28,6 +28,11 @@ struct Captured(Option<Image>);
 /// camera with `SphSurface` and default MSAA rendering into an image; with `hdr`, an HDR camera
 /// (its main texture is `Rgba16Float`) with Bevy's default tonemapping.
 fn water_in_view(hdr: bool) -> (App, Handle<Image>) {
+    water_in_viewport(hdr, None)
+}
+
+/// [`water_in_view`] with the camera drawing into `viewport` of the image only.
+fn water_in_viewport(hdr: bool, viewport: Option<Viewport>) -> (App, Handle<Image>) {
     let mut app = headless_app(8192, SphBackend::Gpu);
     let spacing = 0.04;
     app.insert_resource(SphParams(sph_core::SphParams::from_spacing(
@@ -52,6 +57,7 @@ fn water_in_view(hdr: bool) -> (App, Handle<Image>) {
         Camera3d::default(),
         Camera {
             clear_color: ClearColorConfig::Custom(CLEAR),
+            viewport,
             ..default()
         },
         RenderTarget::Image(target.clone().into()),
@@ -117,6 +123,40 @@ fn drawn(rgba: &[u8]) -> Vec<(u32, u32)> {
 fn the_surface_is_drawn_and_an_opaque_box_in_front_hides_it() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
     surface_drawn_and_hidden_by_a_box(false);
+}
+
+#[test]
+fn a_camera_with_a_viewport_draws_its_water_inside_it_only() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    // The right half of the image; the left half is only cleared (Bevy's clear colour).
+    let viewport = Viewport {
+        physical_position: UVec2::new(WIDTH / 2, 0),
+        physical_size: UVec2::new(WIDTH / 2, HEIGHT),
+        ..default()
+    };
+    let (mut app, target) = water_in_viewport(false, Some(viewport));
+    let picture = capture(&mut app, &target);
+    let saved = save(&picture, "viewport");
+    let background = pixel(&picture, 0, 0);
+    let left_drawn = (0..HEIGHT)
+        .flat_map(|y| (0..WIDTH / 2).map(move |x| (x, y)))
+        .filter(|&(x, y)| pixel(&picture, x, y) != background)
+        .count();
+    assert_eq!(
+        left_drawn,
+        0,
+        "drawn left of the viewport ({})",
+        saved.display()
+    );
+    let water = drawn(&picture)
+        .into_iter()
+        .filter(|&(x, _)| x >= WIDTH / 2)
+        .count();
+    assert!(
+        water > (WIDTH * HEIGHT / 20) as usize,
+        "{water} water pixels in the viewport ({})",
+        saved.display()
+    );
 }
 
 #[test]
@@ -242,6 +282,34 @@ fn refused_surface_settings_are_named_and_the_previous_ones_stay() {
                 ..good.clone()
             },
             ["sky_color", "NaN", "0 ..= 100"],
+        ),
+        (
+            SphSurface {
+                sphere_scale: 0.1,
+                ..good.clone()
+            },
+            ["sphere_scale", "= 0.1", "0.25 ..= 4"],
+        ),
+        (
+            SphSurface {
+                filter_iterations: 17,
+                ..good.clone()
+            },
+            ["filter_iterations", "= 17", "0 ..= 16"],
+        ),
+        (
+            SphSurface {
+                sun_direction: Vec3::ZERO,
+                ..good.clone()
+            },
+            ["sun_direction", "Vec3(0.0, 0.0, 0.0)", "normalizes"],
+        ),
+        (
+            SphSurface {
+                specular: f32::INFINITY,
+                ..good.clone()
+            },
+            ["specular", "inf", "0 ..= 100"],
         ),
     ];
     for (settings, words) in bad {

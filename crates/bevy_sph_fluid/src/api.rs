@@ -231,8 +231,9 @@ pub struct SphStats {
     /// them and `RenderDiagnosticsPlugin` is added (GPU backend), wall clock (CPU backend).
     pub stage_ms: Vec<(String, f64)>,
     /// GPU time of the water surface's passes in the last measured frame [ms] (depth,
-    /// thickness, the filter's passes summed, normals, composite) for the first `SphSurface` camera:
-    /// GPU timestamps when the adapter supports them and `RenderDiagnosticsPlugin` is added.
+    /// thickness, the filter's passes summed, normals, composite): GPU timestamps when the
+    /// adapter supports them and `RenderDiagnosticsPlugin` is added. The passes are named, not
+    /// numbered per camera: with several surface cameras, the last one drawn.
     pub surface_ms: Vec<(String, f64)>,
     /// GPU memory of the particle buffers per particle slot [bytes].
     pub gpu_bytes_per_particle: u32,

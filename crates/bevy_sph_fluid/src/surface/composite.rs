@@ -2,7 +2,7 @@
 //! in `Core3dSystems::EarlyPostProcess` (before tonemapping). Specialized by the view's colour
 //! format and whether its depth is multisampled.
 
-use super::view::{ExtractedSphSurface, GpuSurfaceUniform};
+use super::view::{ExtractedSphSurface, GpuSurfaceUniform, SurfaceCompositeVariant};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use bevy::core_pipeline::FullscreenShader;
 use bevy::prelude::*;
@@ -10,10 +10,10 @@ use bevy::render::render_resource::binding_types::{
     sampler, texture_2d, texture_depth_2d, texture_depth_2d_multisampled, uniform_buffer,
 };
 use bevy::render::render_resource::{
-    BindGroupLayoutDescriptor, BindGroupLayoutEntries, CachedRenderPipelineId, ColorTargetState,
-    ColorWrites, FragmentState, PipelineCache, RenderPipelineDescriptor, Sampler,
-    SamplerBindingType, SamplerDescriptor, ShaderStages, SpecializedRenderPipeline,
-    SpecializedRenderPipelines, TextureFormat, TextureSampleType,
+    BindGroupLayoutDescriptor, BindGroupLayoutEntries, ColorTargetState, ColorWrites,
+    FragmentState, PipelineCache, RenderPipelineDescriptor, Sampler, SamplerBindingType,
+    SamplerDescriptor, ShaderStages, SpecializedRenderPipeline, SpecializedRenderPipelines,
+    TextureFormat, TextureSampleType,
 };
 use bevy::render::renderer::RenderDevice;
 use bevy::render::view::{Msaa, ViewTarget};
@@ -66,15 +66,6 @@ impl SpecializedRenderPipeline for SurfaceCompositePipeline {
             ..default()
         }
     }
-}
-
-/// A surface view's composite pipeline and the layout it was made with.
-#[derive(Component)]
-pub struct SurfaceCompositeVariant {
-    /// The specialized pipeline.
-    pub pipeline: CachedRenderPipelineId,
-    /// Whether the view's depth is multisampled.
-    pub multisampled: bool,
 }
 
 pub(crate) fn embed(app: &mut App) {

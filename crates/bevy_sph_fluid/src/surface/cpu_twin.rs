@@ -94,6 +94,10 @@ pub fn depth_pass(u: &GpuSurfaceUniform, positions: &[Vec3]) -> Vec<f32> {
     let mut depth = vec![0.0f32; (s.x * s.y) as usize];
     trace(u, positions, |index, point, _| {
         let distance = -point.z;
+        // The GPU clips what lies behind the eye.
+        if distance <= 0.0 {
+            return;
+        }
         if depth[index] == 0.0 || distance < depth[index] {
             depth[index] = distance;
         }
@@ -172,7 +176,9 @@ pub fn normals_pass(u: &GpuSurfaceUniform, depth: &[f32]) -> Vec<Vec4> {
         let (ahead_depth, behind_depth) = (depth_at(p + step), depth_at(p - step));
         let ahead = position_at(p + step, ahead_depth) - here;
         let behind = here - position_at(p - step, behind_depth);
-        if ahead_depth <= 0.0 {
+        if ahead_depth <= 0.0 && behind_depth <= 0.0 {
+            Vec3::ZERO
+        } else if ahead_depth <= 0.0 {
             behind
         } else if behind_depth <= 0.0 || ahead.z.abs() < behind.z.abs() {
             ahead

@@ -37,11 +37,12 @@ pub(crate) fn build(app: &mut App, schedule: bevy::ecs::schedule::InternedSchedu
         .add_systems(
             schedule,
             (
+                settings::sph_forget_surfaces,
                 settings::sph_validate_surfaces,
                 settings::sph_surface_depth_usage,
-                settings::sph_forget_surfaces,
                 timings::sph_record_surface_timings,
-            ),
+            )
+                .chain(),
         );
     let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
         return;

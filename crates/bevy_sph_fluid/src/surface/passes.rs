@@ -2,13 +2,15 @@
 //! the filter's iterations, normals, then the composite into the view target. Each pass is GPU-timed
 //! under its name when `RenderDiagnosticsPlugin` is added.
 
-use super::composite::{SurfaceCompositePipeline, SurfaceCompositeVariant, NAME as COMPOSITE};
+use super::composite::{SurfaceCompositePipeline, NAME as COMPOSITE};
 use super::depth::{SurfaceDepthPipeline, NAME as DEPTH};
 use super::filter::{SurfaceFilterPipelines, NAME as FILTER};
 use super::impostor::impostor_bind_group;
 use super::normals::{SurfaceNormalsPipeline, NAME as NORMALS};
 use super::thickness::{SurfaceThicknessPipeline, NAME as THICKNESS};
-use super::view::{SurfaceParticles, SurfaceUniforms, SurfaceViewResources};
+use super::view::{
+    SurfaceCompositeVariant, SurfaceParticles, SurfaceUniforms, SurfaceViewResources,
+};
 use bevy::prelude::*;
 use bevy::render::diagnostic::RecordDiagnostics;
 use bevy::render::render_asset::RenderAssets;

@@ -197,8 +197,8 @@ impl SphSurface {
         vector(
             "sun_direction",
             s.sun_direction,
-            s.sun_direction.length_squared() > 0.0,
-            "a non-zero direction",
+            s.sun_direction.try_normalize().is_some(),
+            "a direction that normalizes (not zero, not overflowing)",
         )?;
         scalar(
             "specular",
@@ -271,12 +271,16 @@ pub(crate) fn sph_surface_depth_usage(
     }
 }
 
-/// Removes the status of a camera whose [`SphSurface`] was removed.
+/// Removes the status of a camera whose [`SphSurface`] was removed (and not added back).
 pub(crate) fn sph_forget_surfaces(
     mut commands: Commands,
     mut removed: RemovedComponents<SphSurface>,
+    still: Query<(), With<SphSurface>>,
 ) {
     for entity in removed.read() {
+        if still.contains(entity) {
+            continue;
+        }
         if let Ok(mut e) = commands.get_entity(entity) {
             e.remove::<SphSurfaceStatus>();
         }

@@ -25,9 +25,14 @@ const SHININESS: f32 = 256.0;
 
 @fragment
 fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
-    let uv = position.xy / surface.view_size;
     // Exact texel loads where there is no water: most of the view, so the cheapest path.
     let behind_water = textureLoad(scene_color, vec2<i32>(position.xy), 0);
+    // Pixels outside this camera's viewport (another camera's) stay as they are.
+    let in_view = position.xy - surface.view_origin;
+    if any(in_view < vec2<f32>(0.0)) || any(in_view >= surface.view_size) {
+        return behind_water;
+    }
+    let uv = in_view / surface.view_size;
     let last = vec2<i32>(surface.target_size) - vec2<i32>(1);
     let scaled = uv * surface.target_size;
     if surface.debug_view != 0u {
@@ -47,8 +52,18 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
     let corner = clamp(vec2<i32>(scaled - 0.5), vec2<i32>(0), last);
-    let near_water = textureLoad(normals, corner, 0).w + textureLoad(normals, min(corner + vec2<i32>(1, 1), last), 0).w
-        + textureLoad(normals, min(corner + vec2<i32>(1, 0), last), 0).w + textureLoad(normals, min(corner + vec2<i32>(0, 1), last), 0).w;
+    let corners = array<vec2<i32>, 4>(corner, min(corner + vec2<i32>(1, 0), last), min(corner + vec2<i32>(0, 1), last), min(corner + vec2<i32>(1, 1), last));
+    var near_water = 0.0;
+    // The nearest water among the four texels the coverage blends: opaque geometry must be
+    // nearer than all of it to hide the water.
+    var depth = 0.0;
+    for (var k = 0; k < 4; k++) {
+        near_water += textureLoad(normals, corners[k], 0).w;
+        let d = textureLoad(fluid_depth, corners[k], 0).r;
+        if d > 0.0 && (depth == 0.0 || d < depth) {
+            depth = d;
+        }
+    }
     if near_water == 0.0 {
         return behind_water;
     }
@@ -57,8 +72,7 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         return behind_water;
     }
     // Opaque geometry in front of the water hides it.
-    let depth = textureLoad(fluid_depth, clamp(vec2<i32>(uv * surface.target_size), vec2<i32>(0), last), 0).r;
-    let ndc = pixel_ndc(position.xy, surface.view_size);
+    let ndc = pixel_ndc(in_view, surface.view_size);
     let opaque = textureLoad(scene_depth, vec2<i32>(position.xy), 0);
     if opaque > 0.0 && depth > 0.0 && -unproject(surface, ndc, opaque).z < depth {
         return behind_water;

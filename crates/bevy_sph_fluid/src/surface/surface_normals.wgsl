@@ -19,12 +19,16 @@ fn position_at(pixel: vec2<i32>, depth: f32) -> vec3<f32> {
 }
 
 // The difference toward the neighbour on the side whose depth is closer to this pixel's; a
-// side without water is not used.
+// side without water is not used, and with none on either side there is no difference (a
+// one-pixel strand then faces the eye).
 fn difference(pixel: vec2<i32>, here: vec3<f32>, step: vec2<i32>) -> vec3<f32> {
     let ahead_depth = depth_at(pixel + step);
     let behind_depth = depth_at(pixel - step);
     let ahead = position_at(pixel + step, ahead_depth) - here;
     let behind = here - position_at(pixel - step, behind_depth);
+    if ahead_depth <= 0.0 && behind_depth <= 0.0 {
+        return vec3<f32>(0.0);
+    }
     if ahead_depth <= 0.0 {
         return behind;
     }

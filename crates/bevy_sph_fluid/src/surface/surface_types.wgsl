@@ -16,8 +16,10 @@ struct SurfaceUniform {
     sun_direction: vec4<f32>,
     // Scaled depth/thickness targets [pixels].
     target_size: vec2<f32>,
-    // The view [pixels].
+    // The view [pixels], and its top-left corner in the render target.
     view_size: vec2<f32>,
+    view_origin: vec2<f32>,
+    pad: vec2<f32>,
     particle_count: u32,
     sphere_radius: f32,
     filter_radius: f32,

@@ -4,6 +4,7 @@
 use super::settings::{SphSurface, SphSurfaceStatus};
 use crate::api::SphGpuBuffers;
 use crate::shared::SphSimulation;
+use bevy::math::UVec4;
 use bevy::prelude::*;
 use bevy::render::render_resource::{
     DynamicUniformBuffer, Extent3d, ShaderType, TextureDescriptor, TextureDimension, TextureFormat,
@@ -43,8 +44,12 @@ pub struct SurfaceParticles {
     pub spacing: f32,
 }
 
-/// A 3D camera's render-world entity and its surface status, if it has a surface.
-type SurfaceCamera = (RenderEntity, Option<&'static SphSurfaceStatus>);
+/// A 3D camera's render-world entity, its surface status, and whether it has a surface.
+type SurfaceCamera = (
+    RenderEntity,
+    Option<&'static SphSurfaceStatus>,
+    Has<SphSurface>,
+);
 
 /// Copies every surface camera's applied settings, and the particle buffer, into the render
 /// world; a camera that lost its `SphSurface` loses the extracted settings too.
@@ -54,13 +59,17 @@ pub(crate) fn extract_sph_surfaces(
     sim: Extract<Res<SphSimulation>>,
     buffers: Extract<Option<Res<SphGpuBuffers>>>,
 ) {
-    for (render_entity, status) in &cameras {
+    for (render_entity, status, has_surface) in &cameras {
         let Ok(mut entity) = commands.get_entity(render_entity) else {
             continue;
         };
-        match status {
+        match status.filter(|_| has_surface) {
             Some(status) => entity.insert(ExtractedSphSurface(status.applied.clone())),
-            None => entity.remove::<(ExtractedSphSurface, SurfaceViewResources)>(),
+            None => entity.remove::<(
+                ExtractedSphSurface,
+                SurfaceViewResources,
+                SurfaceCompositeVariant,
+            )>(),
         };
     }
     commands.insert_resource(SurfaceParticles {
@@ -91,6 +100,10 @@ pub struct GpuSurfaceUniform {
     pub target_size: Vec2,
     /// Size of the view [pixels].
     pub view_size: Vec2,
+    /// Top-left corner of the view in its render target [pixels] (a `Camera::viewport`).
+    pub view_origin: Vec2,
+    /// Padding to 16 bytes.
+    pub pad: Vec2,
     /// Live particles.
     pub particle_count: u32,
     /// Radius of each particle's sphere [m].
@@ -123,6 +136,26 @@ impl GpuSurfaceUniform {
         particle_count: u32,
         spacing: f32,
     ) -> Self {
+        Self::placed(
+            settings,
+            clip_from_view,
+            world_from_view,
+            UVec4::new(0, 0, view_size.x, view_size.y),
+            particle_count,
+            spacing,
+        )
+    }
+
+    /// [`Self::new`] for a view at `viewport` (x, y, width, height) in its render target.
+    pub fn placed(
+        settings: &SphSurface,
+        clip_from_view: Mat4,
+        world_from_view: Mat4,
+        viewport: UVec4,
+        particle_count: u32,
+        spacing: f32,
+    ) -> Self {
+        let view_size = viewport.zw();
         let view_size = view_size.max(UVec2::ONE);
         let size = (view_size.as_vec2() * settings.resolution_scale)
             .ceil()
@@ -143,6 +176,8 @@ impl GpuSurfaceUniform {
             sun_direction: sun.extend(settings.specular),
             target_size: size.as_vec2(),
             view_size: view_size.as_vec2(),
+            view_origin: viewport.xy().as_vec2(),
+            pad: Vec2::ZERO,
             particle_count,
             sphere_radius,
             filter_radius: settings.filter_radius,
@@ -156,6 +191,15 @@ impl GpuSurfaceUniform {
             debug_view: settings.debug_view as u32,
         }
     }
+}
+
+/// A surface view's composite pipeline and the layout it was made with.
+#[derive(Component)]
+pub struct SurfaceCompositeVariant {
+    /// The specialized pipeline.
+    pub pipeline: bevy::render::render_resource::CachedRenderPipelineId,
+    /// Whether the view's depth is multisampled.
+    pub multisampled: bool,
 }
 
 /// Every surface camera's uniform block this frame.
@@ -197,11 +241,11 @@ pub(crate) fn prepare_sph_surface_views(
     };
     for (entity, view, surface) in &views {
         let settings = &surface.0;
-        let block = GpuSurfaceUniform::new(
+        let block = GpuSurfaceUniform::placed(
             settings,
             view.clip_from_view,
             view.world_from_view.to_matrix(),
-            view.viewport.zw(),
+            view.viewport,
             particles.count,
             particles.spacing,
         );
