@@ -1,6 +1,7 @@
 //! Runs the sandbox under Xvfb on the software Vulkan driver, lets it render, saves a screenshot
 //! and looks at it: blue particle pixels inside the box, the obstacles (`--obstacles`: a ball and
-//! a box in orange, and the gate) and the runtime panel present; the water surface
+//! a box in orange, and the gate) and the runtime panel present; every shipped scene file drawn
+//! (the sandbox runs each on the GPU, drains included); the water surface
 //! (`--render surface`) smoother than the particles and covering at least as much, on both
 //! backends.
 
@@ -110,8 +111,11 @@ fn dfsph_water_is_drawn_on_both_backends() {
 }
 
 #[test]
-fn the_lock_aquaplay_and_ramp_scene_files_render() {
+fn every_shipped_scene_file_renders() {
     for file in [
+        "assets/scenes/dam_break.ron",
+        "assets/scenes/pipe_fill.ron",
+        "assets/scenes/gate.ron",
         "assets/scenes/lock.ron",
         "assets/scenes/aquaplay.ron",
         "assets/scenes/ramp.ron",
