@@ -24,6 +24,17 @@ const SCENE: &str = r#"(
     ],
 )"#;
 
+/// Updates until the scene file has loaded and spawned its water.
+fn wait_for_the_scene(app: &mut App) {
+    for _ in 0..500 {
+        app.update();
+        if app.world().resource::<SphStats>().particle_count > 0 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+}
+
 #[derive(Resource, Default)]
 struct Readings(Vec<(String, SphProbeReading)>);
 
@@ -136,13 +147,7 @@ fn gpu_drains_remove_what_they_count_like_the_cpu() {
     let mut drained = Vec::new();
     for backend in [SphBackend::Cpu, SphBackend::Gpu] {
         let mut app = common::app_with_scene_on(&dir, 8_000, backend);
-        for _ in 0..500 {
-            app.update();
-            if app.world().resource::<SphStats>().particle_count > 0 {
-                break;
-            }
-            std::thread::sleep(std::time::Duration::from_millis(2));
-        }
+        wait_for_the_scene(&mut app);
         let mut control = app.world_mut().resource_mut::<SphControl>();
         control.running = true;
         control.substeps = 4;
@@ -231,13 +236,7 @@ fn one_step_drains_exactly_the_particles_inside_on_both_backends() {
     let mut drained = Vec::new();
     for backend in [SphBackend::Cpu, SphBackend::Gpu] {
         let mut app = common::app_with_scene_on(&dir, 4_000, backend);
-        for _ in 0..500 {
-            app.update();
-            if app.world().resource::<SphStats>().particle_count > 0 {
-                break;
-            }
-            std::thread::sleep(std::time::Duration::from_millis(2));
-        }
+        wait_for_the_scene(&mut app);
         let before = common::snapshot(&mut app);
         let inside = before
             .positions

@@ -24,20 +24,15 @@ const LOOK_AT: Vec3 = Vec3::new(0.5, 0.2, 0.5);
 #[derive(Resource, Default)]
 struct Captured(Option<Image>);
 
-/// A paused GPU app: a 1 m box with a block of water 0.7 x 0.4 x 0.7 m (spacing 0.04 m), a
-/// camera with `SphSurface` and default MSAA rendering into an image; with `hdr`, an HDR camera
-/// (its main texture is `Rgba16Float`) with Bevy's default tonemapping.
-fn water_in_view(hdr: bool) -> (App, Handle<Image>) {
-    water_in_viewport(hdr, None)
-}
+/// Particle spacing of the test scenes [m].
+const SPACING: f32 = 0.04;
 
-/// [`water_in_view`] with the camera drawing into `viewport` of the image only.
-fn water_in_viewport(hdr: bool, viewport: Option<Viewport>) -> (App, Handle<Image>) {
+/// A paused GPU app: a 1 m box holding a block of water from `min` to `max` at [`SPACING`].
+fn paused_block(min: Vec3, max: Vec3) -> App {
     let mut app = headless_app(8192, SphBackend::Gpu);
-    let spacing = 0.04;
     app.insert_resource(SphParams(sph_core::SphParams::from_spacing(
         SpacingDerivation {
-            spacing,
+            spacing: SPACING,
             ..Default::default()
         },
     )));
@@ -47,9 +42,23 @@ fn water_in_viewport(hdr: bool, viewport: Option<Viewport>) -> (App, Handle<Imag
         Vec3::ONE,
     )));
     world.spawn(SphBlockSpawn {
-        block: BlockSpawn::new(Vec3::new(0.1, 0.0, 0.1), Vec3::new(0.8, 0.4, 0.8), spacing),
+        block: BlockSpawn::new(min, max, SPACING),
         velocity: Vec3::ZERO,
     });
+    app
+}
+
+/// A paused GPU app: a 1 m box with a block of water 0.7 x 0.4 x 0.7 m (spacing 0.04 m), a
+/// camera with `SphSurface` and default MSAA rendering into an image; with `hdr`, an HDR camera
+/// (its main texture is `Rgba16Float`) with Bevy's default tonemapping.
+fn water_in_view(hdr: bool) -> (App, Handle<Image>) {
+    water_in_viewport(hdr, None)
+}
+
+/// [`water_in_view`] with the camera drawing into `viewport` of the image only.
+fn water_in_viewport(hdr: bool, viewport: Option<Viewport>) -> (App, Handle<Image>) {
+    let mut app = paused_block(Vec3::new(0.1, 0.0, 0.1), Vec3::new(0.8, 0.4, 0.8));
+    let world = app.world_mut();
     let mut image = Image::new_target_texture(WIDTH, HEIGHT, TextureFormat::Rgba8UnormSrgb, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
     let target = world.resource_mut::<Assets<Image>>().add(image);
@@ -386,23 +395,9 @@ fn agreement(pairs: &[(f32, f32)], tolerance: impl Fn(f32) -> f32) -> (f64, f32)
 #[test]
 fn every_surface_pass_matches_its_cpu_twin() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
-    let mut app = headless_app(8192, SphBackend::Gpu);
-    let spacing = 0.04;
-    app.insert_resource(SphParams(sph_core::SphParams::from_spacing(
-        SpacingDerivation {
-            spacing,
-            ..Default::default()
-        },
-    )));
+    let mut app = paused_block(Vec3::new(0.4, 0.0, 0.4), Vec3::new(0.6, 0.16, 0.6));
+    let spacing = SPACING;
     let world = app.world_mut();
-    world.spawn(SphContainer(BoxContainer::from_min_max(
-        Vec3::ZERO,
-        Vec3::ONE,
-    )));
-    world.spawn(SphBlockSpawn {
-        block: BlockSpawn::new(Vec3::new(0.4, 0.0, 0.4), Vec3::new(0.6, 0.16, 0.6), spacing),
-        velocity: Vec3::ZERO,
-    });
     let mut image =
         Image::new_target_texture(TWIN_WIDTH, TWIN_HEIGHT, TextureFormat::Rgba32Float, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
