@@ -477,14 +477,10 @@ pub(crate) fn prepare_sph_buffers(
             bytemuck::bytes_of(&GpuClock::default()),
         );
     }
+    // The pumps, then the open drains in the slots left.
+    let (pumps, _) = sph_core::gpu_layout::GpuPumps::with_sinks(&frame.pumps, &frame.sinks);
     if frame.steps > 0 {
-        queue.write_buffer(
-            buffers.at(Buf::Pumps),
-            0,
-            bytemuck::bytes_of(
-                &sph_core::gpu_layout::GpuPumps::with_sinks(&frame.pumps, &frame.sinks).0,
-            ),
-        );
+        queue.write_buffer(buffers.at(Buf::Pumps), 0, bytemuck::bytes_of(&pumps));
         // The probes with zero sums; the closing kicks sum the frame's steps.
         queue.write_buffer(
             buffers.at(Buf::Probes),
@@ -581,8 +577,7 @@ pub(crate) fn prepare_sph_buffers(
         uniforms = uniforms.with_frame_budget(duration, frame.steps, number);
     }
     uniforms.flags[3] = state.boundary_colliders;
-    let drains = sph_core::gpu_layout::GpuPumps::with_sinks(&frame.pumps, &frame.sinks).0;
-    uniforms.drains = [frame.number, drains.sink_count, 0, 0];
+    uniforms.drains = [frame.number, pumps.sink_count, 0, 0];
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
 }
 

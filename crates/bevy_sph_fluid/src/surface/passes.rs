@@ -9,7 +9,8 @@ use super::impostor::impostor_bind_group;
 use super::normals::{SurfaceNormalsPipeline, NAME as NORMALS};
 use super::thickness::{SurfaceThicknessPipeline, NAME as THICKNESS};
 use super::view::{
-    SurfaceCompositeVariant, SurfaceParticles, SurfaceUniforms, SurfaceViewResources,
+    ExtractedSphSurface, SurfaceCompositeVariant, SurfaceParticles, SurfaceUniforms,
+    SurfaceViewResources,
 };
 use bevy::prelude::*;
 use bevy::render::diagnostic::RecordDiagnostics;
@@ -39,6 +40,7 @@ pub(crate) fn sph_surface_passes(
         &ViewDepthTexture,
         &SurfaceViewResources,
         &SurfaceCompositeVariant,
+        &ExtractedSphSurface,
     )>,
     particles: Res<SurfaceParticles>,
     buffers: Res<RenderAssets<GpuShaderBuffer>>,
@@ -51,7 +53,7 @@ pub(crate) fn sph_surface_passes(
     cache: Res<PipelineCache>,
     mut ctx: RenderContext,
 ) {
-    let (target, view_depth, resources, variant) = view.into_inner();
+    let (target, view_depth, resources, variant, settings) = view.into_inner();
     let (Some(depth), Some(thickness), Some(filter), Some(normals), Some(composite)) =
         (depth, thickness, filter, normals, composite)
     else {
@@ -146,7 +148,7 @@ pub(crate) fn sph_surface_passes(
             )),
         )
     });
-    for pass_index in 0..2 * resources.filter_iterations {
+    for pass_index in 0..2 * settings.0.filter_iterations {
         let direction = (pass_index % 2) as usize;
         let mut pass = ctx
             .command_encoder()

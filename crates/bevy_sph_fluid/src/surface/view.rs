@@ -219,10 +219,6 @@ pub struct SurfaceViewResources {
     pub normals: CachedTexture,
     /// Summed chord lengths through the particles' spheres [m].
     pub thickness: CachedTexture,
-    /// Size of those targets [pixels].
-    pub size: UVec2,
-    /// Filter iterations (horizontal then vertical pass each).
-    pub filter_iterations: u32,
 }
 
 /// Writes each surface camera's uniform block and takes its textures from the cache.
@@ -279,8 +275,6 @@ pub(crate) fn prepare_sph_surface_views(
             ],
             normals: texture("sph_surface_normals", NORMAL_FORMAT),
             thickness: texture("sph_surface_thickness", THICKNESS_FORMAT),
-            size,
-            filter_iterations: settings.filter_iterations,
         };
         commands.entity(entity).insert(resources);
     }
