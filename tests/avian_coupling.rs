@@ -1,12 +1,13 @@
 //! Two-way coupling with avian (feature `avian`): a box of 500 kg/m³ settles floating with half
 //! its height under water; a box of 1,500 kg/m³ sinks and rests on the floor (avian's contact
 //! with a floor collider). The water pushes the bodies through `SphColliderForce` →
-//! `ConstantForce`; avian moves them; the water sees their new pose. CPU backend, DFSPH. A
+//! `ConstantForce`; avian moves them; the water sees their new pose. DFSPH, on the CPU backend
+//! and on the GPU (its force summed on the device and read back a frame or two late). A
 //! paddle wheel (one closed mesh of six boxes) on an avian revolute joint turns when a jet hits
-//! its lower paddles, and not without it (WCSPH). In the shipped scenes, with avian on the
-//! water's clock: aquaplay.ron's pump carries its boat along the channel and turns its water
-//! wheel (a scene file's `PaddleWheel` on a `Hinged` axle) with the current, and lock.ron's
-//! boat, towed by the game, passes the lifted gate.
+//! its lower paddles, and not without it (WCSPH, CPU). In the shipped scenes, with avian on the
+//! water's clock, on both backends: aquaplay.ron's pump carries its boat along the channel and
+//! turns its water wheel (a scene file's `PaddleWheel` on a `Hinged` axle) with the current,
+//! and lock.ron's boat, towed by the game, passes the lifted gate.
 
 use avian3d::prelude::*;
 use bevy::prelude::*;
@@ -18,6 +19,24 @@ use std::time::Duration;
 const FRAME: f32 = 1.0 / 60.0;
 const SIDE: f32 = 0.12;
 const DEPTH: f32 = 0.2;
+/// Water steps per frame on the GPU backend in the tank (DFSPH, dt about 2.7 ms). The water's
+/// force on a body is read back a frame or two late, so it lags by two to four steps here.
+/// Measured with 4 steps a frame: the box of 1,500 kg/m³ overshot into the last layer of water
+/// on the floor, the squeezed layer's pressure kicked it out (129 kN) and the water went
+/// unstable at t = 1.3 s; with 2 it rests at 0.070 m, as on the CPU.
+const GPU_SUBSTEPS: u32 = 2;
+
+/// Water steps per frame in the shipped scenes (PBF, dt 1/120 s): 2 on the CPU, where avian
+/// feels the force of the frame's last step; 1 on the GPU, where the force lags a frame or two.
+/// Measured in aquaplay.ron on the GPU with 2 steps a frame (a lag of up to 33 ms): the boat's
+/// heave grew every bob (the late force does work on it) until it left the channel at 1.4 s;
+/// with 1 step it floats (y within 0.052..0.088 m) and is carried 0.45 m.
+fn scene_substeps(backend: SphBackend) -> u32 {
+    match backend {
+        SphBackend::Cpu => 2,
+        SphBackend::Gpu => 1,
+    }
+}
 
 /// Whose clock avian runs on.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,25 +51,25 @@ enum Clock {
 /// A tank with water `DEPTH` deep and a box of `density` [kg/m³] held with its centre at the
 /// surface, rotation locked; returns the app, the box and the level probe.
 fn tank_with_box(density: f32) -> (App, Entity, Entity) {
-    tank_with_box_on(density, Clock::Game)
+    tank_with_box_on(density, Clock::Game, SphBackend::Cpu)
 }
 
-fn tank_with_box_on(density: f32, clock: Clock) -> (App, Entity, Entity) {
+fn tank_with_box_on(density: f32, clock: Clock, backend: SphBackend) -> (App, Entity, Entity) {
+    if backend == SphBackend::Gpu {
+        bevy_sph_fluid::headless::require_vulkan_adapter();
+    }
     let plugins = DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>();
-    let mut app = bevy_sph_fluid::headless::headless_app_with(
-        plugins,
-        8_000,
-        SphBackend::Cpu,
-        false,
-        |app| match clock {
-            Clock::Game => {
-                app.add_plugins(PhysicsPlugins::default());
+    let mut app =
+        bevy_sph_fluid::headless::headless_app_with(plugins, 8_000, backend, false, |app| {
+            match clock {
+                Clock::Game => {
+                    app.add_plugins(PhysicsPlugins::default());
+                }
+                Clock::Water { .. } => {
+                    app.add_plugins(PhysicsPlugins::new(SphWaterTime));
+                }
             }
-            Clock::Water { .. } => {
-                app.add_plugins(PhysicsPlugins::new(SphWaterTime));
-            }
-        },
-    );
+        });
     app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f32(
         FRAME,
     )));
@@ -159,7 +178,7 @@ fn a_box_of_half_the_waters_density_floats_half_submerged() {
     let (y, level) = settle(&mut app, body, 2.5);
     let bottom = y - 0.5 * SIDE;
     let submerged = (level - bottom) / SIDE;
-    eprintln!("500 kg/m³: box centre {y:.4} m, water level {level:.4} m, submerged {submerged:.3}");
+    println!("500 kg/m³: box centre {y:.4} m, water level {level:.4} m, submerged {submerged:.3}");
     assert!(
         (submerged - 0.5).abs() <= 0.05,
         "submerged fraction {submerged}"
@@ -174,13 +193,13 @@ fn a_box_of_half_the_waters_density_floats_half_submerged() {
 /// further per frame than the water could answer, and the box was thrown 30 km away.
 #[test]
 fn bodies_on_the_waters_clock_float_at_any_real_time_factor() {
-    let (mut app, body, _) = tank_with_box_on(500.0, Clock::Water { substeps: 2 });
+    let (mut app, body, _) = tank_with_box_on(500.0, Clock::Water { substeps: 2 }, SphBackend::Cpu);
     let (y, level) = settle(&mut app, body, 2.5);
     let submerged = (level - (y - 0.5 * SIDE)) / SIDE;
     let stats = app.world().resource::<SphStats>();
     // Two steps per frame: the water's time per frame against the game's 1/60 s.
     let per_frame = 2.0 * stats.sim_time / stats.step_count.max(1) as f64;
-    eprintln!(
+    println!(
         "water clock, {per_frame:.4} simulated s per frame (game frame {FRAME:.4} s): box centre \
          {y:.4} m, level {level:.4} m, submerged {submerged:.3}"
     );
@@ -195,16 +214,45 @@ fn bodies_on_the_waters_clock_float_at_any_real_time_factor() {
 fn a_box_of_one_and_a_half_times_the_waters_density_sinks_to_the_floor() {
     let (mut app, body, _) = tank_with_box(1500.0);
     let (y, _) = settle(&mut app, body, 2.0);
-    eprintln!("1500 kg/m³: box centre {y:.4} m");
+    println!("1500 kg/m³: box centre {y:.4} m");
     // Resting on the floor: its centre half a side up, within a particle spacing.
     assert!((y - 0.5 * SIDE).abs() <= 0.02, "box centre {y}");
 }
 
-/// lock.ron with avian: the boat becomes a dynamic avian body of the file's density, the
-/// container's walls static bodies; the boat floats (neither sinks nor leaves the water) while
-/// the gate opens and the basins even out.
+/// The GPU backend, avian on the water's clock: the box of 500 kg/m³ floats half submerged and
+/// the box of 1,500 kg/m³ rests on the floor. The water's force on each is summed on the device
+/// and read back a frame or two late.
 #[test]
-fn the_lock_scene_boat_is_an_avian_body_and_floats() {
+fn boxes_float_and_sink_by_their_density_on_the_gpu() {
+    let clock = Clock::Water {
+        substeps: GPU_SUBSTEPS,
+    };
+    let (mut app, body, _) = tank_with_box_on(500.0, clock, SphBackend::Gpu);
+    let (y, level) = settle(&mut app, body, 2.5);
+    let submerged = (level - (y - 0.5 * SIDE)) / SIDE;
+    let stats = app.world().resource::<SphStats>();
+    println!(
+        "GPU, 500 kg/m³: box centre {y:.4} m, water level {level:.4} m, submerged {submerged:.3} \
+         ({} steps, {:.1} density and {:.1} divergence iterations per step)",
+        stats.step_count, stats.pressure_iterations_mean, stats.divergence_iterations_mean
+    );
+    assert!(
+        (submerged - 0.5).abs() <= 0.05,
+        "submerged fraction {submerged}"
+    );
+    assert_eq!(stats.particle_balance(), 0);
+    let (mut app, body, _) = tank_with_box_on(1500.0, clock, SphBackend::Gpu);
+    let (y, _) = settle(&mut app, body, 2.0);
+    println!("GPU, 1500 kg/m³: box centre {y:.4} m");
+    assert!((y - 0.5 * SIDE).abs() <= 0.02, "box centre {y}");
+}
+
+/// A headless app on `backend` with `physics` added and the scene file `path` (under
+/// `assets/`) loaded and spawned, paused.
+fn scene_app(path: &str, backend: SphBackend, physics: impl FnOnce(&mut App)) -> App {
+    if backend == SphBackend::Gpu {
+        bevy_sph_fluid::headless::require_vulkan_adapter();
+    }
     let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
     let plugins = DefaultPlugins
         .build()
@@ -213,23 +261,12 @@ fn the_lock_scene_boat_is_an_avian_body_and_floats() {
             file_path: assets.into(),
             ..default()
         });
-    let mut app = bevy_sph_fluid::headless::headless_app_with(
-        plugins,
-        8_000,
-        SphBackend::Cpu,
-        false,
-        |app| {
-            app.add_plugins(PhysicsPlugins::default());
-        },
-    );
-    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f32(
-        FRAME,
-    )));
-    app.insert_resource(Time::<Fixed>::from_seconds(FRAME as f64));
+    let mut app =
+        bevy_sph_fluid::headless::headless_app_with(plugins, 8_000, backend, false, physics);
     let handle = app
         .world()
         .resource::<AssetServer>()
-        .load::<SphSceneAsset>("scenes/lock.ron");
+        .load::<SphSceneAsset>(path.to_owned());
     app.world_mut().spawn(SphScene(handle));
     for _ in 0..500 {
         app.update();
@@ -238,13 +275,32 @@ fn the_lock_scene_boat_is_an_avian_body_and_floats() {
         }
         std::thread::sleep(Duration::from_millis(2));
     }
-    let boat = app
-        .world_mut()
+    app
+}
+
+/// The entity called `name`.
+fn named(app: &mut App, name: &str) -> Entity {
+    app.world_mut()
         .query::<(Entity, &Name)>()
         .iter(app.world())
-        .find(|(_, n)| n.as_str() == "boat")
+        .find(|(_, n)| n.as_str() == name)
         .map(|(e, _)| e)
-        .expect("the boat");
+        .unwrap_or_else(|| panic!("no entity named {name}"))
+}
+
+/// lock.ron with avian: the boat becomes a dynamic avian body of the file's density, the
+/// container's walls static bodies; the boat floats (neither sinks nor leaves the water) while
+/// the gate opens and the basins even out.
+#[test]
+fn the_lock_scene_boat_is_an_avian_body_and_floats() {
+    let mut app = scene_app("scenes/lock.ron", SphBackend::Cpu, |app| {
+        app.add_plugins(PhysicsPlugins::default());
+    });
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f32(
+        FRAME,
+    )));
+    app.insert_resource(Time::<Fixed>::from_seconds(FRAME as f64));
+    let boat = named(&mut app, "boat");
     assert_eq!(
         app.world().get::<RigidBody>(boat),
         Some(&RigidBody::Dynamic)
@@ -277,7 +333,7 @@ fn the_lock_scene_boat_is_an_avian_body_and_floats() {
         highest = highest.max(y);
     }
     let at = app.world().get::<Transform>(boat).unwrap().translation;
-    eprintln!("boat: y in [{lowest:.3}, {highest:.3}] m, at {at}");
+    println!("boat: y in [{lowest:.3}, {highest:.3}] m, at {at}");
     // Afloat: above the floor by more than its half height, below the basin's brim.
     assert!(
         lowest > 0.06 && highest < 0.4,
@@ -416,65 +472,38 @@ fn wheel_angle_after(seconds: f32, jet: bool) -> f32 {
 fn a_water_wheel_on_a_revolute_joint_turns_with_the_flow() {
     let turned = wheel_angle_after(1.5, true);
     let still = wheel_angle_after(1.5, false);
-    eprintln!("wheel angle after 1.5 s: {turned:.3} rad with the jet, {still:.3} rad without");
+    println!("wheel angle after 1.5 s: {turned:.3} rad with the jet, {still:.3} rad without");
     assert!(turned > 0.5, "the jet turns the wheel: {turned} rad");
     assert!(still.abs() < 0.2 * turned, "without the jet: {still} rad");
 }
 
 /// aquaplay.ron with avian on the water's clock: the pump's current carries the boat along
-/// the front channel (+x), afloat, at the water's own pace (two steps a frame, far slower than
-/// real time), and the water wheel (a `PaddleWheel` on a `Hinged` axle) turns with the current
+/// the front channel (+x), afloat, at the water's own pace (one or two steps a frame, far
+/// slower than real time), and the water wheel (a `PaddleWheel` on a `Hinged` axle) turns with the current
 /// in the back channel: its lower paddles move the way the water under them flows.
 #[test]
-fn the_pump_carries_aquaplays_boat_along_the_channel() {
-    let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
-    let plugins = DefaultPlugins
-        .build()
-        .disable::<bevy::winit::WinitPlugin>()
-        .set(AssetPlugin {
-            file_path: assets.into(),
-            ..default()
-        });
-    let mut app = bevy_sph_fluid::headless::headless_app_with(
-        plugins,
-        8_000,
-        SphBackend::Cpu,
-        false,
-        |app| {
-            app.add_plugins(PhysicsPlugins::new(SphWaterTime));
-        },
-    );
-    let handle = app
-        .world()
-        .resource::<AssetServer>()
-        .load::<SphSceneAsset>("scenes/aquaplay.ron");
-    app.world_mut().spawn(SphScene(handle));
-    for _ in 0..500 {
-        app.update();
-        if app.world().resource::<SphStats>().particle_count > 0 {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(2));
-    }
-    let boat = app
-        .world_mut()
-        .query::<(Entity, &Name)>()
-        .iter(app.world())
-        .find(|(_, n)| n.as_str() == "boat")
-        .map(|(e, _)| e)
-        .expect("the boat");
-    let wheel = app
-        .world_mut()
-        .query::<(Entity, &Name)>()
-        .iter(app.world())
-        .find(|(_, n)| n.as_str() == "water_wheel")
-        .map(|(e, _)| e)
-        .expect("the water wheel");
+fn the_pump_carries_aquaplays_boat_and_turns_its_wheel() {
+    pump_carries_boat_and_turns_wheel(SphBackend::Cpu);
+}
+
+/// The same on the GPU backend: the bodies' forces summed on the device and read back a frame
+/// or two late.
+#[test]
+fn the_pump_carries_aquaplays_boat_and_turns_its_wheel_on_the_gpu() {
+    pump_carries_boat_and_turns_wheel(SphBackend::Gpu);
+}
+
+fn pump_carries_boat_and_turns_wheel(backend: SphBackend) {
+    let mut app = scene_app("scenes/aquaplay.ron", backend, |app| {
+        app.add_plugins(PhysicsPlugins::new(SphWaterTime));
+    });
+    let boat = named(&mut app, "boat");
+    let wheel = named(&mut app, "water_wheel");
     let axle = app.world().get::<Transform>(wheel).unwrap().translation;
     let start = app.world().get::<Transform>(boat).unwrap().translation;
     app.insert_resource(SphControl {
         running: true,
-        substeps: 2,
+        substeps: scene_substeps(backend),
         ..default()
     });
     let (mut lowest, mut highest) = (f32::MAX, f32::MIN);
@@ -504,8 +533,8 @@ fn the_pump_carries_aquaplays_boat_along_the_channel() {
         .collect();
     let current = under.iter().sum::<f32>() / under.len().max(1) as f32;
     let at = app.world().get::<Transform>(wheel).unwrap().translation;
-    eprintln!(
-        "aquaplay wheel: {angle:.2} rad in 2 s, the current under it {current:.3} m/s ({} particles), axle moved {:.4} m",
+    println!(
+        "{backend:?}: aquaplay wheel: {angle:.2} rad in 2 s, the current under it {current:.3} m/s ({} particles), axle moved {:.4} m",
         under.len(),
         at.distance(axle)
     );
@@ -520,7 +549,7 @@ fn the_pump_carries_aquaplays_boat_along_the_channel() {
     );
     assert!(at.distance(axle) < 0.01, "the hinge holds the wheel: {at}");
     let end = app.world().get::<Transform>(boat).unwrap().translation;
-    eprintln!("aquaplay boat: {start} -> {end}, y in [{lowest:.3}, {highest:.3}] m");
+    println!("{backend:?}: aquaplay boat: {start} -> {end}, y in [{lowest:.3}, {highest:.3}] m");
     assert!(
         end.x - start.x > 0.2,
         "carried along the channel: {start} -> {end}"
@@ -539,45 +568,23 @@ fn the_pump_carries_aquaplays_boat_along_the_channel() {
 /// carried it to x = 0.41 m by t = 3.5 s, short of the gate.
 #[test]
 fn the_lock_scene_boat_passes_the_open_gate_when_pushed() {
-    let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
-    let plugins = DefaultPlugins
-        .build()
-        .disable::<bevy::winit::WinitPlugin>()
-        .set(AssetPlugin {
-            file_path: assets.into(),
-            ..default()
-        });
-    let mut app = bevy_sph_fluid::headless::headless_app_with(
-        plugins,
-        8_000,
-        SphBackend::Cpu,
-        false,
-        |app| {
-            app.add_plugins(PhysicsPlugins::new(SphWaterTime));
-        },
-    );
-    let handle = app
-        .world()
-        .resource::<AssetServer>()
-        .load::<SphSceneAsset>("scenes/lock.ron");
-    app.world_mut().spawn(SphScene(handle));
-    for _ in 0..500 {
-        app.update();
-        if app.world().resource::<SphStats>().particle_count > 0 {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(2));
-    }
-    let boat = app
-        .world_mut()
-        .query::<(Entity, &Name)>()
-        .iter(app.world())
-        .find(|(_, n)| n.as_str() == "boat")
-        .map(|(e, _)| e)
-        .expect("the boat");
+    boat_passes_the_open_gate(SphBackend::Cpu);
+}
+
+/// The same on the GPU backend.
+#[test]
+fn the_lock_scene_boat_passes_the_open_gate_when_pushed_on_the_gpu() {
+    boat_passes_the_open_gate(SphBackend::Gpu);
+}
+
+fn boat_passes_the_open_gate(backend: SphBackend) {
+    let mut app = scene_app("scenes/lock.ron", backend, |app| {
+        app.add_plugins(PhysicsPlugins::new(SphWaterTime));
+    });
+    let boat = named(&mut app, "boat");
     app.insert_resource(SphControl {
         running: true,
-        substeps: 2,
+        substeps: scene_substeps(backend),
         ..default()
     });
     // The gate's far face (x = 0.52 m) plus the boat's half length (0.06 m).
@@ -602,7 +609,7 @@ fn the_lock_scene_boat_passes_the_open_gate_when_pushed() {
     }
     let end = app.world().get::<Transform>(boat).unwrap().translation;
     let t = app.world().resource::<SphStats>().sim_time;
-    eprintln!("lock boat at t = {t:.2} s: {end}, y in [{lowest:.3}, {highest:.3}] m");
+    println!("{backend:?}: lock boat at t = {t:.2} s: {end}, y in [{lowest:.3}, {highest:.3}] m");
     assert!(end.x > beyond_gate, "through the gate: {end}");
     // Afloat: above the floor by more than its half height, below the basin's brim.
     assert!(
