@@ -2,7 +2,7 @@
 //! and every error names the option, the value and what is allowed, e.g.
 //! `invalid value '2' for '--dt <SECONDS>': 2 is not in (0, 1] s`.
 
-use crate::scenarios::Scenario;
+use crate::scenarios::{Bodies, Scenario};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{ArgAction, Args, Parser, Subcommand, ValueEnum};
 use sph_core::{Integrator, NeighborSearch, Solver};
@@ -52,6 +52,19 @@ impl Backend {
             Backend::Cpu => "cpu",
             Backend::Gpu => "gpu",
         }
+    }
+}
+
+impl ValueEnum for Bodies {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[Bodies::Held, Bodies::Avian]
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(match self {
+            Bodies::Held => "held where the file puts them; the water's force on them reported",
+            Bodies::Avian => "moved by avian on the water's clock (two-way coupling)",
+        }))
     }
 }
 
@@ -241,6 +254,11 @@ pub struct RunArgs {
     /// --rollback and --json apply. The report adds the particle balance and the probes.
     #[arg(long, value_name = "FILE", conflicts_with = "scenario")]
     pub scene: Option<PathBuf>,
+    /// A scene file's dynamic and hinged bodies: held in place, or moved by avian (on either
+    /// backend; the CPU backend then runs the plugin in a headless app, and the GPU backend
+    /// takes one step a frame, whatever --substeps says, so the bodies' forces lag little).
+    #[arg(long, value_enum, default_value = "held", requires = "scene")]
+    pub bodies: Bodies,
     /// Which solver runs the scenario.
     #[arg(long, value_enum, default_value = "cpu")]
     pub backend: Backend,
@@ -324,6 +342,7 @@ impl Default for RunArgs {
         Self {
             scenario: Scenario::DamBreak,
             scene: None,
+            bodies: Bodies::Held,
             backend: Backend::Cpu,
             solver: Solver::Wcsph,
             density_error: None,

@@ -62,6 +62,20 @@ pub struct ColliderForceReport {
     pub evaluations: u64,
 }
 
+/// Where a scene file's dynamic or hinged collider started and ended (they do not move with
+/// `--bodies held`).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct BodyMotion {
+    /// The collider's name in the file.
+    pub name: String,
+    /// Its position at the start [m].
+    pub start: [f32; 3],
+    /// Its position at the end [m].
+    pub end: [f32; 3],
+    /// The angle it turned through, start to end [rad] (0 to π).
+    pub turned_rad: f32,
+}
+
 /// The buoyancy scenario: the vertical force on the held box against ρ0 g V.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct BuoyancyFigures {
@@ -161,6 +175,11 @@ pub struct Report {
     pub scene_file: Option<String>,
     /// The scene file's probes, with every reading.
     pub probes: Vec<ProbeSeries>,
+    /// A scene file's bodies: "held" in place or moved by "avian" (`--bodies`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<String>,
+    /// A scene file's dynamic and hinged colliders: where they started and ended.
+    pub body_motion: Vec<BodyMotion>,
     /// GPU memory per particle slot [bytes]: everything allocated / capacity (GPU backend).
     pub gpu_bytes_per_particle: u32,
     /// GPU memory of one million particles at that rate [MiB].

@@ -5,9 +5,9 @@ use crate::args::{integrator_name, search_name, Backend, Duration, RunArgs};
 use crate::hydrostatic::HydrostaticSampler;
 use crate::martin_moyce::{experiment, rms_error_and_best_shift};
 use crate::progress::Bars;
-use crate::report::{BuoyancyFigures, ColliderForceReport, DamBreakFigures, Report};
+use crate::report::{BodyMotion, BuoyancyFigures, ColliderForceReport, DamBreakFigures, Report};
 use crate::scenarios::{setup, Setup, G};
-use crate::sim::{CpuSimulation, GpuSimulation, Simulation, State};
+use crate::sim::{AppSimulation, CpuSimulation, Simulation, State};
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
 use sph_core::{Diagnostics, Integrator, NeighborSearch, Rollback, Solver};
@@ -179,10 +179,20 @@ pub fn simulation(
     substeps: u32,
     bars: &Bars,
 ) -> Result<Box<dyn Simulation>, String> {
+    let avian = setup
+        .extras
+        .as_ref()
+        .is_some_and(|e| e.bodies == crate::scenarios::Bodies::Avian);
     Ok(match backend {
+        // avian runs in a Bevy app: the plugin's CPU backend there.
+        Backend::Cpu if avian => Box::new(AppSimulation::new(
+            setup,
+            bevy_sph_fluid::SphBackend::Cpu,
+            substeps,
+        )?),
         Backend::Cpu => Box::new(CpuSimulation::new(setup)?),
         Backend::Gpu => {
-            let mut gpu = GpuSimulation::new(setup, substeps)?;
+            let mut gpu = AppSimulation::new(setup, bevy_sph_fluid::SphBackend::Gpu, substeps)?;
             bars.note("  compiling shaders and taking the first step");
             gpu.advance(1)?;
             Box::new(gpu)
@@ -277,11 +287,7 @@ pub fn run_setup(
         None => setup.scene.particle_count().max(setup.capacity),
     } - left_out as usize;
     let speeds: Vec<f32> = state.velocities.iter().map(|v| v.length()).collect();
-    let colliders_now: Vec<sph_core::Collider> = setup
-        .colliders
-        .iter()
-        .map(|c| c.at(sim_time_of(&*sim)))
-        .collect();
+    let colliders_now = sim.colliders_now(&setup.colliders);
     // Deeper than the guard's tolerance (a particle resting on an edge rounds a few ulps in).
     let depth = sph_core::guard::tolerance(setup.scene.params.spacing());
     let inside_collider_count = state
@@ -350,6 +356,8 @@ pub fn run_setup(
             .as_ref()
             .map(|e| sim.probe_log().report(&e.probes, sim_time))
             .unwrap_or_default(),
+        bodies: setup.extras.as_ref().map(|e| e.bodies.name().into()),
+        body_motion: body_motion(setup, &colliders_now),
         ..Default::default()
     };
     report.particle_balance = report.particles as i64 + report.particles_emitted as i64
@@ -373,10 +381,6 @@ pub fn run_setup(
     }
     report.hydrostatic = samples.hydrostatic.map(|h| h.finish(&params));
     Ok(report)
-}
-
-fn sim_time_of(sim: &dyn Simulation) -> f64 {
-    sim.time()
 }
 
 /// The water level of each basin (the 98th percentile of the heights of the particles more than
@@ -450,6 +454,29 @@ impl ForceWindow {
     }
 }
 
+/// Where each of a scene file's dynamic and hinged colliders started and where it is now.
+fn body_motion(setup: &Setup, now: &[sph_core::Collider]) -> Vec<BodyMotion> {
+    let Some(extras) = &setup.extras else {
+        return Vec::new();
+    };
+    extras
+        .colliders
+        .iter()
+        .zip(&setup.colliders)
+        .zip(now)
+        .filter(|((written, _), _)| written.body.is_some() || written.hinge.is_some())
+        .map(|((_, c), now)| {
+            let start = c.at(0.0).pose;
+            BodyMotion {
+                name: c.name.clone(),
+                start: start.translation.to_array(),
+                end: now.pose.translation.to_array(),
+                turned_rad: start.rotation.angle_between(now.pose.rotation),
+            }
+        })
+        .collect()
+}
+
 /// The held box's upward force against ρ0 |g| V.
 fn buoyancy(setup: &Setup, forces: &[ColliderForceReport]) -> Option<BuoyancyFigures> {
     let c = setup.colliders.first()?;
@@ -476,6 +503,9 @@ pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
         Some(path) => {
             let mut setup = crate::scene_run::setup_from_file(path)?;
             setup.rollback = rollback(args.rollback);
+            if let Some(extras) = &mut setup.extras {
+                extras.bodies = args.bodies;
+            }
             setup
         }
         None => configured_setup(args),
@@ -487,6 +517,8 @@ pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scenarios::Bodies;
+    use sph_core::glam::Vec3;
 
     /// A small dam break at several times its derived dt (0.003 s), for 0.2 s.
     fn too_large_a_step(rollback: bool) -> Report {
@@ -566,5 +598,37 @@ mod tests {
             "{:?}",
             flow.readings.last()
         );
+    }
+
+    /// lock.ron with `--bodies held` and `--bodies avian` (CPU): held, the boat stays where the
+    /// file puts it and the report says so; with avian the water moves it and it floats in the
+    /// upper basin (water 0.24 m deep), and the particle balance holds.
+    #[test]
+    fn a_scene_files_boat_is_held_or_moved_by_avian() {
+        let scene =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/lock.ron");
+        let report = |bodies| {
+            let args = RunArgs {
+                scene: Some(scene.clone()),
+                bodies,
+                time: Some(0.6),
+                ..Default::default()
+            };
+            run(&args, &Bars::new(true)).unwrap()
+        };
+        let held = report(Bodies::Held);
+        assert_eq!(held.bodies.as_deref(), Some("held"));
+        assert_eq!(held.body_motion.len(), 1, "{:?}", held.body_motion);
+        assert_eq!(held.body_motion[0].name, "boat");
+        assert_eq!(held.body_motion[0].start, held.body_motion[0].end);
+        let moved = report(Bodies::Avian);
+        assert_eq!(moved.health, "ok", "{moved:?}");
+        assert_eq!(moved.particle_balance, 0);
+        assert_eq!(moved.bodies.as_deref(), Some("avian"));
+        let boat = &moved.body_motion[0];
+        let (start, end) = (Vec3::from(boat.start), Vec3::from(boat.end));
+        assert!(start.distance(end) > 0.005, "moved: {start} -> {end}");
+        // Afloat: neither on the floor (0.03 m) nor above the water.
+        assert!(end.y > 0.15 && end.y < 0.3, "the boat floats: {end}");
     }
 }

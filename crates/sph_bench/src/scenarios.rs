@@ -128,6 +128,27 @@ impl ScenarioCollider {
     }
 }
 
+/// What moves a scene file's dynamic and hinged bodies (boats, wheels).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Bodies {
+    /// They stay where the file puts them; the water's force and torque on them are reported.
+    #[default]
+    Held,
+    /// avian moves them (two-way coupling on the water's clock, as in a game with the plugin's
+    /// `avian` feature); their start and end positions are reported with the forces.
+    Avian,
+}
+
+impl Bodies {
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Bodies::Held => "held",
+            Bodies::Avian => "avian",
+        }
+    }
+}
+
 /// A scenario ready to run.
 #[derive(Clone, Debug)]
 pub struct Setup {
@@ -174,6 +195,10 @@ pub struct SceneExtras {
     pub pumps: Vec<(String, Pump)>,
     /// The probes.
     pub probes: Vec<SceneProbe>,
+    /// The file's colliders as written (masses, hinges), in the order of `Setup::colliders`.
+    pub colliders: Vec<SceneCollider>,
+    /// What moves the dynamic and hinged colliders.
+    pub bodies: Bodies,
 }
 
 impl SceneExtras {

@@ -2,7 +2,7 @@
 //! emitters, drains, pumps and probes; the probes' readings go into the report.
 
 use crate::report::ProbeSeries;
-use crate::scenarios::{Scenario, ScenarioCollider, SceneExtras, Setup};
+use crate::scenarios::{Bodies, Scenario, ScenarioCollider, SceneExtras, Setup};
 use sph_core::scenario::Scene;
 use sph_core::scene_file::{SceneFile, SceneProbe};
 use sph_core::{ProbeKind, ProbeReading, Rollback};
@@ -57,6 +57,8 @@ pub fn setup_from_file(path: &Path) -> Result<Setup, String> {
             sinks: built.sinks.clone(),
             pumps: built.pumps.clone(),
             probes: built.probes.clone(),
+            colliders: built.colliders.clone(),
+            bodies: Bodies::Held,
         }),
         scene,
     })

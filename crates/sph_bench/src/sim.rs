@@ -1,7 +1,8 @@
-//! One interface over the two backends: the CPU solver stepped directly, and the plugin's GPU
-//! passes in a headless app (steps in frames of `substeps`, waited for, state read back on demand).
+//! One interface over the two backends: the CPU solver stepped directly, and the plugin in a
+//! headless app (its GPU passes, or its CPU backend when avian moves a scene file's bodies;
+//! steps in frames of `substeps`, waited for, state read back on demand).
 
-use crate::scenarios::{ScenarioCollider, Setup};
+use crate::scenarios::{Bodies, ScenarioCollider, Setup};
 use crate::scene_run::ProbeLog;
 use bevy::prelude::*;
 use bevy_sph_fluid::headless;
@@ -95,6 +96,11 @@ pub trait Simulation {
     fn flow_counts(&self) -> (u64, u64);
     /// The scene file's probe readings so far (empty without probes).
     fn probe_log(&self) -> ProbeLog;
+    /// Each of the setup's colliders as it stands now: where its script puts it at the current
+    /// time, or where avian moved it.
+    fn colliders_now(&self, colliders: &[ScenarioCollider]) -> Vec<sph_core::Collider> {
+        colliders.iter().map(|c| c.at(self.time())).collect()
+    }
 }
 
 /// The CPU reference solver, with the scenario's emitter fed every step and its kinematic
@@ -330,10 +336,15 @@ fn collect_probe_readings(
     out.0.extend(reader.read().copied());
 }
 
-/// The plugin's GPU passes in a headless app; the scenario's colliders are `SphCollider`
-/// entities whose transforms follow their lifts frame by frame.
-pub struct GpuSimulation {
+/// The plugin in a headless app (its GPU passes, or its CPU backend); the scenario's colliders
+/// are `SphCollider` entities whose transforms follow their lifts frame by frame, and with
+/// [`Bodies::Avian`] a scene file's dynamic and hinged colliders are avian bodies that the
+/// water moves (avian on the water's clock, `SphWaterTime`).
+pub struct AppSimulation {
     app: App,
+    backend: SphBackend,
+    /// The CPU backend's pressure iterations, summed frame by frame.
+    cpu_iterations: IterationTotals,
     /// The scene file's probe entities, in the file's order.
     probes: Vec<Entity>,
     adapter: String,
@@ -342,21 +353,31 @@ pub struct GpuSimulation {
     colliders: Vec<(ScenarioCollider, Entity)>,
 }
 
-impl GpuSimulation {
+impl AppSimulation {
     /// Builds the app, spawns the scenario and takes no step yet (shaders compile on the first).
-    pub fn new(setup: &Setup, substeps: u32) -> Result<Self, String> {
+    pub fn new(setup: &Setup, backend: SphBackend, substeps: u32) -> Result<Self, String> {
         if !setup.walls {
             return Err(
                 "--walls off is CPU only (the GPU backend always samples the walls)".into(),
             );
         }
-        let adapter = headless::vulkan_adapter()?;
+        let adapter = match backend {
+            SphBackend::Gpu => headless::vulkan_adapter()?,
+            SphBackend::Cpu => "cpu".into(),
+        };
+        let extras = setup.extras.clone().unwrap_or_default();
+        let avian = extras.bodies == Bodies::Avian;
         let s = &setup.scene;
-        let mut app = headless::headless_app(
+        let mut app = headless::headless_app_with(
             DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>(),
             setup.capacity.max(1) as u32,
-            SphBackend::Gpu,
-            true,
+            backend,
+            backend == SphBackend::Gpu,
+            |app| {
+                if avian {
+                    app.add_plugins(avian3d::prelude::PhysicsPlugins::new(SphWaterTime));
+                }
+            },
         );
         app.insert_resource(SphParams(s.params));
         let container = app.world_mut().spawn(SphContainer(s.container)).id();
@@ -365,31 +386,45 @@ impl GpuSimulation {
                 .entity_mut(container)
                 .insert(SphWallSlip(sph_core::Slip::NoSlip { friction }));
         }
+        if avian {
+            // As a scene asset's: the container's walls, and the colliders below, become avian
+            // bodies (static, kinematic, dynamic of the file's mass, hinged).
+            app.world_mut()
+                .entity_mut(container)
+                .insert(SphSceneMember(container));
+        }
         app.update();
         let colliders = setup
             .colliders
             .iter()
-            .map(|c| {
+            .enumerate()
+            .map(|(k, c)| {
                 let at = c.at(0.0);
-                let entity = app
-                    .world_mut()
-                    .spawn((
-                        SphCollider {
-                            shape: at.shape,
-                            motion: at.motion,
-                            slip: at.slip,
-                        },
-                        Transform::from_translation(at.pose.translation)
-                            .with_rotation(at.pose.rotation),
-                    ))
-                    .id();
-                (c.clone(), entity)
+                let mut entity = app.world_mut().spawn((
+                    SphCollider {
+                        shape: at.shape,
+                        motion: at.motion,
+                        slip: at.slip,
+                    },
+                    Transform::from_translation(at.pose.translation)
+                        .with_rotation(at.pose.rotation),
+                ));
+                if avian {
+                    entity.insert(SphSceneMember(container));
+                    let written = extras.colliders.get(k);
+                    if let Some(mass) = written.and_then(|w| w.body) {
+                        entity.insert(bevy_sph_fluid::scene_asset::SphDynamicBody(mass));
+                    }
+                    if let Some(hinge) = written.and_then(|w| w.hinge) {
+                        entity.insert(bevy_sph_fluid::scene_asset::SphHinge(hinge));
+                    }
+                }
+                (c.clone(), entity.id())
             })
             .collect();
         // Two frames: the colliders' transforms propagate, then the blocks spawn around them.
         app.update();
         app.update();
-        let extras = setup.extras.clone().unwrap_or_default();
         for (k, block) in s.blocks.iter().enumerate() {
             app.world_mut().spawn(SphBlockSpawn {
                 block: *block,
@@ -424,9 +459,18 @@ impl GpuSimulation {
         app.update();
         Ok(Self {
             app,
+            backend,
+            cpu_iterations: IterationTotals::default(),
             probes,
             adapter,
-            substeps: substeps.max(1),
+            // A body's force comes back from the GPU a frame or two late: more steps a frame
+            // lag it more, and a light body then gains energy every bob (tests/avian_coupling.rs,
+            // `scene_substeps`). With avian bodies the GPU takes one step a frame.
+            substeps: if avian && backend == SphBackend::Gpu {
+                1
+            } else {
+                substeps.max(1)
+            },
             rollback: setup.rollback,
             colliders,
         })
@@ -449,7 +493,7 @@ impl GpuSimulation {
     }
 }
 
-impl Simulation for GpuSimulation {
+impl Simulation for AppSimulation {
     fn advance(&mut self, steps: u32) -> Result<(u32, f64), String> {
         let t = Instant::now();
         let mut done = 0;
@@ -477,10 +521,19 @@ impl Simulation for GpuSimulation {
             let mut frames = 0;
             while headless::steps_taken(&self.app) == before {
                 self.app.update();
+                if self.backend == SphBackend::Cpu {
+                    let stats = self.app.world().resource::<SphStats>();
+                    let n = stats.frame_steps as u64;
+                    let sums = &mut self.cpu_iterations;
+                    sums.steps += n;
+                    sums.density += (stats.pressure_iterations_mean * n as f32).round() as u64;
+                    sums.density_max = sums.density_max.max(stats.pressure_iterations_max);
+                    sums.divergence += (stats.divergence_iterations_mean * n as f32).round() as u64;
+                }
                 frames += 1;
                 if frames > 2000 {
                     return Err(format!(
-                        "the GPU stopped stepping: {:?}",
+                        "the plugin stopped stepping: {:?}",
                         self.stats().error
                     ));
                 }
@@ -578,6 +631,9 @@ impl Simulation for GpuSimulation {
     }
 
     fn iterations(&self) -> IterationTotals {
+        if self.backend == SphBackend::Cpu {
+            return self.cpu_iterations;
+        }
         let world = self.app.world();
         let params = world.resource::<SphParams>();
         match params.solver {
@@ -626,5 +682,23 @@ impl Simulation for GpuSimulation {
             }
         }
         log
+    }
+
+    /// The colliders at their entities' poses (scripted lifts and paths, or avian's moves).
+    fn colliders_now(&self, colliders: &[ScenarioCollider]) -> Vec<sph_core::Collider> {
+        let world = self.app.world();
+        colliders
+            .iter()
+            .zip(&self.colliders)
+            .map(|(c, (_, entity))| {
+                let mut now = c.at(self.time());
+                if let Some(transform) = world.get::<GlobalTransform>(*entity) {
+                    let (_, rotation, translation) = transform.to_scale_rotation_translation();
+                    now.pose.translation = translation;
+                    now.pose.rotation = rotation;
+                }
+                now
+            })
+            .collect()
     }
 }
