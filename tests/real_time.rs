@@ -135,6 +135,34 @@ fn bad_limits_are_refused_and_nothing_moves() {
     assert_eq!(app.world().resource::<SphStats>().error, None);
 }
 
+/// `SphControl::max_body_frame_time` outside (0, 1] s is refused by name and nothing moves;
+/// `None` (no limit) and a valid time run on.
+#[test]
+fn a_bad_body_frame_time_is_refused_and_nothing_moves() {
+    let mut app = real_time_app(SphBackend::Cpu, Solver::Pbf, FRAME);
+    gain(&mut app, 3);
+    for bad in [0.0, -0.01, f32::NAN, 2.0] {
+        app.world_mut()
+            .resource_mut::<SphControl>()
+            .max_body_frame_time = Some(bad);
+        assert_eq!(gain(&mut app, 2), 0.0, "{bad}");
+        let error = app.world().resource::<SphStats>().error.clone();
+        let error = error.expect("an error naming the field");
+        assert!(error.contains("SphControl::max_body_frame_time"), "{error}");
+    }
+    for good in [None, Some(0.01)] {
+        app.world_mut()
+            .resource_mut::<SphControl>()
+            .max_body_frame_time = good;
+        let gained = gain(&mut app, 3);
+        assert!(
+            (gained - 3.0 * FRAME as f64).abs() < 1e-5,
+            "{good:?}: {gained}"
+        );
+        assert_eq!(app.world().resource::<SphStats>().error, None);
+    }
+}
+
 #[test]
 fn gpu_frames_advance_by_their_own_time_without_waiting() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());

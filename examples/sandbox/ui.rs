@@ -392,6 +392,25 @@ pub fn runtime_panel(
                         .clamping(SliderClamping::Always),
                 );
             }
+            let mut limited = control.max_body_frame_time.is_some();
+            ui.checkbox(
+                &mut limited,
+                "GPU, bodies afloat: limit the water time a frame covers (their force arrives a \
+                 frame or two late)",
+            );
+            match (limited, control.max_body_frame_time) {
+                (true, None) => control.max_body_frame_time = Some(DEFAULT_MAX_BODY_FRAME_TIME),
+                (false, Some(_)) => control.max_body_frame_time = None,
+                _ => {}
+            }
+            if let Some(most) = control.max_body_frame_time.as_mut() {
+                ui.add(
+                    egui::Slider::new(most, 0.001..=0.05)
+                        .text("most water time / frame with bodies [s]")
+                        .logarithmic(true)
+                        .clamping(SliderClamping::Always),
+                );
+            }
             ui.horizontal(|ui| {
                 let label = if control.running { "Pause" } else { "Run" };
                 if ui.button(label).clicked() {

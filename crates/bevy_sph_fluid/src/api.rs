@@ -60,6 +60,31 @@ pub struct SphControl {
     /// the dt (the default), or frozen at once ([`sph_core::Rollback::off`]). Invalid settings are
     /// refused and named in [`SphStats::error`].
     pub rollback: sph_core::Rollback,
+    /// GPU backend, while a dynamic [`SphCollider`] is in the water: the most simulated time
+    /// one frame covers [s] (at least one step; `None`: no limit). The water's force on a body
+    /// is read back a frame or two late, and a late force does work on a body that bobs: with
+    /// 16 ms of water a frame a boat of 400 kg/m³ bobbed higher each time until it left the
+    /// water (docs/scenes.md). Default [`DEFAULT_MAX_BODY_FRAME_TIME`]; allowed (0, 1] s.
+    pub max_body_frame_time: Option<f32>,
+}
+
+/// The default of [`SphControl::max_body_frame_time`] [s]: two DFSPH steps of 2.7 ms a frame, or
+/// PBF's one step of 1/120 s (a frame takes at least one), both measured to keep floating
+/// bodies stable on the GPU; four DFSPH steps (10.8 ms) and two PBF steps (16.7 ms) were not.
+pub const DEFAULT_MAX_BODY_FRAME_TIME: f32 = 0.006;
+
+impl SphControl {
+    /// Refuses a [`Self::max_body_frame_time`] outside (0, 1] s, by name.
+    pub fn validate_body_frame_time(&self) -> Result<(), sph_core::ParamError> {
+        match self.max_body_frame_time {
+            Some(t) if !(t > 0.0 && t <= 1.0) => Err(sph_core::ParamError {
+                field: "SphControl::max_body_frame_time",
+                value: t.to_string(),
+                allowed: "(0, 1] s, or None",
+            }),
+            _ => Ok(()),
+        }
+    }
 }
 
 impl Default for SphControl {
@@ -72,6 +97,7 @@ impl Default for SphControl {
             real_time: None,
             record_neighbor_counts: false,
             rollback: sph_core::Rollback::default(),
+            max_body_frame_time: Some(DEFAULT_MAX_BODY_FRAME_TIME),
         }
     }
 }

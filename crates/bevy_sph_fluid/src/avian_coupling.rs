@@ -6,9 +6,9 @@
 //! fluid plugin stays engine-agnostic: it only writes [`SphColliderForce`], and this module turns
 //! that into avian's forces (the split avian's maintainers ask for, avian issue #265). On the
 //! GPU the force is summed on the device and read back a frame or two late, without a stall.
-//! A late force does work on a body that bobs: keep the water's steps per frame few when light
-//! bodies float on the GPU (in the tests, one PBF step of 1/120 s a frame holds a boat of
-//! 400 kg/m³; two let its bobbing grow until it left the water).
+//! A late force does work on a body that bobs, so on the GPU a frame covers at most
+//! [`SphControl::max_body_frame_time`] of water while a dynamic collider is in it (one PBF step
+//! of 1/120 s holds a boat of 400 kg/m³; two let its bobbing grow until it left the water).
 //!
 //! Time: by default avian steps in its fixed schedule by the game's time, the water by its own
 //! frame plan; they agree only when the water runs in real-time mode ([`SphControl::real_time`])

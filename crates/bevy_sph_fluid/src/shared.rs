@@ -66,6 +66,27 @@ impl FramePlan {
     }
 }
 
+impl FramePlan {
+    /// The plan cut to cover at most `max_time` of simulated time when a step takes `dt`
+    /// (at least one step; real-time mode's budget is cut with it).
+    pub fn capped(self, max_time: f32, dt: f32) -> Self {
+        if !(dt > 0.0 && max_time > 0.0) || self.steps <= 1 {
+            return self;
+        }
+        // A hair over, so that two steps of 0.003 s fit in 0.006 s despite rounding.
+        let most = ((max_time / dt * (1.0 + 1e-4)).floor() as u32).max(1);
+        if self.steps <= most {
+            return self;
+        }
+        let duration = most as f32 * dt;
+        Self {
+            steps: most,
+            duration,
+            budget: self.budget.map(|b| b.min(duration)),
+        }
+    }
+}
+
 /// The GPU backend's drains in the main world (see `flow::lower_gpu_count`): a tail read back
 /// is used only if its sort came at or after both frames.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -406,4 +427,36 @@ pub struct ClockReadback {
     pub(crate) source: Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>,
     /// The latest clock that arrived.
     pub latest: Option<GpuClock>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_capped_plan_covers_at_most_the_time_and_takes_at_least_one_step() {
+        let plan = FramePlan {
+            steps: 10,
+            duration: 0.03,
+            budget: None,
+        };
+        // Two steps of 3 ms fit in 6 ms, rounding aside.
+        let two = plan.capped(0.006, 0.003);
+        assert_eq!((two.steps, two.budget), (2, None));
+        assert!((two.duration - 0.006).abs() < 1e-7);
+        // A step longer than the limit still goes: one a frame.
+        assert_eq!(plan.capped(0.006, 1.0 / 120.0).steps, 1);
+        // A plan within the limit, or without a known dt, is left alone.
+        assert_eq!(plan.capped(1.0, 0.003), plan);
+        assert_eq!(plan.capped(0.006, 0.0), plan);
+        // Real-time mode's budget is cut with the steps.
+        let real_time = FramePlan {
+            steps: 6,
+            duration: 1.0 / 60.0,
+            budget: Some(1.0 / 60.0),
+        };
+        let cut = real_time.capped(0.006, 0.0028);
+        assert_eq!(cut.steps, 2);
+        assert_eq!(cut.budget, Some(cut.duration));
+    }
 }

@@ -273,10 +273,23 @@ fn sph_plan_frame(
     control: Res<SphControl>,
     stats: Res<SphStats>,
     mut sim: ResMut<SphSimulation>,
+    colliders: Query<&SphCollider>,
 ) {
-    let valid = control.real_time.is_none_or(|r| r.validate().is_ok());
+    let valid = control.real_time.is_none_or(|r| r.validate().is_ok())
+        && control.validate_body_frame_time().is_ok();
     sim.plan = if valid {
-        sim.plan(&control, &params, &stats, time.delta_secs())
+        let plan = sim.plan(&control, &params, &stats, time.delta_secs());
+        // The GPU's body forces arrive a frame or two late: a frame covers little water time
+        // while a body floats.
+        let bodies = colliders
+            .iter()
+            .any(|c| c.motion == sph_core::ColliderMotion::Dynamic);
+        match control.max_body_frame_time {
+            Some(most) if bodies && sim.backend == SphBackend::Gpu => {
+                plan.capped(most, sim.expected_dt(&params, &stats))
+            }
+            _ => plan,
+        }
     } else {
         // Refused (and named) by sph_plan_step; nothing moves this frame.
         FramePlan::default()
@@ -296,7 +309,10 @@ fn sph_plan_step(
         sim.frame.active = false;
         return;
     };
-    let real_time = control.real_time.map_or(Ok(()), |r| r.validate());
+    let real_time = control
+        .real_time
+        .map_or(Ok(()), |r| r.validate())
+        .and(control.validate_body_frame_time());
     if let Err(e) = params
         .validate()
         .and(control.rollback.validate())

@@ -255,8 +255,9 @@ pub struct RunArgs {
     #[arg(long, value_name = "FILE", conflicts_with = "scenario")]
     pub scene: Option<PathBuf>,
     /// A scene file's dynamic and hinged bodies: held in place, or moved by avian (on either
-    /// backend; the CPU backend then runs the plugin in a headless app, and the GPU backend
-    /// takes one step a frame, whatever --substeps says, so the bodies' forces lag little).
+    /// backend; the CPU backend then runs the plugin in a headless app, and the GPU backend's
+    /// frames cover at most the plugin's `max_body_frame_time`, 6 ms of water, whatever
+    /// --substeps says, so the bodies' forces lag little).
     #[arg(long, value_enum, default_value = "held", requires = "scene")]
     pub bodies: Bodies,
     /// Which solver runs the scenario.

@@ -343,6 +343,9 @@ fn collect_probe_readings(
 pub struct AppSimulation {
     app: App,
     backend: SphBackend,
+    /// avian moves the dynamic colliders: the GPU's frames then cover at most
+    /// `SphControl::max_body_frame_time` of water (the force arrives a frame or two late).
+    avian: bool,
     /// The CPU backend's pressure iterations, summed frame by frame.
     cpu_iterations: IterationTotals,
     /// The scene file's probe entities, in the file's order.
@@ -463,14 +466,8 @@ impl AppSimulation {
             cpu_iterations: IterationTotals::default(),
             probes,
             adapter,
-            // A body's force comes back from the GPU a frame or two late: more steps a frame
-            // lag it more, and a light body then gains energy every bob (tests/avian_coupling.rs,
-            // `scene_substeps`). With avian bodies the GPU takes one step a frame.
-            substeps: if avian && backend == SphBackend::Gpu {
-                1
-            } else {
-                substeps.max(1)
-            },
+            substeps: substeps.max(1),
+            avian,
             rollback: setup.rollback,
             colliders,
         })
@@ -516,6 +513,12 @@ impl Simulation for AppSimulation {
                 running: true,
                 substeps: k,
                 rollback: self.rollback,
+                // Held bodies do not move: no lag to keep short.
+                max_body_frame_time: if self.avian {
+                    SphControl::default().max_body_frame_time
+                } else {
+                    None
+                },
                 ..default()
             });
             let mut frames = 0;
