@@ -493,8 +493,8 @@ fn a_water_wheel_on_a_revolute_joint_turns_with_the_flow() {
 
 /// aquaplay.ron with avian on the water's clock: the pump's current carries the boat along
 /// the front channel (+x), afloat, at the water's own pace (one or two steps a frame, far
-/// slower than real time), and the water wheel (a `PaddleWheel` on a `Hinged` axle) turns with the current
-/// in the back channel: its lower paddles move the way the water under them flows.
+/// slower than real time), and the water wheel (a `PaddleWheel` on a `Hinged` axle) turns with
+/// the current in the back channel: its lower paddles move the way the water under them flows.
 #[test]
 fn the_pump_carries_aquaplays_boat_and_turns_its_wheel() {
     pump_carries_boat_and_turns_wheel(SphBackend::Cpu);
