@@ -1,9 +1,11 @@
 //! `cargo bench -p sph_core`: one step of a 32,768-particle dam break (water preset,
 //! kick-drift-kick), surface tension off and on. Prints the median, min and max of timed steps.
+//! Then PBF on dambreak32k (`cargo bench -p sph_core --bench step -- pbf` runs only that one).
 
 use sph_core::glam::Vec3;
+use sph_core::params::SpacingDerivation;
 use sph_core::scenario::dam_break;
-use sph_core::CpuSolver;
+use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Solver, SphParams};
 use std::time::Instant;
 
 fn bench(label: &str, surface_tension: f32) {
@@ -44,9 +46,66 @@ fn bench(label: &str, surface_tension: f32) {
     println!("  mean ms per stage: {}", per_stage.join(", "));
 }
 
+/// The value after `flag` on the command line, if any.
+fn arg<T: std::str::FromStr>(flag: &str) -> Option<T> {
+    let args: Vec<String> = std::env::args().collect();
+    let at = args.iter().position(|a| a == flag)?;
+    args.get(at + 1)?.parse().ok()
+}
+
+/// PBF on sph-bench's dambreak32k (31,250 particles at 0.02 m, a 0.5 × 1 × 0.5 m column in a
+/// 2 × 1.2 × 0.5 m tank) at its defaults, or with `--pbf-iterations N` and `--cfl λ`: the mean
+/// ms per step and per stage over the first 0.5 s, the real-time factor of the steps, and the
+/// mean compression over the steps (as sph-bench's `density_error_mean_run_pct`).
+fn bench_pbf() {
+    let spacing = 0.02;
+    let mut params = SphParams::from_spacing(SpacingDerivation {
+        spacing,
+        expected_peak_speed: (2.0 * 9.81f32).sqrt(),
+        ..Default::default()
+    });
+    params.use_solver(Solver::Pbf);
+    if let Some(n) = arg("--pbf-iterations") {
+        params.pbf.iterations = n;
+    }
+    if let Some(cfl) = arg("--cfl") {
+        params.cfl_factor = cfl;
+    }
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(2.0, 1.2, 0.5));
+    let column = BlockSpawn::new(Vec3::ZERO, Vec3::new(0.5, 1.0, 0.5), spacing).positions();
+    let mut solver = CpuSolver::new(params, container, column.len()).expect("valid scene");
+    solver.spawn(&column, Vec3::ZERO);
+    let (mut wall, mut steps, mut compression) = (0.0, 0, 0.0);
+    while solver.time() < 0.5 {
+        let t = Instant::now();
+        solver.step();
+        wall += t.elapsed().as_secs_f64();
+        steps += 1;
+        compression += solver.diagnostics().density_error_mean_pct as f64;
+    }
+    let per_stage: Vec<String> = solver
+        .timings()
+        .stages()
+        .iter()
+        .map(|(name, t)| format!("{name} {:.2}", t.as_secs_f64() * 1e3 / steps as f64))
+        .collect();
+    println!(
+        "step/pbf_dambreak32k: {} particles, {steps} steps to 0.5 s in {wall:.2} s: {:.2} ms per step, real-time factor {:.3}, mean compression {:.3} %",
+        column.len(),
+        wall * 1e3 / steps as f64,
+        solver.time() / wall,
+        compression / steps as f64
+    );
+    println!("  mean ms per stage: {}", per_stage.join(", "));
+}
+
 fn main() {
     if std::env::args().any(|a| a == "--list") {
-        println!("step/surface_tension_off: benchmark\nstep/surface_tension_on: benchmark");
+        println!("step/surface_tension_off: benchmark\nstep/surface_tension_on: benchmark\nstep/pbf_dambreak32k: benchmark");
+        return;
+    }
+    if std::env::args().any(|a| a == "pbf") {
+        bench_pbf();
         return;
     }
     bench("surface_tension_off", 0.0);
@@ -54,4 +113,5 @@ fn main() {
         "surface_tension_on",
         sph_core::params::WATER_SURFACE_TENSION,
     );
+    bench_pbf();
 }

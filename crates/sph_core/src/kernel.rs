@@ -243,6 +243,29 @@ impl CubicSpline {
         r * (slope / r_len)
     }
 
+    /// W(r) and the factor f with ∇W(r) = f r, from |r|² = `r2`, in one branch-free evaluation
+    /// (one square root, selects instead of branches, so loops over pairs vectorise): the same
+    /// values as [`Self::value`] and [`Self::gradient`] to rounding, zero beyond h and f finite
+    /// at r = 0 (where the inner branch's slope vanishes with r).
+    #[inline(always)]
+    pub fn value_and_gradient_factor(&self, r2: f32) -> (f32, f32) {
+        let r_len = r2.sqrt();
+        let q = r_len / self.h;
+        let d = (1.0 - q).max(0.0);
+        let inner = q <= 0.5;
+        let w = if inner {
+            6.0 * q * q * (q - 1.0) + 1.0
+        } else {
+            2.0 * d * d * d
+        };
+        let slope = if inner {
+            self.l * q * (3.0 * q - 2.0)
+        } else {
+            -self.l * d * d
+        };
+        (self.k * w, slope / r_len.max(f32::MIN_POSITIVE))
+    }
+
     /// Σ_j W(x_j) Δx³ over the cubic lattice of spacing Δx (f64, fixed order).
     pub fn lattice_sum(&self, spacing: f32) -> f32 {
         let n = (self.h / spacing).ceil() as i32;

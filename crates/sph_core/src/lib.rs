@@ -38,6 +38,7 @@ pub mod kernel;
 pub mod neighbor;
 pub mod neighbor_lists;
 pub mod paddle_wheel;
+pub mod pair_lanes;
 pub mod params;
 pub mod pbf_macklin2013;
 pub mod probe;

@@ -3,7 +3,10 @@
 //! a list is several times cheaper than walking 27 cells with a distance test each time.
 //!
 //! The lists are kept in chunks of [`CHUNK`] particles, built in parallel and never gathered into
-//! one array, so a rebuild reuses every allocation and copies nothing.
+//! one array, so a rebuild reuses every allocation and copies nothing. [`NeighborLists`] holds
+//! [`Pair`]s with their gradients (DFSPH); [`IndexLists`] holds the indices alone (PBF, whose
+//! passes evaluate the kernel at positions that move every iteration: 4 bytes a pair to read
+//! instead of 16).
 
 use crate::boundary::Boundary;
 use crate::neighbor::Neighbors;
@@ -24,30 +27,66 @@ pub struct Pair {
 }
 
 /// The lists of [`CHUNK`] consecutive particles.
-#[derive(Clone, Debug, Default)]
-struct ListChunk {
+#[derive(Clone, Debug)]
+struct ListChunk<P> {
     /// Fluid pairs of particle k of the chunk: `fluid[fluid_start[k]..fluid_start[k + 1]]`.
     fluid_start: Vec<u32>,
-    fluid: Vec<Pair>,
+    fluid: Vec<P>,
     /// Boundary pairs, laid out likewise.
     boundary_start: Vec<u32>,
-    boundary: Vec<Pair>,
+    boundary: Vec<P>,
 }
 
-/// The fluid and boundary neighbours (i itself excluded) of every particle, with gradients.
-#[derive(Clone, Debug, Default)]
-pub struct NeighborLists {
-    chunks: Vec<ListChunk>,
+impl<P> Default for ListChunk<P> {
+    fn default() -> Self {
+        Self {
+            fluid_start: Vec::new(),
+            fluid: Vec::new(),
+            boundary_start: Vec::new(),
+            boundary: Vec::new(),
+        }
+    }
+}
+
+impl<P> ListChunk<P> {
+    /// Empties the lists, keeping the allocations, and opens particle 0's.
+    fn restart(&mut self) {
+        self.fluid_start.clear();
+        self.fluid.clear();
+        self.boundary_start.clear();
+        self.boundary.clear();
+        self.fluid_start.push(0);
+        self.boundary_start.push(0);
+    }
+}
+
+/// The fluid and boundary neighbours (i itself excluded) of every particle: [`Pair`]s with their
+/// gradients by default, or bare `u32` indices ([`IndexLists`]).
+#[derive(Clone, Debug)]
+pub struct NeighborLists<P = Pair> {
+    chunks: Vec<ListChunk<P>>,
     len: usize,
 }
 
+impl<P> Default for NeighborLists<P> {
+    fn default() -> Self {
+        Self {
+            chunks: Vec::new(),
+            len: 0,
+        }
+    }
+}
+
+/// The neighbours' indices alone: the lists of PBF, which evaluates the kernel itself.
+pub type IndexLists = NeighborLists<u32>;
+
 /// What the list of one particle holds, handed to the passes.
 #[derive(Clone, Copy, Debug)]
-pub struct PairsOf<'a> {
+pub struct PairsOf<'a, P = Pair> {
     /// Fluid neighbours.
-    pub fluid: &'a [Pair],
+    pub fluid: &'a [P],
     /// Boundary samples.
-    pub boundary: &'a [Pair],
+    pub boundary: &'a [P],
 }
 
 /// What the lists are built from: the sorted particles, their search structure, the boundary
@@ -70,7 +109,7 @@ pub struct ListSource<'a> {
 pub trait PairKernel: Fn(Vec3, f32) -> (f32, Vec3) + Sync {}
 impl<T: Fn(Vec3, f32) -> (f32, Vec3) + Sync> PairKernel for T {}
 
-impl NeighborLists {
+impl<P: Send + Sync> NeighborLists<P> {
     /// Particles listed.
     pub fn len(&self) -> usize {
         self.len
@@ -88,6 +127,92 @@ impl NeighborLists {
         })
     }
 
+    /// `f(i, pairs of i, &mut out[i])` for every particle, in parallel.
+    pub fn update<T: Send>(&self, out: &mut [T], f: impl Fn(usize, PairsOf<P>, &mut T) + Sync) {
+        out[..self.len]
+            .par_chunks_mut(CHUNK)
+            .zip(self.chunks.par_iter())
+            .enumerate()
+            .for_each(|(c, (out, chunk))| {
+                for (k, o) in out.iter_mut().enumerate() {
+                    f(c * CHUNK + k, chunk.pairs(k), o);
+                }
+            });
+    }
+
+    /// `f(i, pairs of i, &mut a[i], &mut b[i])` for every particle, in parallel: a pass with two
+    /// outputs.
+    pub fn update_pair<A: Send, B: Send>(
+        &self,
+        a: &mut [A],
+        b: &mut [B],
+        f: impl Fn(usize, PairsOf<P>, &mut A, &mut B) + Sync,
+    ) {
+        a[..self.len]
+            .par_chunks_mut(CHUNK)
+            .zip(b[..self.len].par_chunks_mut(CHUNK))
+            .zip(self.chunks.par_iter())
+            .enumerate()
+            .for_each(|(c, ((a, b), chunk))| {
+                for (k, (a, b)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
+                    f(c * CHUNK + k, chunk.pairs(k), a, b);
+                }
+            });
+    }
+
+    /// Σ_i f(i, pairs of i) folded per chunk with `fold` and combined with `reduce`, in parallel.
+    pub fn fold<A: Send>(
+        &self,
+        identity: impl Fn() -> A + Sync + Send,
+        fold: impl Fn(A, usize, PairsOf<P>) -> A + Sync + Send,
+        reduce: impl Fn(A, A) -> A + Sync + Send,
+    ) -> A {
+        self.chunks
+            .par_iter()
+            .enumerate()
+            .map(|(c, chunk)| {
+                let count = chunk.fluid_start.len() - 1;
+                (0..count).fold(identity(), |acc, k| {
+                    fold(acc, c * CHUNK + k, chunk.pairs(k))
+                })
+            })
+            .reduce(&identity, reduce)
+    }
+}
+
+impl IndexLists {
+    /// Rebuilds the lists of `positions` (sorted, searched by `neighbors`) and of the boundary
+    /// samples within h of them, reusing the allocations.
+    pub fn rebuild_indices(
+        &mut self,
+        neighbors: &Neighbors,
+        positions: &[Vec3],
+        boundary: Option<&Boundary>,
+    ) {
+        let n = positions.len();
+        self.len = n;
+        self.chunks
+            .resize_with(n.div_ceil(CHUNK), ListChunk::default);
+        self.chunks
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                chunk.restart();
+                for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                    let x_i = positions[i];
+                    neighbors.append_neighbors(positions, x_i, i, &mut chunk.fluid);
+                    chunk.fluid_start.push(chunk.fluid.len() as u32);
+                    if let Some(b) = boundary {
+                        b.grid
+                            .append_neighbors(&b.position, x_i, usize::MAX, &mut chunk.boundary);
+                    }
+                    chunk.boundary_start.push(chunk.boundary.len() as u32);
+                }
+            });
+    }
+}
+
+impl NeighborLists {
     /// Rebuilds the lists of `source`'s particles with `kernel`'s gradient scaled by m (fluid)
     /// and by ρ0 V_b (boundary), reusing the allocations; writes the densities
     /// ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (i included) of the same kernel on the way.
@@ -109,12 +234,7 @@ impl NeighborLists {
             .zip(self.chunks.par_iter_mut())
             .enumerate()
             .for_each(|(c, (density, chunk))| {
-                chunk.fluid_start.clear();
-                chunk.fluid.clear();
-                chunk.boundary_start.clear();
-                chunk.boundary.clear();
-                chunk.fluid_start.push(0);
-                chunk.boundary_start.push(0);
+                chunk.restart();
                 for (k, rho) in density.iter_mut().enumerate() {
                     let i = c * CHUNK + k;
                     let x_i = positions[i];
@@ -147,42 +267,10 @@ impl NeighborLists {
                 }
             });
     }
-
-    /// `f(i, pairs of i, &mut out[i])` for every particle, in parallel.
-    pub fn update<T: Send>(&self, out: &mut [T], f: impl Fn(usize, PairsOf, &mut T) + Sync) {
-        out[..self.len]
-            .par_chunks_mut(CHUNK)
-            .zip(self.chunks.par_iter())
-            .enumerate()
-            .for_each(|(c, (out, chunk))| {
-                for (k, o) in out.iter_mut().enumerate() {
-                    f(c * CHUNK + k, chunk.pairs(k), o);
-                }
-            });
-    }
-
-    /// Σ_i f(i, pairs of i) folded per chunk with `fold` and combined with `reduce`, in parallel.
-    pub fn fold<A: Send>(
-        &self,
-        identity: impl Fn() -> A + Sync + Send,
-        fold: impl Fn(A, usize, PairsOf) -> A + Sync + Send,
-        reduce: impl Fn(A, A) -> A + Sync + Send,
-    ) -> A {
-        self.chunks
-            .par_iter()
-            .enumerate()
-            .map(|(c, chunk)| {
-                let count = chunk.fluid_start.len() - 1;
-                (0..count).fold(identity(), |acc, k| {
-                    fold(acc, c * CHUNK + k, chunk.pairs(k))
-                })
-            })
-            .reduce(&identity, reduce)
-    }
 }
 
-impl ListChunk {
-    fn pairs(&self, k: usize) -> PairsOf<'_> {
+impl<P> ListChunk<P> {
+    fn pairs(&self, k: usize) -> PairsOf<'_, P> {
         let f = self.fluid_start[k] as usize..self.fluid_start[k + 1] as usize;
         let b = self.boundary_start[k] as usize..self.boundary_start[k + 1] as usize;
         PairsOf {

@@ -3,15 +3,17 @@
 //! position corrections Δp_i, with the artificial pressure s_corr against tensile clumping and
 //! XSPH viscosity, and optional vorticity confinement. The step that strings them together is `CpuSolver`'s (`solver/pbf.rs`).
 //!
-//! The passes read the neighbour indices of [`NeighborLists`] (built on the predicted positions
+//! The passes read the neighbour indices of [`IndexLists`] (built on the predicted positions
 //! once per step) and evaluate the kernel at the current predicted positions, which move with
-//! every iteration. The kernel is DFSPH's cubic spline ([`CubicSpline`], normalised on the rest
+//! every iteration, in one branch-free evaluation per pair
+//! ([`CubicSpline::value_and_gradient_factor`]). The kernel is DFSPH's cubic spline ([`CubicSpline`], normalised on the rest
 //! lattice), so the rest lattice satisfies the constraint exactly. Boundary samples (Akinci 2012)
 //! take part in the density and push with the particle's own λ_i.
 
 use crate::boundary::{BodyForceSum, Boundary};
 use crate::kernel::CubicSpline;
-use crate::neighbor_lists::NeighborLists;
+use crate::neighbor_lists::IndexLists;
+use crate::pair_lanes::{lane_sum, Lanes, LANES};
 use crate::params::SphParams;
 use crate::solvers::PbfSettings;
 use glam::Vec3;
@@ -121,35 +123,45 @@ pub struct Constraint {
 /// (Macklin & Müller 2013, the constraint and its λ). Returns Σ_i C_i.
 pub fn compute_lambdas(
     ctx: &PbfContext,
-    lists: &NeighborLists,
+    lists: &IndexLists,
     positions: &[Vec3],
     boundary: Option<&Boundary>,
     out: &mut [Constraint],
 ) -> f64 {
     let k = &ctx.kernel;
     let scale = ctx.mass / ctx.rest_density;
+    let self_weight = k.value(0.0);
+    let beyond = 2.0 * k.h;
     lists.update(out, |i, pairs, o| {
         let x_i = positions[i];
-        let mut rho = ctx.mass * k.value(0.0);
-        let mut grad_i = Vec3::ZERO;
-        let mut squares = 0.0;
-        for p in pairs.fluid {
-            let r = x_i - positions[p.index as usize];
-            let r_len = r.length();
-            rho += ctx.mass * k.value(r_len);
-            let g = k.gradient(r, r_len) * scale;
-            grad_i += g;
-            squares += g.length_squared();
-        }
-        if let Some(b) = boundary {
-            for p in pairs.boundary {
-                let s = p.index as usize;
-                let r = x_i - b.position[s];
-                let r_len = r.length();
-                rho += ctx.rest_density * b.volume[s] * k.value(r_len);
-                grad_i += k.gradient(r, r_len) * b.volume[s];
+        let [mut w_sum, mut gx, mut gy, mut gz, mut squares] = [[0.0f32; LANES]; 5];
+        for block in pairs.fluid.chunks(LANES) {
+            let r = Lanes::gather(x_i, positions, block, beyond);
+            for l in 0..LANES {
+                let (w, f) = k.value_and_gradient_factor(r.r2[l]);
+                let f = f * scale;
+                let g = [r.x[l] * f, r.y[l] * f, r.z[l] * f];
+                w_sum[l] += w;
+                gx[l] += g[0];
+                gy[l] += g[1];
+                gz[l] += g[2];
+                squares[l] += g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
             }
         }
+        let fluid = self_weight + lane_sum(&w_sum);
+        let mut grad_i = Vec3::new(lane_sum(&gx), lane_sum(&gy), lane_sum(&gz));
+        let squares = lane_sum(&squares);
+        let mut solid = 0.0;
+        if let Some(b) = boundary {
+            for &s in pairs.boundary {
+                let s = s as usize;
+                let r = x_i - b.position[s];
+                let (w, f) = k.value_and_gradient_factor(r.length_squared());
+                solid += b.volume[s] * w;
+                grad_i += r * (f * b.volume[s]);
+            }
+        }
+        let rho = ctx.mass * fluid + ctx.rest_density * solid;
         let c = (rho / ctx.rest_density - 1.0).max(0.0);
         *o = Constraint {
             lambda: -c / (grad_i.length_squared() + squares + ctx.epsilon),
@@ -165,7 +177,7 @@ pub fn compute_lambdas(
 /// XSPH weights: the λ pass without its gradients.
 pub fn compute_densities(
     ctx: &PbfContext,
-    lists: &NeighborLists,
+    lists: &IndexLists,
     positions: &[Vec3],
     boundary: Option<&Boundary>,
     density: &mut [f32],
@@ -174,14 +186,16 @@ pub fn compute_densities(
     lists.update(density, |i, pairs, rho| {
         let x_i = positions[i];
         let mut fluid = k.value(0.0);
-        for p in pairs.fluid {
-            fluid += k.value((x_i - positions[p.index as usize]).length());
+        for &j in pairs.fluid {
+            let r = x_i - positions[j as usize];
+            fluid += k.value_and_gradient_factor(r.length_squared()).0;
         }
         let mut solid = 0.0;
         if let Some(b) = boundary {
-            for p in pairs.boundary {
-                let s = p.index as usize;
-                solid += b.volume[s] * k.value((x_i - b.position[s]).length());
+            for &s in pairs.boundary {
+                let s = s as usize;
+                let r = x_i - b.position[s];
+                solid += b.volume[s] * k.value_and_gradient_factor(r.length_squared()).0;
             }
         }
         *rho = ctx.mass * fluid + ctx.rest_density * solid;
@@ -193,34 +207,97 @@ pub fn compute_densities(
 /// artificial pressure), at most `ctx.max_correction` long.
 pub fn compute_corrections(
     ctx: &PbfContext,
-    lists: &NeighborLists,
+    lists: &IndexLists,
     positions: &[Vec3],
     boundary: Option<&Boundary>,
     constraint: &[Constraint],
     delta: &mut [Vec3],
 ) {
-    let k = &ctx.kernel;
-    let scale = ctx.mass / ctx.rest_density;
-    lists.update(delta, |i, pairs, d| {
-        let x_i = positions[i];
-        let l_i = constraint[i].lambda;
-        let mut sum = Vec3::ZERO;
-        for p in pairs.fluid {
-            let j = p.index as usize;
-            let r = x_i - positions[j];
-            let r_len = r.length();
-            let s_corr = -ctx.s_corr_k * (k.value(r_len) * ctx.inverse_w_dq).powi(ctx.s_corr_n);
-            sum += k.gradient(r, r_len) * (scale * (l_i + constraint[j].lambda + s_corr));
-        }
-        if let Some(b) = boundary {
-            for p in pairs.boundary {
-                let s = p.index as usize;
-                let r = x_i - b.position[s];
-                sum += k.gradient(r, r.length()) * (b.volume[s] * l_i);
+    // n is a constant of each loop, so the power is a few multiplications the lanes share.
+    let pass = Corrections {
+        ctx,
+        lists,
+        positions,
+        boundary,
+        constraint,
+    };
+    match ctx.s_corr_n {
+        1 => pass.run::<1>(delta),
+        2 => pass.run::<2>(delta),
+        3 => pass.run::<3>(delta),
+        4 => pass.run::<4>(delta),
+        5 => pass.run::<5>(delta),
+        6 => pass.run::<6>(delta),
+        7 => pass.run::<7>(delta),
+        _ => pass.run::<8>(delta),
+    }
+}
+
+/// The inputs of [`compute_corrections`].
+struct Corrections<'a> {
+    ctx: &'a PbfContext,
+    lists: &'a IndexLists,
+    positions: &'a [Vec3],
+    boundary: Option<&'a Boundary>,
+    constraint: &'a [Constraint],
+}
+
+impl Corrections<'_> {
+    /// The pass with s_corr's exponent n = `N`.
+    fn run<const N: i32>(&self, delta: &mut [Vec3]) {
+        let Self {
+            ctx,
+            lists,
+            positions,
+            boundary,
+            constraint,
+        } = *self;
+        let k = &ctx.kernel;
+        let scale = ctx.mass / ctx.rest_density;
+        let (s_corr_k, inverse_w_dq) = (ctx.s_corr_k, ctx.inverse_w_dq);
+        let beyond = 2.0 * k.h;
+        lists.update(delta, |i, pairs, d| {
+            let x_i = positions[i];
+            let l_i = constraint[i].lambda;
+            let [mut fx, mut fy, mut fz] = [[0.0f32; LANES]; 3];
+            for block in pairs.fluid.chunks(LANES) {
+                let r = Lanes::gather(x_i, positions, block, beyond);
+                let mut l_j = [0.0f32; LANES];
+                for (l, &j) in block.iter().enumerate() {
+                    l_j[l] = constraint[j as usize].lambda;
+                }
+                for l in 0..LANES {
+                    let (w, f) = k.value_and_gradient_factor(r.r2[l]);
+                    let s_corr = -s_corr_k * power::<N>(w * inverse_w_dq);
+                    let f = f * (l_i + l_j[l] + s_corr);
+                    fx[l] += r.x[l] * f;
+                    fy[l] += r.y[l] * f;
+                    fz[l] += r.z[l] * f;
+                }
             }
-        }
-        *d = sum.clamp_length_max(ctx.max_correction);
-    });
+            let fluid = Vec3::new(lane_sum(&fx), lane_sum(&fy), lane_sum(&fz));
+            let mut solid = Vec3::ZERO;
+            if let Some(b) = boundary {
+                for &s in pairs.boundary {
+                    let s = s as usize;
+                    let r = x_i - b.position[s];
+                    solid += r * (k.value_and_gradient_factor(r.length_squared()).1 * b.volume[s]);
+                }
+            }
+            *d = (fluid * scale + solid * l_i).clamp_length_max(ctx.max_correction);
+        });
+    }
+}
+
+/// x^N by multiplications (`powi` with an exponent unknown at compile time is a library call
+/// per pair).
+#[inline(always)]
+fn power<const N: i32>(x: f32) -> f32 {
+    let mut p = x;
+    for _ in 1..N {
+        p *= x;
+    }
+    p
 }
 
 /// The fluid's force on each boundary body from one iteration's corrections (Akinci 2012's
@@ -231,7 +308,7 @@ pub fn compute_corrections(
 /// applied here.
 pub fn boundary_reactions(
     ctx: &PbfContext,
-    lists: &NeighborLists,
+    lists: &IndexLists,
     positions: &[Vec3],
     boundary: &Boundary,
     constraint: &[Constraint],
@@ -245,10 +322,11 @@ pub fn boundary_reactions(
         |mut sums, i, pairs| {
             let l_i = constraint[i].lambda;
             if l_i != 0.0 {
-                for p in pairs.boundary {
-                    let s = p.index as usize;
+                for &s in pairs.boundary {
+                    let s = s as usize;
                     let r = positions[i] - boundary.position[s];
-                    let moved = k.gradient(r, r.length()) * (boundary.volume[s] * l_i);
+                    let f = k.value_and_gradient_factor(r.length_squared()).1;
+                    let moved = r * (f * boundary.volume[s] * l_i);
                     let body = boundary.body[s] as usize;
                     sums[body].add(moved * scale, boundary.position[s], boundary.origin[body]);
                 }
@@ -262,25 +340,55 @@ pub fn boundary_reactions(
     )
 }
 
-/// XSPH viscosity: v_i + c Σ_j (m/ρ_j) (v_j - v_i) W_ij into `out`.
-pub fn xsph(
+/// XSPH viscosity, v_i + c Σ_j (m/ρ_j) (v_j - v_i) W_ij into `velocity_out` (ρ_j from the last λ
+/// pass, in `constraint`), and the densities at the final `positions` (fluid and boundary, as
+/// [`compute_densities`]) into `density`: one pass, as both weigh the same W_ij.
+#[allow(clippy::too_many_arguments)]
+pub fn xsph_and_densities(
     ctx: &PbfContext,
-    lists: &NeighborLists,
+    lists: &IndexLists,
     positions: &[Vec3],
+    boundary: Option<&Boundary>,
     constraint: &[Constraint],
     velocity: &[Vec3],
-    out: &mut [Vec3],
+    velocity_out: &mut [Vec3],
+    density: &mut [f32],
 ) {
     let k = &ctx.kernel;
-    lists.update(out, |i, pairs, v| {
+    let self_weight = k.value(0.0);
+    let beyond = 2.0 * k.h;
+    lists.update_pair(velocity_out, density, |i, pairs, v, rho| {
         let (x_i, v_i) = (positions[i], velocity[i]);
-        let mut sum = Vec3::ZERO;
-        for p in pairs.fluid {
-            let j = p.index as usize;
-            let w = k.value((x_i - positions[j]).length());
-            sum += (velocity[j] - v_i) * (ctx.mass / constraint[j].density * w);
+        let [mut w_sum, mut sx, mut sy, mut sz] = [[0.0f32; LANES]; 4];
+        for block in pairs.fluid.chunks(LANES) {
+            let r = Lanes::gather(x_i, positions, block, beyond);
+            let [mut dx, mut dy, mut dz, mut volume] = [[0.0f32; LANES]; 4];
+            for (l, &j) in block.iter().enumerate() {
+                let j = j as usize;
+                let dv = velocity[j] - v_i;
+                (dx[l], dy[l], dz[l]) = (dv.x, dv.y, dv.z);
+                volume[l] = ctx.mass / constraint[j].density;
+            }
+            for l in 0..LANES {
+                let w = k.value_and_gradient_factor(r.r2[l]).0;
+                w_sum[l] += w;
+                let weight = volume[l] * w;
+                sx[l] += dx[l] * weight;
+                sy[l] += dy[l] * weight;
+                sz[l] += dz[l] * weight;
+            }
         }
-        *v = v_i + sum * ctx.xsph_c;
+        let smoothing = Vec3::new(lane_sum(&sx), lane_sum(&sy), lane_sum(&sz));
+        *v = v_i + smoothing * ctx.xsph_c;
+        let mut solid = 0.0;
+        if let Some(b) = boundary {
+            for &s in pairs.boundary {
+                let s = s as usize;
+                let r = x_i - b.position[s];
+                solid += b.volume[s] * k.value_and_gradient_factor(r.length_squared()).0;
+            }
+        }
+        *rho = ctx.mass * (self_weight + lane_sum(&w_sum)) + ctx.rest_density * solid;
     });
 }
 
@@ -288,7 +396,7 @@ pub fn xsph(
 /// (Macklin & Müller 2013, eq. 15, with the SPH volume m/ρ_j so that ω is in 1/s).
 pub fn vorticity(
     ctx: &PbfContext,
-    lists: &NeighborLists,
+    lists: &IndexLists,
     positions: &[Vec3],
     density: &[f32],
     velocity: &[Vec3],
@@ -298,8 +406,8 @@ pub fn vorticity(
     lists.update(omega, |i, pairs, w| {
         let (x_i, v_i) = (positions[i], velocity[i]);
         let mut curl = Vec3::ZERO;
-        for p in pairs.fluid {
-            let j = p.index as usize;
+        for &j in pairs.fluid {
+            let j = j as usize;
             let r = x_i - positions[j];
             let grad_j = -k.gradient(r, r.length());
             curl += (velocity[j] - v_i).cross(grad_j) * (ctx.mass / density[j]);
@@ -314,7 +422,7 @@ pub fn vorticity(
 #[allow(clippy::too_many_arguments)]
 pub fn confine_vorticity(
     ctx: &PbfContext,
-    lists: &NeighborLists,
+    lists: &IndexLists,
     positions: &[Vec3],
     density: &[f32],
     omega: &[Vec3],
@@ -326,8 +434,8 @@ pub fn confine_vorticity(
     lists.update(velocity_out, |i, pairs, v| {
         let (x_i, w_i) = (positions[i], omega[i].length());
         let mut eta = Vec3::ZERO;
-        for p in pairs.fluid {
-            let j = p.index as usize;
+        for &j in pairs.fluid {
+            let j = j as usize;
             let r = x_i - positions[j];
             eta += k.gradient(r, r.length()) * ((omega[j].length() - w_i) * ctx.mass / density[j]);
         }

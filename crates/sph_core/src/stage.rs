@@ -86,8 +86,8 @@ pub enum CpuStage {
     PbfCorrection,
     /// PBF: velocities from the positions, the guard (step 4 of `CpuSolver`'s PBF step).
     PbfVelocity,
-    /// PBF: XSPH viscosity and the final densities ([`crate::pbf_macklin2013::xsph`],
-    /// [`crate::pbf_macklin2013::compute_densities`]), then the pumps.
+    /// PBF: XSPH viscosity and the final densities
+    /// ([`crate::pbf_macklin2013::xsph_and_densities`]), then the pumps.
     PbfXsph,
     /// PBF: the vorticity ω_i ([`crate::pbf_macklin2013::vorticity`]).
     PbfVorticity,

@@ -87,6 +87,31 @@ fn the_cubic_spline_gives_rest_density_on_the_lattice_and_its_gradient_matches_d
 }
 
 #[test]
+fn the_fused_cubic_spline_evaluation_equals_value_and_gradient() {
+    let params = SphParams::water();
+    let h = params.smoothing_radius;
+    let kernel = CubicSpline::new(h, params.spacing());
+    let direction = Vec3::new(0.36, -0.48, 0.8);
+    for step in 0..=130 {
+        let r_len = step as f32 / 120.0 * h;
+        let r = direction * r_len;
+        let (w, f) = kernel.value_and_gradient_factor(r.length_squared());
+        let (w_ref, grad_ref) = (kernel.value(r_len), kernel.gradient(r, r_len));
+        assert!(
+            (w - w_ref).abs() <= 1e-5 * kernel.value(0.0),
+            "W at r = {r_len}: {w} vs {w_ref}"
+        );
+        let scale = kernel.gradient(Vec3::X * 0.5 * h, 0.5 * h).length();
+        assert!(
+            (r * f - grad_ref).length() <= 1e-5 * scale,
+            "∇W at r = {r_len}: {} vs {grad_ref}",
+            r * f
+        );
+        assert!(f.is_finite());
+    }
+}
+
+#[test]
 fn a_unit_stiffness_changes_its_own_predicted_density_by_dt2_d() {
     let b = block(0.2);
     let n = b.positions.len();

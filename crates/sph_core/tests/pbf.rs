@@ -3,7 +3,7 @@
 //! and the extremes stay finite.
 
 use sph_core::glam::Vec3;
-use sph_core::neighbor_lists::{ListSource, NeighborLists};
+use sph_core::neighbor_lists::IndexLists;
 use sph_core::pbf_macklin2013::{
     compute_corrections, compute_lambdas, vorticity, Constraint, PbfContext,
 };
@@ -18,7 +18,7 @@ fn pbf_params() -> SphParams {
 }
 
 /// A block squeezed to 90 % of its spacing, sorted, with its lists.
-fn squeezed_block() -> (SphParams, Vec<Vec3>, NeighborLists) {
+fn squeezed_block() -> (SphParams, Vec<Vec3>, IndexLists) {
     let params = pbf_params();
     let dx = params.spacing();
     let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::splat(0.3));
@@ -32,19 +32,8 @@ fn squeezed_block() -> (SphParams, Vec<Vec3>, NeighborLists) {
     .unwrap();
     let order = neighbors.sort(&raw).to_vec();
     let positions: Vec<Vec3> = order.iter().map(|&i| raw[i as usize]).collect();
-    let mut lists = NeighborLists::default();
-    let mut density = vec![0.0; positions.len()];
-    lists.rebuild(
-        ListSource {
-            neighbors: &neighbors,
-            positions: &positions,
-            boundary: None,
-            mass: params.particle_mass,
-            rest_density: params.rest_density,
-        },
-        |_, _| (0.0, Vec3::ZERO),
-        &mut density,
-    );
+    let mut lists = IndexLists::default();
+    lists.rebuild_indices(&neighbors, &positions, None);
     (params, positions, lists)
 }
 

@@ -14,11 +14,11 @@ use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::{BodyForceSum, Boundary};
 use crate::frame_budget::StepDt;
 use crate::guard::{Corrections, Guard};
-use crate::neighbor_lists::{ListSource, NeighborLists};
+use crate::neighbor_lists::IndexLists;
 use crate::params::SphParams;
 use crate::pbf_macklin2013::{
-    boundary_reactions, compute_corrections, compute_densities, compute_lambdas, confine_vorticity,
-    vorticity, xsph, Constraint, PbfContext,
+    boundary_reactions, compute_corrections, compute_lambdas, confine_vorticity, vorticity,
+    xsph_and_densities, Constraint, PbfContext,
 };
 use crate::solvers::SolverStats;
 use crate::stability::largest_magnitude;
@@ -28,11 +28,10 @@ use rayon::prelude::*;
 /// PBF's per-step scratch arrays.
 #[derive(Clone, Debug, Default)]
 pub(super) struct PbfScratch {
-    lists: NeighborLists,
+    lists: IndexLists,
     constraint: Vec<Constraint>,
     delta: Vec<Vec3>,
     velocity: Vec<Vec3>,
-    list_density: Vec<f32>,
     omega: Vec<Vec3>,
     confined: Vec<Vec3>,
 }
@@ -111,21 +110,11 @@ impl PbfStep<'_> {
         s.constraint.resize(n, Constraint::default());
         s.delta.resize(n, Vec3::ZERO);
         s.velocity.resize(n, Vec3::ZERO);
-        s.list_density.resize(n, 0.0);
         // The passes read only the neighbours' indices (they evaluate the kernel at the moving
-        // positions), so the lists are built without weights.
+        // positions).
         timed(&mut t.density, || {
-            s.lists.rebuild(
-                ListSource {
-                    neighbors,
-                    positions: &p.position,
-                    boundary: Some(boundary),
-                    mass: params.particle_mass,
-                    rest_density: params.rest_density,
-                },
-                |_, _| (0.0, Vec3::ZERO),
-                &mut s.list_density,
-            )
+            s.lists
+                .rebuild_indices(neighbors, &p.position, Some(boundary))
         });
         // 3. The constraint's Jacobi iterations.
         let iterations = params.pbf.iterations;
@@ -176,15 +165,16 @@ impl PbfStep<'_> {
         });
         timed(&mut t.forces, || {
             // The densities of the last λ pass (before its correction) weigh XSPH.
-            xsph(
+            xsph_and_densities(
                 &ctx,
                 &s.lists,
                 &p.position,
+                Some(boundary),
                 &s.constraint,
                 &p.velocity,
                 &mut s.velocity,
+                &mut p.density,
             );
-            compute_densities(&ctx, &s.lists, &p.position, Some(boundary), &mut p.density);
             std::mem::swap(&mut p.velocity, &mut s.velocity);
         });
         // s.velocity now holds the velocities before XSPH.
