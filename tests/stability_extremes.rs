@@ -256,6 +256,14 @@ fn pbf_setting_ends() -> Vec<(String, sph_core::PbfSettings)> {
             "vorticity_epsilon 1".into(),
             set(&|s| s.vorticity_epsilon = 1.0),
         ),
+        (
+            "over_relaxation 1".into(),
+            set(&|s| s.over_relaxation = 1.0),
+        ),
+        (
+            "over_relaxation 1.9".into(),
+            set(&|s| s.over_relaxation = 1.9),
+        ),
     ]
 }
 

@@ -343,6 +343,11 @@ pub fn runtime_panel(
                     0.0..=1.0,
                     "PBF vorticity confinement ε [m/s]",
                 ));
+                ui.add(slider(
+                    &mut p.pbf.over_relaxation,
+                    1.0..=1.9,
+                    "PBF over-relaxation ω",
+                ));
             }
             ui.add(slider(&mut p.gravity.y, ranges::GRAVITY_Y, "gravity y [m/s²]"));
             let dt_label = if p.adaptive_time_step {

@@ -147,6 +147,10 @@ fn pbf_iterations(text: &str) -> Result<u32, String> {
     number(text, |v: u32| (1..=100).contains(&v), "1..=100 iterations")
 }
 
+fn over_relaxation(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| (1.0..=1.9).contains(&v), "[1, 1.9]")
+}
+
 fn vorticity(text: &str) -> Result<f32, String> {
     number(text, |v: f32| (0.0..=1.0).contains(&v), "[0, 1] m/s")
 }
@@ -280,6 +284,10 @@ pub struct RunArgs {
     /// PBF: vorticity confinement ε [m/s] (0 skips the stage) [default: 0].
     #[arg(long, value_name = "M_PER_S", value_parser = vorticity)]
     pub pbf_vorticity: Option<f32>,
+    /// PBF: over-relaxation ω of the iterations after the first (1: plain Jacobi)
+    /// [default: 1.4].
+    #[arg(long, value_name = "OMEGA", value_parser = over_relaxation)]
+    pub pbf_over_relaxation: Option<f32>,
     /// DFSPH: warm-start each solve from the previous step's stiffness.
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub warm_start: bool,
@@ -351,6 +359,7 @@ impl Default for RunArgs {
             warm_start: true,
             pbf_iterations: None,
             pbf_vorticity: None,
+            pbf_over_relaxation: None,
             particles: 8_192,
             a: 0.146,
             integrator: Integrator::KickDriftKick,

@@ -72,7 +72,8 @@ pub struct GpuSphParams {
     /// PBF: 1 / W(Δq), XSPH c, vorticity ε [m/s], the correction cap before the step's
     /// gravity term ([`crate::pbf_macklin2013::MAX_CORRECTION`] h) [m].
     pub pbf: [f32; 4],
-    /// PBF: s_corr's n, the Jacobi iterations per step, [`PBF_MAX_NEIGHBORS`], 0.
+    /// PBF: s_corr's n, the Jacobi iterations per step, [`PBF_MAX_NEIGHBORS`], the
+    /// over-relaxation ω as f32 bits.
     pub pbf_counts: [u32; 4],
     /// DFSPH ([`crate::dfsph_bender2017`]): the largest mean density error (fraction of ρ0),
     /// the largest mean divergence error [1/s], the cut-off of an isolated particle's factor
@@ -177,8 +178,8 @@ pub struct GpuClock {
     pub tail_size: u32,
     /// Drains: the main world's frame number of that sort (`GpuSphParams::drains[0]`).
     pub tail_frame: u32,
-    /// Padding.
-    pub pad: u32,
+    /// PBF: the Jacobi iteration under way (from 0; set by each iteration's λ pass).
+    pub pbf_iteration: u32,
 }
 
 /// The unit of DFSPH's error sums on the device ([`GpuClock::dfsph_error`]): 1e-9 of ρ0 (or
@@ -295,7 +296,7 @@ impl GpuSphParams {
                 pbf.s_corr_n.max(0) as u32,
                 params.pbf.iterations,
                 PBF_MAX_NEIGHBORS,
-                0,
+                pbf.over_relaxation.to_bits(),
             ],
             dfsph: [
                 d.max_density_error,

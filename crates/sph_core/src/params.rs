@@ -496,6 +496,14 @@ impl PbfSettings {
             true,
             1.0,
             "[0, 1] m/s",
+        )?;
+        check_range(
+            "pbf.over_relaxation",
+            self.over_relaxation,
+            1.0,
+            true,
+            1.9,
+            "[1, 1.9] (1: plain Jacobi)",
         )
     }
 }

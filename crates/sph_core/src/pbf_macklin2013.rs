@@ -44,6 +44,8 @@ pub struct PbfContext {
     /// The longest correction of one iteration [m]: [`MAX_CORRECTION`] h, or what gravity moves
     /// a particle in the step when that is longer ([`PbfContext::for_step`]).
     pub max_correction: f32,
+    /// The over-relaxation ω of the iterations after the first ([`over_relax`]).
+    pub over_relaxation: f32,
 }
 
 /// The longest position correction of one iteration, as a fraction of h, unless gravity moves
@@ -91,6 +93,7 @@ impl PbfContext {
             xsph_c: settings.xsph_c,
             vorticity_epsilon: settings.vorticity_epsilon,
             max_correction: MAX_CORRECTION * h,
+            over_relaxation: settings.over_relaxation,
         }
     }
 }
@@ -105,6 +108,39 @@ impl PbfContext {
             self.max_correction = self.max_correction.max(fall);
         }
         self
+    }
+}
+
+/// Iteration `k`'s move of a particle from its capped correction `delta` and the previous
+/// iteration's move `previous` (zero before the first): x_{k+1} = x_{k-1} + ω (x_k + Δp_k - x_{k-1})
+/// written as a move, u_k = ω Δp_k + (ω - 1) u_{k-1}, with ω = 1 in the first iteration (the
+/// stationary Chebyshev semi-iterative method, Wang 2015; see
+/// [`crate::PbfSettings::over_relaxation`]).
+#[inline]
+pub fn over_relax(ctx: &PbfContext, k: u32, delta: Vec3, previous: Vec3) -> Vec3 {
+    if k == 0 {
+        delta
+    } else {
+        delta * ctx.over_relaxation + previous * (ctx.over_relaxation - 1.0)
+    }
+}
+
+/// The share of iteration `k`'s correction in the moves of a step of `iterations` iterations:
+/// with the over-relaxation, Δp_k reaches the particle through u_k and every later u (each
+/// carries (ω - 1) of the one before), so Σ_k u_k = Σ_k c_k Δp_k with
+/// c_0 = Σ_{m < K} (ω - 1)^m and c_k = ω Σ_{m < K - k} (ω - 1)^m. The bodies' reactions are
+/// weighted by it, so that they match the moves the boundary caused (1 for every k at ω = 1).
+pub fn correction_weight(ctx: &PbfContext, k: u32, iterations: u32) -> f32 {
+    let omega = ctx.over_relaxation;
+    let (mut sum, mut power) = (0.0, 1.0);
+    for _ in k..iterations {
+        sum += power;
+        power *= omega - 1.0;
+    }
+    if k == 0 {
+        sum
+    } else {
+        omega * sum
     }
 }
 
@@ -305,7 +341,7 @@ fn power<const N: i32>(x: f32) -> f32 {
 /// which changes i's momentum by m Δp_ib / dt over the step of `dt`, so the body feels
 /// -m Δp_ib / dt² at the sample, with its torque about the body's origin. Indexed like
 /// [`Boundary::friction`]. The [`MAX_CORRECTION`] cap, which acts only far from rest, is not
-/// applied here.
+/// applied here. `weight` is the iteration's [`correction_weight`].
 pub fn boundary_reactions(
     ctx: &PbfContext,
     lists: &IndexLists,
@@ -313,10 +349,11 @@ pub fn boundary_reactions(
     boundary: &Boundary,
     constraint: &[Constraint],
     dt: f32,
+    weight: f32,
 ) -> Vec<BodyForceSum> {
     let k = &ctx.kernel;
     let bodies = boundary.body_count();
-    let scale = -ctx.mass / (dt * dt);
+    let scale = -ctx.mass * weight / (dt * dt);
     lists.fold(
         || vec![BodyForceSum::default(); bodies],
         |mut sums, i, pairs| {

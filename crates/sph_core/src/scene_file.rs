@@ -99,6 +99,8 @@ pub enum SolverSpec {
         xsph_c: Option<f32>,
         /// Vorticity confinement ε [m/s].
         vorticity_epsilon: Option<f32>,
+        /// Over-relaxation ω of the iterations after the first (1: plain Jacobi).
+        over_relaxation: Option<f32>,
     },
 }
 
@@ -613,12 +615,14 @@ impl SceneFile {
                 iterations,
                 xsph_c,
                 vorticity_epsilon,
+                over_relaxation,
             } => {
                 let base = PbfSettings::default();
                 params.pbf = PbfSettings {
                     iterations: iterations.unwrap_or(base.iterations),
                     xsph_c: xsph_c.unwrap_or(base.xsph_c),
                     vorticity_epsilon: vorticity_epsilon.unwrap_or(base.vorticity_epsilon),
+                    over_relaxation: over_relaxation.unwrap_or(base.over_relaxation),
                     ..base
                 };
             }

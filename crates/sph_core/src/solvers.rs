@@ -112,11 +112,19 @@ pub struct PbfSettings {
     /// loses (Macklin & Müller 2013 §5 after Fedkiw et al. 2001). 0 (the default) skips the
     /// stage: it costs nothing.
     pub vorticity_epsilon: f32,
+    /// Over-relaxation ω of the Jacobi iterations after the first:
+    /// x_{k+1} = x_{k-1} + ω (x_k + Δp_k - x_{k-1}), the stationary form of the Chebyshev
+    /// semi-iterative method (Wang 2015, "A Chebyshev semi-iterative approach for accelerating
+    /// projective and position-based dynamics"; its ω_k tend to 2 / (1 + √(1 - ρ²)) for a
+    /// spectral radius ρ). 1 is plain Jacobi. Measured on dambreak32k (docs/pbf.md): 1.4 cuts the
+    /// mean compression from 1.05 % to 0.45 % at the same cost; from 1.5 the iterations put
+    /// speed into the water.
+    pub over_relaxation: f32,
 }
 
 impl Default for PbfSettings {
     /// 4 iterations, relaxation 0.01, s_corr k 0.1, n 4, Δq 0.2 h (the paper's), XSPH c 0.01,
-    /// no vorticity confinement.
+    /// no vorticity confinement, over-relaxation 1.4.
     fn default() -> Self {
         Self {
             iterations: 4,
@@ -126,9 +134,13 @@ impl Default for PbfSettings {
             s_corr_dq: 0.2,
             xsph_c: 0.01,
             vorticity_epsilon: 0.0,
+            over_relaxation: DEFAULT_PBF_OVER_RELAXATION,
         }
     }
 }
+
+/// [`PbfSettings::over_relaxation`]'s default.
+pub const DEFAULT_PBF_OVER_RELAXATION: f32 = 1.4;
 
 /// The largest time step of PBF's own rule [s]: two steps per 60 Hz frame.
 pub const PBF_MAX_TIME_STEP: f32 = 1.0 / 120.0;

@@ -149,6 +149,27 @@ fn bad_settings_name_the_field() {
             },
             "pbf.vorticity_epsilon",
         ),
+        (
+            PbfSettings {
+                over_relaxation: 0.9,
+                ..d
+            },
+            "pbf.over_relaxation",
+        ),
+        (
+            PbfSettings {
+                over_relaxation: 2.0,
+                ..d
+            },
+            "pbf.over_relaxation",
+        ),
+        (
+            PbfSettings {
+                over_relaxation: f32::INFINITY,
+                ..d
+            },
+            "pbf.over_relaxation",
+        ),
     ] {
         let mut p = pbf_params();
         p.pbf = settings;

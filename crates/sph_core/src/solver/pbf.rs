@@ -3,7 +3,7 @@
 //!
 //! 1. v += dt g; predicted positions x* = x + dt v; the guard;
 //! 2. neighbour sort and lists on the predicted positions;
-//! 3. `iterations` times: λ_i, then the corrections Δp_i, x* += Δp;
+//! 3. `iterations` times: λ_i, then the corrections Δp_i, x* += Δp (over-relaxed after the first);
 //! 4. v = (x* - x) / dt, the guard, XSPH viscosity; x = x*;
 //! 5. optionally, vorticity confinement.
 //!
@@ -17,8 +17,8 @@ use crate::guard::{Corrections, Guard};
 use crate::neighbor_lists::IndexLists;
 use crate::params::SphParams;
 use crate::pbf_macklin2013::{
-    boundary_reactions, compute_corrections, compute_lambdas, confine_vorticity, vorticity,
-    xsph_and_densities, Constraint, PbfContext,
+    boundary_reactions, compute_corrections, compute_lambdas, confine_vorticity, correction_weight,
+    over_relax, vorticity, xsph_and_densities, Constraint, PbfContext,
 };
 use crate::solvers::SolverStats;
 use crate::stability::largest_magnitude;
@@ -31,6 +31,8 @@ pub(super) struct PbfScratch {
     lists: IndexLists,
     constraint: Vec<Constraint>,
     delta: Vec<Vec3>,
+    /// Each particle's move in the last iteration (for the over-relaxation).
+    moved: Vec<Vec3>,
     velocity: Vec<Vec3>,
     omega: Vec<Vec3>,
     confined: Vec<Vec3>,
@@ -120,8 +122,10 @@ impl PbfStep<'_> {
         let iterations = params.pbf.iterations;
         let mut error = 0.0;
         let mut forces = vec![BodyForceSum::default(); boundary.body_count()];
+        s.moved.clear();
+        s.moved.resize(n, Vec3::ZERO);
         timed(&mut t.pressure_solve, || {
-            for _ in 0..iterations {
+            for k in 0..iterations {
                 error = compute_lambdas(
                     &ctx,
                     &s.lists,
@@ -137,8 +141,15 @@ impl PbfStep<'_> {
                     &s.constraint,
                     &mut s.delta,
                 );
-                let reactions =
-                    boundary_reactions(&ctx, &s.lists, &p.position, boundary, &s.constraint, dt);
+                let reactions = boundary_reactions(
+                    &ctx,
+                    &s.lists,
+                    &p.position,
+                    boundary,
+                    &s.constraint,
+                    dt,
+                    correction_weight(&ctx, k, iterations),
+                );
                 forces
                     .iter_mut()
                     .zip(&reactions)
@@ -146,7 +157,11 @@ impl PbfStep<'_> {
                 p.position
                     .par_iter_mut()
                     .zip(s.delta.par_iter())
-                    .for_each(|(x, &d)| *x += d);
+                    .zip(s.moved.par_iter_mut())
+                    .for_each(|((x, &d), u)| {
+                        *u = over_relax(&ctx, k, d, *u);
+                        *x += *u;
+                    });
             }
         });
         // 4. Velocities from the positions, the guard, XSPH.

@@ -9,11 +9,14 @@
 // are evaluated at the current positions, which the Jacobi iterations ping-pong between two scratch buffers the sort no longer needs:
 // iteration 0 reads `position` and writes A (`sorted_position`), odd iterations read A and
 // write B (`sorted_velocity_predicted`), even ones read B and write A (roles PBF_FROM_A,
-// PBF_FROM_B; render::plan::pbf_source). Each particle's λ_i and ρ_i go to `normal` (x, y);
+// PBF_FROM_B; render::plan::pbf_source). Iterations after the first are over-relaxed
+// (x_{k+1} = x_{k-1} + ω (x_k + Δp_k - x_{k-1})): x_{k-1} is still in the buffer iteration k
+// writes, and iteration 0 leaves x_0 in B for iteration 1. The iteration's number is in
+// clock.pbf_iteration (set by the λ pass). Each particle's λ_i and ρ_i go to `normal` (x, y);
 // the velocities before XSPH to `sorted_velocity`, the vorticity ω to `sorted_acceleration`.
 #define_import_path sph::pbf
 
-#import sph::bindings::{params, position, sorted_position, sorted_velocity_predicted}
+#import sph::bindings::{params, position, sorted_position, sorted_velocity_predicted, clock}
 
 // The current position of particle j (the iteration's source buffer).
 fn current_position(j: u32) -> vec3<f32> {
@@ -36,6 +39,62 @@ fn write_next_position(i: u32, x: vec3<f32>) {
     sorted_velocity_predicted[i] = moved;
 #else
     sorted_position[i] = moved;
+#endif
+}
+
+// The over-relaxation ω of the iterations after the first.
+fn over_relaxation() -> f32 {
+    return bitcast<f32>(params.pbf_counts.w);
+}
+
+// Particle i's next position from its corrected one, x_k + Δp_k: over-relaxed against x_{k-1}
+// after the first iteration; the first keeps x_0 in B, where iteration 1 finds it.
+// Rust twin: sph_core::pbf_macklin2013::over_relax (as moves u_k = x_{k+1} - x_k).
+fn relaxed_position(i: u32, corrected: vec3<f32>) -> vec3<f32> {
+#ifdef PBF_FROM_A
+    let before = sorted_velocity_predicted[i].xyz;
+    return before + over_relaxation() * (corrected - before);
+#else
+#ifdef PBF_FROM_B
+    let before = sorted_position[i].xyz;
+    return before + over_relaxation() * (corrected - before);
+#else
+    sorted_velocity_predicted[i] = position[i];
+    return corrected;
+#endif
+#endif
+}
+
+// The share of the iteration under way's correction in the step's moves (the bodies'
+// reactions are weighted by it). Rust twin: sph_core::pbf_macklin2013::correction_weight.
+fn correction_weight() -> f32 {
+    let k = clock.pbf_iteration;
+    let omega = over_relaxation();
+    var sum = 0.0;
+    var power = 1.0;
+    for (var m = k; m < params.pbf_counts.y; m++) {
+        sum += power;
+        power *= omega - 1.0;
+    }
+    if k == 0u {
+        return sum;
+    }
+    return omega * sum;
+}
+
+// Counts the iterations in clock.pbf_iteration: the λ pass's first thread (`i` = 0) sets it.
+fn count_iteration(i: u32) {
+    if i != 0u {
+        return;
+    }
+#ifdef PBF_FROM_A
+    clock.pbf_iteration += 1u;
+#else
+#ifdef PBF_FROM_B
+    clock.pbf_iteration += 1u;
+#else
+    clock.pbf_iteration = 0u;
+#endif
 #endif
 }
 

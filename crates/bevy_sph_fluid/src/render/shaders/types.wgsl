@@ -116,7 +116,8 @@ struct SphClock {
     marked: atomic<u32>,
     tail_size: u32,
     tail_frame: u32,
-    pad_d: u32,
+    // PBF: the Jacobi iteration under way (from 0; set by each iteration's λ pass).
+    pbf_iteration: u32,
 }
 
 struct BitonicStep {

@@ -2,16 +2,18 @@
 // Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b λ_i ∇W_ib,
 // s_corr = -k (W(r_ij) / W(Δq))^n (the artificial pressure against tensile clumping),
 // at most max(0.1 h, 2 |g| dt²) long (sph_core::pbf_macklin2013::PbfContext::for_step);
-// x_i + Δp_i goes to the next iteration's buffer (see shaders/pbf.wgsl).
+// x_i + Δp_i, over-relaxed after the first iteration, goes to the next iteration's buffer
+// (see shaders/pbf.wgsl).
 // The boundary's reaction (Akinci 2012's two-way coupling in PBF's position form): sample b
-// moves i by V_b λ_i ∇W_ib, so its body feels -m V_b λ_i ∇W_ib / dt² at the sample, summed by
+// moves i by V_b λ_i ∇W_ib, so its body feels -m V_b λ_i ∇W_ib / dt² at the sample, weighted by
+// the iteration's share of the step's moves (correction_weight), summed by
 // shaders/body_reactions.wgsl over the step's iterations.
 // Rust twins: sph_core::pbf_macklin2013::{compute_corrections, boundary_reactions}.
 #import sph::bindings::{params, position, neighbor_count, pbf_neighbors, normal, boundary_position, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen}
-#import sph::pbf::{current_position, write_next_position, mass, rest_density}
+#import sph::pbf::{current_position, write_next_position, mass, rest_density, relaxed_position, correction_weight}
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
 
@@ -55,7 +57,7 @@ fn particle(i: u32) {
         sum += cubic_grad(r, r_len) * weight;
     }
     let dt = step_dt();
-    let reaction = -m / (dt * dt);
+    let reaction = -m * correction_weight() / (dt * dt);
     let cell = grid_cell(sorted);
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(cell, q);
@@ -80,5 +82,5 @@ fn particle(i: u32) {
     if length_sum > cap {
         sum *= cap / length_sum;
     }
-    write_next_position(i, x_i + sum);
+    write_next_position(i, relaxed_position(i, x_i + sum));
 }

@@ -10,11 +10,12 @@
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range}
 #import sph::clock::frozen
-#import sph::pbf::{current_position, mass, rest_density}
+#import sph::pbf::{current_position, mass, rest_density, count_iteration}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
+    count_iteration(i);
     if i >= params.particle_count || frozen() {
         return;
     }
