@@ -228,6 +228,20 @@ fn dfsph_setting_ends() -> Vec<(&'static str, sph_core::DfsphSettings)> {
                 ..d
             },
         ),
+        (
+            "over-relaxation 1",
+            sph_core::DfsphSettings {
+                divergence_over_relaxation: 1.0,
+                ..d
+            },
+        ),
+        (
+            "over-relaxation 1.9",
+            sph_core::DfsphSettings {
+                divergence_over_relaxation: 1.9,
+                ..d
+            },
+        ),
     ]
 }
 

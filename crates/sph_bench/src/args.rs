@@ -284,6 +284,10 @@ pub struct RunArgs {
     /// PBF: vorticity confinement ε [m/s] (0 skips the stage) [default: 0].
     #[arg(long, value_name = "M_PER_S", value_parser = vorticity)]
     pub pbf_vorticity: Option<f32>,
+    /// DFSPH: over-relaxation ω of the divergence-free solve's iterations after its first
+    /// (1: plain Jacobi) [default: 1.4].
+    #[arg(long, value_name = "OMEGA", value_parser = over_relaxation)]
+    pub divergence_over_relaxation: Option<f32>,
     /// PBF: over-relaxation ω of the iterations after the first (1: plain Jacobi)
     /// [default: 1.4].
     #[arg(long, value_name = "OMEGA", value_parser = over_relaxation)]
@@ -360,6 +364,7 @@ impl Default for RunArgs {
             pbf_iterations: None,
             pbf_vorticity: None,
             pbf_over_relaxation: None,
+            divergence_over_relaxation: None,
             particles: 8_192,
             a: 0.146,
             integrator: Integrator::KickDriftKick,

@@ -61,6 +61,9 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
                 p.dfsph.max_divergence_error = pct / 100.0;
             }
             p.dfsph.warm_start = args.warm_start;
+            if let Some(omega) = args.divergence_over_relaxation {
+                p.dfsph.divergence_over_relaxation = omega;
+            }
             if let Some(n) = args.pbf_iterations {
                 p.pbf.iterations = n;
             }

@@ -180,11 +180,15 @@ pub fn divergence_source(
 }
 
 /// One Jacobi update of the stiffness: κ_i = scale · source_i / D_i (scale 1/dt² for the
-/// density solve, 1/dt for the divergence solve), added to the step's running `total`.
+/// density solve, 1/dt for the divergence solve), added to the step's running `total`. With
+/// `over_relaxation` ω (the iterations after a solve's first), the stiffness applied is
+/// ω κ_i + (ω - 1) κ'_i, κ'_i being the one `stiffness` holds from the iteration before
+/// ([`crate::DfsphSettings::divergence_over_relaxation`]).
 pub fn stiffness_from_source(
     source: &[f32],
     factors: &[ParticleFactor],
     scale: f32,
+    over_relaxation: Option<f32>,
     stiffness: &mut [f32],
     total: &mut [f32],
 ) {
@@ -193,7 +197,11 @@ pub fn stiffness_from_source(
         .zip(total.par_iter_mut())
         .enumerate()
         .for_each(|(i, (k, sum))| {
-            *k = scale * source[i] * factors[i].inverse_factor;
+            let jacobi = scale * source[i] * factors[i].inverse_factor;
+            *k = match over_relaxation {
+                Some(omega) => omega * jacobi + (omega - 1.0) * *k,
+                None => jacobi,
+            };
             *sum += *k;
         });
 }

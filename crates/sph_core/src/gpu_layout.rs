@@ -88,6 +88,9 @@ pub struct GpuSphParams {
     /// Drains: the main world's frame number (recorded with each sort's tail), the open drains
     /// in [`GpuPumps`] (0 = none), 0, 0.
     pub drains: [u32; 4],
+    /// DFSPH: the divergence-free solve's over-relaxation ω
+    /// ([`crate::DfsphSettings::divergence_over_relaxation`]), 0, 0, 0.
+    pub dfsph_c: [f32; 4],
 }
 
 /// The simulation clock (WGSL `SphClock`), a storage buffer written only by the GPU: the
@@ -317,6 +320,7 @@ impl GpuSphParams {
                 crate::dfsph_bender2017::MAX_CORRECTION,
             ],
             drains: [0; 4],
+            dfsph_c: [params.dfsph.divergence_over_relaxation, 0.0, 0.0, 0.0],
         }
     }
 

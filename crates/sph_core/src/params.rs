@@ -450,6 +450,14 @@ impl DfsphSettings {
             "dfsph.max_divergence_iterations",
             self.min_divergence_iterations,
             self.max_divergence_iterations,
+        )?;
+        check_range(
+            "dfsph.divergence_over_relaxation",
+            self.divergence_over_relaxation,
+            1.0,
+            true,
+            1.9,
+            "[1, 1.9] (1: plain Jacobi)",
         )
     }
 }

@@ -90,6 +90,8 @@ pub enum SolverSpec {
         max_divergence_error_pct: Option<f32>,
         /// Warm starts.
         warm_start: Option<bool>,
+        /// Over-relaxation ω of the divergence-free solve (1: plain Jacobi).
+        divergence_over_relaxation: Option<f32>,
     },
     /// Position-based fluids.
     Pbf {
@@ -600,6 +602,7 @@ impl SceneFile {
                 max_density_error_pct,
                 max_divergence_error_pct,
                 warm_start,
+                divergence_over_relaxation,
             } => {
                 let base = DfsphSettings::default();
                 params.dfsph = DfsphSettings {
@@ -608,6 +611,8 @@ impl SceneFile {
                     max_divergence_error: max_divergence_error_pct
                         .map_or(base.max_divergence_error, |p| p / 100.0),
                     warm_start: warm_start.unwrap_or(base.warm_start),
+                    divergence_over_relaxation: divergence_over_relaxation
+                        .unwrap_or(base.divergence_over_relaxation),
                     ..base
                 };
             }

@@ -177,7 +177,7 @@ fn use_solver_switches_the_time_step_rule() {
 
 #[test]
 fn bad_settings_name_the_field_and_the_range() {
-    let cases: [(DfsphSettings, &str); 4] = [
+    let cases: [(DfsphSettings, &str); 6] = [
         (
             DfsphSettings {
                 max_density_error: 0.0,
@@ -206,6 +206,20 @@ fn bad_settings_name_the_field_and_the_range() {
                 ..Default::default()
             },
             "dfsph.max_divergence_iterations",
+        ),
+        (
+            DfsphSettings {
+                divergence_over_relaxation: 0.5,
+                ..Default::default()
+            },
+            "dfsph.divergence_over_relaxation",
+        ),
+        (
+            DfsphSettings {
+                divergence_over_relaxation: f32::NAN,
+                ..Default::default()
+            },
+            "dfsph.divergence_over_relaxation",
         ),
     ];
     for (settings, field) in cases {

@@ -66,6 +66,14 @@ fn set_stiffness(i: u32, k: f32) {
     pressure[i] = k;
 }
 
+// The stiffness to apply from a Jacobi iteration's κ and the one applied before it (the
+// divergence-free solve's iterations after its first): ω κ + (ω - 1) κ'. Rust twin: the over-relaxation of
+// sph_core::dfsph_bender2017::stiffness_from_source.
+fn over_relaxed(k: f32, previous: f32) -> f32 {
+    let omega = params.dfsph_c.x;
+    return omega * k + (omega - 1.0) * previous;
+}
+
 // The stiffness the solve in progress summed for particle i.
 fn total(i: u32) -> f32 {
 #ifdef DIVERGENCE_SOLVE

@@ -48,6 +48,8 @@ struct SphUniforms {
     dfsph_b: vec4<f32>,
     // Drains: the main world's frame number, the open drains in SphPumps (0 = none), 0, 0.
     drains: vec4<u32>,
+    // DFSPH: the divergence-free solve's over-relaxation ω, 0, 0, 0.
+    dfsph_c: vec4<f32>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).

@@ -16,7 +16,7 @@
 #import sph::bindings::{params, clock, velocity, density, neighbor_count}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
-#import sph::dfsph::{INTERIOR_NEIGHBORS, rest_density, factor, pair, set_stiffness, total, set_total, add_error}
+#import sph::dfsph::{INTERIOR_NEIGHBORS, rest_density, factor, pair, stiffness, set_stiffness, over_relaxed, total, set_total, add_error}
 
 var<workgroup> partial: array<f32, #{WORKGROUP_SIZE}>;
 
@@ -66,7 +66,16 @@ fn main(
 #else
         let scale = 1.0 / (dt * dt);
 #endif
-        set_stiffness(i, scale * s * factor(i).inverse);
+        let jacobi = scale * s * factor(i).inverse;
+#ifdef DFSPH_FIRST
+        set_stiffness(i, jacobi);
+#else
+#ifdef DIVERGENCE_SOLVE
+        set_stiffness(i, over_relaxed(jacobi, stiffness(i)));
+#else
+        set_stiffness(i, jacobi);
+#endif
+#endif
 #ifdef DFSPH_FIRST
         if params.dfsph.w == 0.0 {
             set_total(i, 0.0);
