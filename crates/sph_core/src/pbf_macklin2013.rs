@@ -226,16 +226,31 @@ pub fn compute_densities(
             let r = x_i - positions[j as usize];
             fluid += k.value_and_gradient_factor(r.length_squared()).0;
         }
-        let mut solid = 0.0;
-        if let Some(b) = boundary {
-            for &s in pairs.boundary {
-                let s = s as usize;
-                let r = x_i - b.position[s];
-                solid += b.volume[s] * k.value_and_gradient_factor(r.length_squared()).0;
-            }
-        }
+        let solid = boundary_volume_sum(k, x_i, boundary, pairs.boundary);
         *rho = ctx.mass * fluid + ctx.rest_density * solid;
     });
+}
+
+/// Σ_b V_b W(x_i - x_b) over the boundary samples `samples` of `boundary` (0 without one).
+#[inline]
+fn boundary_volume_sum(
+    k: &CubicSpline,
+    x_i: Vec3,
+    boundary: Option<&Boundary>,
+    samples: &[u32],
+) -> f32 {
+    let Some(b) = boundary else {
+        return 0.0;
+    };
+    samples
+        .iter()
+        .map(|&s| {
+            let s = s as usize;
+            b.volume[s]
+                * k.value_and_gradient_factor((x_i - b.position[s]).length_squared())
+                    .0
+        })
+        .sum()
 }
 
 /// Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b λ_i ∇W_ib with
@@ -417,14 +432,7 @@ pub fn xsph_and_densities(
         }
         let smoothing = Vec3::new(lane_sum(&sx), lane_sum(&sy), lane_sum(&sz));
         *v = v_i + smoothing * ctx.xsph_c;
-        let mut solid = 0.0;
-        if let Some(b) = boundary {
-            for &s in pairs.boundary {
-                let s = s as usize;
-                let r = x_i - b.position[s];
-                solid += b.volume[s] * k.value_and_gradient_factor(r.length_squared()).0;
-            }
-        }
+        let solid = boundary_volume_sum(k, x_i, boundary, pairs.boundary);
         *rho = ctx.mass * (self_weight + lane_sum(&w_sum)) + ctx.rest_density * solid;
     });
 }
