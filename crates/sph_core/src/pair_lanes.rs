@@ -13,8 +13,8 @@ use glam::Vec3;
 /// Pairs evaluated side by side.
 pub const LANES: usize = 8;
 
-/// The offsets r = x_i - x_j of up to [`LANES`] neighbours, one array per component, and the
-/// neighbours' indices (0 in unused lanes).
+/// The offsets r = x_i - x_j of up to [`LANES`] neighbours, one array per component, and their
+/// squared lengths (unused lanes hold an offset beyond the support).
 #[derive(Clone, Copy, Debug)]
 pub struct Lanes {
     /// r.x per lane.
