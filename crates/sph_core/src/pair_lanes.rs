@@ -36,7 +36,7 @@ impl Lanes {
             x: [beyond; LANES],
             y: [0.0; LANES],
             z: [0.0; LANES],
-            r2: [beyond * beyond; LANES],
+            r2: [0.0; LANES],
         };
         for (l, &j) in block.iter().enumerate().take(LANES) {
             let r = x_i - positions[j as usize];
@@ -44,6 +44,7 @@ impl Lanes {
             lanes.y[l] = r.y;
             lanes.z[l] = r.z;
         }
+        // Every lane's |r|², the unused ones' (beyond²) included.
         for l in 0..LANES {
             lanes.r2[l] =
                 lanes.x[l] * lanes.x[l] + lanes.y[l] * lanes.y[l] + lanes.z[l] * lanes.z[l];
