@@ -304,3 +304,105 @@ fn dfsph_steps_on_the_gpu_match_the_cpu_solver() {
         }
     }
 }
+
+/// DFSPH's iteration budget on the GPU (`bevy_sph_fluid::dfsph_budget`): once the first clock
+/// readings are back, a step encodes far fewer passes than the settings' 100 + 100 iterations,
+/// and still takes exactly the CPU's iterations (none cut short). Pinned below what the solves
+/// need, the device cuts them short, counts them, and the water stays healthy.
+#[test]
+fn dfsph_on_the_gpu_encodes_what_recent_steps_needed_and_counts_solves_cut_short() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let (mut params, container, block) = scene();
+    params.use_solver(sph_core::Solver::Dfsph);
+    let steps = 6;
+    let n = block.count();
+    let mut cpu = CpuSolver::new(params, container, n).unwrap();
+    cpu.spawn(&block.positions(), Vec3::ZERO);
+    let (mut density_iterations, mut divergence_iterations) = (0, 0);
+    for _ in 0..steps {
+        cpu.step();
+        density_iterations += cpu.solver_stats().density_iterations;
+        divergence_iterations += cpu.solver_stats().divergence_iterations;
+    }
+
+    let mut app = headless_app(n as u32, SphBackend::Gpu);
+    app.insert_resource(SphParams(params));
+    app.world_mut().spawn(SphContainer(container));
+    app.world_mut().spawn(SphBlockSpawn {
+        block,
+        velocity: Vec3::ZERO,
+    });
+    app.update();
+    step_to(&mut app, steps);
+    snapshot(&mut app);
+    let clock = |app: &App| {
+        app.world()
+            .resource::<bevy_sph_fluid::shared::ClockReadback>()
+            .latest
+            .expect("a clock reading")
+    };
+    let adapted = clock(&app);
+    let stats = app.world().resource::<SphStats>().clone();
+    let encoded = app
+        .world()
+        .resource::<bevy_sph_fluid::shared::SphSimulation>()
+        .frame
+        .dfsph_iterations;
+    println!(
+        "budget {encoded:?}: {} dispatches a step; iterations on the GPU {} + {}, on the CPU \
+         {density_iterations} + {divergence_iterations}; cut short {}",
+        stats.dispatches_per_step,
+        adapted.density_iterations,
+        adapted.divergence_iterations,
+        stats.dfsph_solves_cut_short
+    );
+    assert!(
+        stats.dispatches_per_step < 200,
+        "the budget follows the steps: {} dispatches a step (416 at the most)",
+        stats.dispatches_per_step
+    );
+    assert_eq!(stats.dfsph_solves_cut_short, 0);
+    assert_eq!(
+        (adapted.density_iterations, adapted.divergence_iterations),
+        (density_iterations, divergence_iterations),
+        "the budget changes no step"
+    );
+
+    // Below what the solves need: 2 constant-density iterations (their least; 1 is raised to
+    // it) and 1 divergence-free.
+    app.world_mut()
+        .resource_mut::<bevy_sph_fluid::shared::SphSimulation>()
+        .dfsph_budget = bevy_sph_fluid::dfsph_budget::DfsphIterationBudget::pinned([1, 1]);
+    let more = 4;
+    step_to(&mut app, steps + more);
+    let s = snapshot(&mut app);
+    let pinned = clock(&app);
+    let stats = app.world().resource::<SphStats>().clone();
+    println!(
+        "pinned: {} dispatches a step; iterations {} + {} in {more} steps; cut short {}",
+        stats.dispatches_per_step,
+        pinned.density_iterations - adapted.density_iterations,
+        pinned.divergence_iterations - adapted.divergence_iterations,
+        stats.dfsph_solves_cut_short
+    );
+    assert_eq!(
+        pinned.density_iterations - adapted.density_iterations,
+        2 * more as u32
+    );
+    assert_eq!(
+        pinned.divergence_iterations - adapted.divergence_iterations,
+        more as u32
+    );
+    assert!(stats.dfsph_solves_cut_short > 0);
+    assert_eq!(
+        stats.dfsph_solves_cut_short,
+        pinned
+            .dfsph_cut_short
+            .iter()
+            .map(|&c| c as u64)
+            .sum::<u64>()
+    );
+    assert!(!stats.health.is_unstable(), "{:?}", stats.health);
+    assert_eq!(s.positions.len(), n);
+    assert!(s.positions.iter().all(|x| x.is_finite()));
+}

@@ -502,6 +502,12 @@ pub fn runtime_panel(
                     stats.divergence_iterations_mean
                 ));
             }
+            if stats.dfsph_solves_cut_short > 0 {
+                ui.label(format!(
+                    "solves cut short by the GPU's iteration budget: {}",
+                    stats.dfsph_solves_cut_short
+                ));
+            }
             if let SphHealth::Unstable { step } = stats.health {
                 ui.colored_label(
                     Color32::RED,

@@ -253,6 +253,10 @@ pub struct SphStats {
     /// DFSPH: divergence-free iterations per step, mean over the last frame's steps (GPU: as
     /// `pressure_iterations_mean`).
     pub divergence_iterations_mean: f32,
+    /// DFSPH on the GPU: solves (constant-density and divergence-free) since the reset that ran
+    /// out of the iterations the frame encoded before they converged or reached their most
+    /// (`bevy_sph_fluid::dfsph_budget`); 0 on the CPU, which always iterates to the end.
+    pub dfsph_solves_cut_short: u64,
     /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports
     /// them and `RenderDiagnosticsPlugin` is added (GPU backend), wall clock (CPU backend).
     pub stage_ms: Vec<(String, f64)>,

@@ -30,6 +30,7 @@ pub mod api;
 pub mod avian_coupling;
 pub mod colliders;
 mod cpu_buffers;
+pub mod dfsph_budget;
 pub mod flow;
 pub mod headless;
 pub mod mesh_collider;

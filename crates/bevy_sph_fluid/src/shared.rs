@@ -138,6 +138,10 @@ pub struct SphFrame {
     /// The boundary samples (walls and colliders) with their generation: the render world
     /// uploads them when the generation changes.
     pub boundary: Option<(u64, Arc<GpuBoundarySamples>)>,
+    /// DFSPH: the Jacobi iterations each step encodes for the constant-density and the
+    /// divergence-free solve (`crate::dfsph_budget`); a solve that converges sooner leaves the
+    /// rest as empty dispatches.
+    pub dfsph_iterations: [u32; 2],
 }
 
 impl SphFrame {
@@ -197,6 +201,8 @@ pub struct SphSimulation {
     pub gpu_drains: GpuDrainSync,
     /// DFSPH on the GPU: the clock's iteration sums at the last reading.
     pub gpu_iterations: Option<GpuIterations>,
+    /// DFSPH on the GPU: how many iterations of each solve a step encodes.
+    pub dfsph_budget: crate::dfsph_budget::DfsphIterationBudget,
     /// This frame's plan, made first thing in the `Prepare` set.
     pub plan: FramePlan,
 }
@@ -237,6 +243,7 @@ impl SphSimulation {
             frame_number: 0,
             gpu_drains: GpuDrainSync::default(),
             gpu_iterations: None,
+            dfsph_budget: Default::default(),
             plan: FramePlan::default(),
         }
     }

@@ -392,6 +392,7 @@ fn sph_plan_step(
                 return;
             }
             let capacity = sim.capacity;
+            let dfsph_iterations = sim.dfsph_budget.encoded(&params.dfsph);
             sim.frame_number = sim.frame_number.wrapping_add(1);
             let number = sim.frame_number;
             let frame = &mut sim.frame;
@@ -402,6 +403,7 @@ fn sph_plan_step(
             frame.steps = plan.steps;
             frame.budget = plan.budget.map(|b| (b, number));
             frame.number = number;
+            frame.dfsph_iterations = dfsph_iterations;
             stats.frame_steps = plan.steps;
             // PBF's Jacobi iterations are a fixed count per step on the device; DFSPH's come
             // back with the clock (`sph_update_stats`).
@@ -554,6 +556,9 @@ fn sph_update_stats(
                 stats.neighbor_list_overflows = clock.neighbor_list_overflows as u64;
                 stats.clock_steps = clock.step as u64;
                 record_gpu_iterations(&mut sim.gpu_iterations, &clock, &mut stats);
+                sim.dfsph_budget.observe(&clock, sim.frame.dfsph_iterations);
+                stats.dfsph_solves_cut_short =
+                    clock.dfsph_cut_short.iter().map(|&n| n as u64).sum();
                 let scale = (-(clock.halvings as f32)).exp2();
                 sim.rule_dt = Some(f32::from_bits(clock.rule_dt_bits) * scale);
                 if clock.unstable_step != 0 {

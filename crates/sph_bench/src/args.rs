@@ -147,6 +147,14 @@ fn pbf_iterations(text: &str) -> Result<u32, String> {
     number(text, |v: u32| (1..=100).contains(&v), "1..=100 iterations")
 }
 
+fn dfsph_max_iterations(text: &str) -> Result<u32, String> {
+    number(
+        text,
+        |v: u32| (2..=1000).contains(&v),
+        "2..=1000 iterations",
+    )
+}
+
 fn over_relaxation(text: &str) -> Result<f32, String> {
     number(text, |v: f32| (1.0..=1.9).contains(&v), "[1, 1.9]")
 }
@@ -278,6 +286,10 @@ pub struct RunArgs {
     /// [default: 0.1].
     #[arg(long, value_name = "PERCENT_PER_S", value_parser = percent_per_second)]
     pub divergence_error: Option<f32>,
+    /// DFSPH: the most iterations of each solve, constant-density and divergence-free
+    /// [default: 100].
+    #[arg(long, value_name = "N", value_parser = dfsph_max_iterations)]
+    pub max_iterations: Option<u32>,
     /// PBF: Jacobi iterations of the density constraint per step [default: 4].
     #[arg(long, value_name = "N", value_parser = pbf_iterations)]
     pub pbf_iterations: Option<u32>,
@@ -361,6 +373,7 @@ impl Default for RunArgs {
             density_error: None,
             divergence_error: None,
             warm_start: true,
+            max_iterations: None,
             pbf_iterations: None,
             pbf_vorticity: None,
             pbf_over_relaxation: None,

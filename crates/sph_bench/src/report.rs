@@ -125,6 +125,9 @@ pub struct Report {
     pub pressure_iterations_max: u32,
     /// DFSPH: divergence-free iterations per step, mean over the run.
     pub divergence_iterations_mean: f64,
+    /// DFSPH on the GPU: solves that ran out of the iterations a frame encoded before they
+    /// converged (the iteration budget, `bevy_sph_fluid::dfsph_budget`); 0 on the CPU.
+    pub solves_cut_short: u64,
     /// Surface tension on.
     pub surface_tension: bool,
     /// dt chosen every step by the CFL rule.

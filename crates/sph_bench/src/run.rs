@@ -61,6 +61,10 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
                 p.dfsph.max_divergence_error = pct / 100.0;
             }
             p.dfsph.warm_start = args.warm_start;
+            if let Some(n) = args.max_iterations {
+                p.dfsph.max_density_iterations = n;
+                p.dfsph.max_divergence_iterations = n;
+            }
             if let Some(omega) = args.divergence_over_relaxation {
                 p.dfsph.divergence_over_relaxation = omega;
             }
@@ -313,6 +317,7 @@ pub fn run_setup(
         pressure_iterations_mean: sim.iterations().means().0,
         pressure_iterations_max: sim.iterations().means().1,
         divergence_iterations_mean: sim.iterations().means().2,
+        solves_cut_short: sim.iterations().cut_short,
         density_error_mean_run_pct: samples.density_error_run(d.density_error_mean_pct),
         surface_tension: params.has_surface_tension(),
         adaptive_time_step: params.adaptive_time_step,

@@ -36,6 +36,9 @@ pub struct IterationTotals {
     pub density_max: u32,
     /// Σ divergence-free iterations.
     pub divergence: u64,
+    /// Solves the GPU cut short at its iteration budget (`SphStats::dfsph_solves_cut_short`;
+    /// 0 on the CPU).
+    pub cut_short: u64,
 }
 
 impl IterationTotals {
@@ -649,6 +652,7 @@ impl Simulation for AppSimulation {
                     density: clock.density_iterations as u64,
                     density_max: clock.density_iterations_max,
                     divergence: clock.divergence_iterations as u64,
+                    cut_short: clock.dfsph_cut_short.iter().map(|&n| n as u64).sum(),
                 })
                 .unwrap_or_default(),
             // The device runs PBF's fixed count of Jacobi iterations every step (WCSPH has
@@ -665,6 +669,7 @@ impl Simulation for AppSimulation {
                     density: steps * per_step as u64,
                     density_max: per_step,
                     divergence: 0,
+                    cut_short: 0,
                 }
             }
         }

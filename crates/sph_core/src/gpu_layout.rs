@@ -183,6 +183,14 @@ pub struct GpuClock {
     pub tail_frame: u32,
     /// PBF: the Jacobi iteration under way (from 0; set by each iteration's λ pass).
     pub pbf_iteration: u32,
+    /// DFSPH: the most iterations one step's constant-density and divergence-free solves took
+    /// since the CPU last zeroed them (at the start of every frame with steps, so a reading
+    /// holds that frame's most).
+    pub dfsph_frame_max: [u32; 2],
+    /// DFSPH: the constant-density and divergence-free solves that ran out of the passes the
+    /// CPU encoded for them before they converged or reached their most iterations, since the
+    /// reset (see `bevy_sph_fluid`'s iteration budget).
+    pub dfsph_cut_short: [u32; 2],
 }
 
 /// The unit of DFSPH's error sums on the device ([`GpuClock::dfsph_error`]): 1e-9 of ρ0 (or
@@ -205,6 +213,9 @@ impl GpuClock {
 
     /// Byte offset of `dfsph_args` (copied to the indirect buffer after each solve pass).
     pub const DFSPH_ARGS_OFFSET: u64 = std::mem::offset_of!(GpuClock, dfsph_args) as u64;
+
+    /// Byte offset of `dfsph_frame_max` (zeroed by the CPU at the start of every frame).
+    pub const DFSPH_FRAME_MAX_OFFSET: u64 = std::mem::offset_of!(GpuClock, dfsph_frame_max) as u64;
 
     /// Byte offset of `has_checkpoint` (cleared by the CPU when the buffers are reallocated).
     pub const HAS_CHECKPOINT_OFFSET: u64 = std::mem::offset_of!(GpuClock, has_checkpoint) as u64;

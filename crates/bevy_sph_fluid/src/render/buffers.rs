@@ -498,6 +498,12 @@ pub(crate) fn prepare_sph_buffers(
             0,
             bytemuck::bytes_of(&sph_core::gpu_layout::GpuBodyForces::default()),
         );
+        // DFSPH's most iterations per step are this frame's (src/dfsph_budget.rs reads them).
+        queue.write_buffer(
+            buffers.at(Buf::Clock),
+            GpuClock::DFSPH_FRAME_MAX_OFFSET,
+            &[0; 8],
+        );
     }
     for (offset, positions, velocities) in std::mem::take(&mut state.pending_spawns) {
         let offset = offset as u64;

@@ -327,16 +327,20 @@ pub fn pbf_plans(iterations: u32, vorticity: bool) -> Vec<EvaluationPlan> {
 }
 
 /// The passes over the stage list of one step of `params`: PBF's phases ([`pbf_plans`]), DFSPH's
-/// ([`dfsph_plans`]), or
-/// the WCSPH integrator's evaluations ([`evaluation_plans`]).
-pub fn step_plans(params: &SphParams, forces_stale: bool) -> Vec<EvaluationPlan> {
+/// ([`dfsph_plans`], with `dfsph_iterations` encoded for each solve: see
+/// `crate::dfsph_budget`), or the WCSPH integrator's evaluations ([`evaluation_plans`]).
+pub fn step_plans(
+    params: &SphParams,
+    forces_stale: bool,
+    dfsph_iterations: [u32; 2],
+) -> Vec<EvaluationPlan> {
     match params.solver {
         Solver::Pbf => pbf_plans(params.pbf.iterations, params.pbf.vorticity_epsilon > 0.0),
         Solver::Dfsph => dfsph_plans(
             forces_stale,
             params.dfsph.warm_start,
-            params.dfsph.max_density_iterations,
-            params.dfsph.max_divergence_iterations,
+            dfsph_iterations[0],
+            dfsph_iterations[1],
         ),
         Solver::Wcsph => evaluation_plans(params.integrator, forces_stale),
     }

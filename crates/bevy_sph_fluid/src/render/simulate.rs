@@ -33,7 +33,7 @@ pub fn sph_simulate(world: &mut World) {
     if !frame.active || frame.steps == 0 {
         return;
     }
-    let (steps, params) = (frame.steps, frame.params);
+    let (steps, params, dfsph_iterations) = (frame.steps, frame.params, frame.dfsph_iterations);
     let key = VariantKey::of(&params, frame.neighbor_counts);
     let feedback = world.resource::<SphRenderFeedback>().clone();
     let state = world.resource::<SphGpuState>();
@@ -76,7 +76,10 @@ pub fn sph_simulate(world: &mut World) {
     let mut last_step_dispatches = 0;
     for step in 0..steps {
         let before = world.resource::<StageRun>().dispatches;
-        for (k, plan) in step_plans(&params, forces_stale).into_iter().enumerate() {
+        for (k, plan) in step_plans(&params, forces_stale, dfsph_iterations)
+            .into_iter()
+            .enumerate()
+        {
             {
                 let mut run = world.resource_mut::<StageRun>();
                 run.plan = plan;

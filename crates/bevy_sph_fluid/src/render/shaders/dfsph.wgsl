@@ -9,8 +9,8 @@
 // The arrays a DFSPH step borrows (none of them is used otherwise by its stage list):
 // - `density`: ρ_i, the cubic-spline density of the lists;
 // - `acceleration_start`: (Σ_b g_ib, 1/D_i), the factor (0 for an isolated particle);
-// - `sorted_acceleration_start`: (Σ_b v_b·g_ib, fluid and boundary neighbours, 0, 0) (the
-//   sort's scratch, free after the scatter);
+// - `sorted_acceleration_start`: (Σ_b v_b·g_ib, fluid and boundary neighbours, boundary
+//   neighbours, 0) (the sort's scratch, free after the scatter);
 // - `pressure`: κ_i of the iteration, during the solves (the last pass writes the pressures);
 // - `velocity_predicted`: (κ summed by the constant-density solve, κ summed by the
 //   divergence-free solve, 0, 0), carried by the sort: the next step's warm starts;
@@ -47,6 +47,7 @@ struct Factor {
     boundary_grad: vec3<f32>,
     inverse: f32,
     boundary_flux: f32,
+    // Fluid and boundary neighbours within h.
     neighbors: f32,
 }
 
@@ -54,6 +55,11 @@ fn factor(i: u32) -> Factor {
     let a = acceleration_start[i];
     let b = sorted_acceleration_start[i];
     return Factor(a.xyz, a.w, b.x, b.y);
+}
+
+// The boundary samples within h of particle i when the factors pass ran (0: no boundary pair).
+fn boundary_neighbors(i: u32) -> f32 {
+    return sorted_acceleration_start[i].z;
 }
 
 // κ_j of the iteration (in `pressure`, free during the solves: the step's last pass writes
@@ -118,6 +124,13 @@ fn open_solve(threads: u32) {
     clock.dfsph_args_x = (params.particle_count + threads - 1u) / threads;
     clock.dfsph_args_y = 1u;
     clock.dfsph_args_z = 1u;
+}
+
+// Whether a solve with `applied` iterations done and mean error `error` goes on: while
+// (applied < least or error > η) and applied < most (Rust twin: the loop of
+// sph_core::solver::dfsph).
+fn goes_on(applied: u32, error: f32, least: u32, most: u32, eta: f32) -> bool {
+    return (applied < least || error > eta) && applied < most;
 }
 
 // The solve converged: its remaining passes dispatch no workgroup.

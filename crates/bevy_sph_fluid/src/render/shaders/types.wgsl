@@ -120,6 +120,12 @@ struct SphClock {
     tail_frame: u32,
     // PBF: the Jacobi iteration under way (from 0; set by each iteration's λ pass).
     pbf_iteration: u32,
+    // DFSPH: the most iterations of one step's constant-density and divergence-free solves
+    // since the CPU zeroed them (each frame), and the solves cut short by the passes encoded.
+    density_frame_max: u32,
+    divergence_frame_max: u32,
+    density_cut_short: u32,
+    divergence_cut_short: u32,
 }
 
 struct BitonicStep {

@@ -13,7 +13,7 @@
 #import sph::bindings::{params, clock, velocity, neighbor_count}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
-#import sph::dfsph::{factor, pair, stiffness, total, set_total, mean_error, clear_error, close_solve}
+#import sph::dfsph::{factor, pair, stiffness, total, set_total, mean_error, clear_error, close_solve, goes_on}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -37,8 +37,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let most = params.dfsph_counts.y;
     let eta = params.dfsph.x;
 #endif
-    let go_on = (applied < least || mean_error(read) > eta) && applied < most;
-    if !go_on {
+    if !goes_on(applied, mean_error(read), least, most, eta) {
         if i == 0u {
             close_solve();
         }

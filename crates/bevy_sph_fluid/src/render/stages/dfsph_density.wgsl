@@ -65,5 +65,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let inverse = select(0.0, 1.0 / d, d > params.dfsph.z);
     density[i] = rho;
     acceleration_start[i] = vec4<f32>(boundary_grad, inverse);
-    sorted_acceleration_start[i] = vec4<f32>(boundary_flux, f32(fluid + solid), 0.0, 0.0);
+    sorted_acceleration_start[i] = vec4<f32>(boundary_flux, f32(fluid + solid), f32(solid), 0.0);
 }

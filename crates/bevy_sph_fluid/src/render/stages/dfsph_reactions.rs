@@ -23,6 +23,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::VelocityPredicted,
         Buf::Density,
         Buf::Pressure,
+        Buf::SortedAccelerationStart,
         Buf::Clock,
         Buf::BoundaryPosition,
         Buf::BoundaryCellStart,

@@ -4,6 +4,8 @@
 //   the stiffness the solve summed, at the sample (summed by shaders/body_reactions.wgsl).
 // - Thread 0 adds the solve's applied iterations to the clock's sums and keeps its last mean
 //   error (the sum its last source wrote: a after an even count, b after an odd one).
+//   A solve still open whose decision would go on ran out of the passes the CPU encoded (its
+//   iteration budget, src/dfsph_budget.rs): it is counted as cut short.
 // - DIVERGENCE_SOLVE: p_i = (κ_i + κ_i^v) ρ_i², the pumps, the probes.
 // Nothing is summed while the clock is frozen or a state is being restored.
 // Rust twins: sph_core::dfsph_bender2017::boundary_reactions, the end of
@@ -17,12 +19,13 @@
 #import sph::probes::record_probes
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
-#import sph::dfsph::{mass, rest_density, total, mean_error}
+#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, goes_on}
 
 fn particle(i: u32) {
     let x_i = position[i].xyz;
     let k = total(i) * mass();
-    if k != 0.0 {
+    // The factors pass counted the samples within h at these positions: none, no reaction.
+    if k != 0.0 && boundary_neighbors(i) > 0.0 {
         let h2 = params.kernel_a.y;
         let rho0 = rest_density();
         let cell = grid_cell(x_i);
@@ -68,13 +71,26 @@ fn main(
     if i == 0u && live {
         let applied = clock.dfsph_applied;
         let error = mean_error(applied % 2u);
+        let open = clock.dfsph_done == 0u;
 #ifdef DIVERGENCE_SOLVE
         clock.divergence_iterations += applied;
+        clock.divergence_frame_max = max(clock.divergence_frame_max, applied);
         clock.divergence_error = error;
+        let least = params.dfsph_counts.z;
+        let most = params.dfsph_counts.w;
+        if open && goes_on(applied, error, least, most, params.dfsph.y) {
+            clock.divergence_cut_short += 1u;
+        }
 #else
         clock.density_iterations += applied;
         clock.density_iterations_max = max(clock.density_iterations_max, applied);
+        clock.density_frame_max = max(clock.density_frame_max, applied);
         clock.density_error = error;
+        let least = params.dfsph_counts.x;
+        let most = params.dfsph_counts.y;
+        if open && goes_on(applied, error, least, most, params.dfsph.x) {
+            clock.density_cut_short += 1u;
+        }
 #endif
     }
 }

@@ -25,6 +25,8 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Density,
         Buf::Pressure,
         Buf::Normal,
+        Buf::NeighborCount,
+        Buf::PbfNeighbors,
         Buf::CellStart,
         Buf::BucketStart,
         Buf::BucketEnd,

@@ -16,11 +16,12 @@
 // acceleration the next step does not start from), |v| by the closing kicks; nothing is
 // integrated or recorded while the clock is frozen.
 // SOLVER_DFSPH: the non-pressure accelerations a_np only (no pressure terms; DFSPH's solves
-// are the pressure), and |v + a_np dt_max| is recorded for its time step.
+// are the pressure), over the lists' pairs, and |v + a_np dt_max| is recorded for its time
+// step.
 // The reaction -m a_ib of every boundary pair goes to the sample's body (Akinci 2012's two-way
 // coupling, summed by shaders/body_reactions.wgsl).
 // Rust twin: sph_core::forces (compute_accelerations and its per-body sums).
-#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal, boundary_position, boundary_velocity, boundary_body, body_forces}
+#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal, neighbor_count, pbf_neighbors, boundary_position, boundary_velocity, boundary_body, body_forces}
 #import sph::kernels::{poly6, spiky_grad, viscosity_laplacian, cohesion, collide}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
@@ -93,6 +94,20 @@ fn particle(i: u32) {
     var pressure_sum = vec3<f32>(0.0);
     var viscosity_sum = vec3<f32>(0.0);
     let c = home_cell(x_i);
+#ifdef SOLVER_DFSPH
+    // DFSPH's lists hold each particle's pairs within h at these positions (the lists pass after
+    // the last move): the cells' pairs without their candidates (a third of the pass's time at
+    // dambreak32k on lavapipe).
+    let fluid = neighbor_count[i];
+    for (var k = 0u; k < fluid; k++) {
+        let j = pbf_neighbors[k * params.capacity + i];
+        let x_j = position[j].xyz;
+        let r = x_i - x_j;
+        let r2 = dot(r, r);
+        if r2 >= h2 || j == i {
+            continue;
+        }
+#else
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
         for (var j = range.x; j < range.y; j++) {
@@ -105,6 +120,7 @@ fn particle(i: u32) {
             if j == i {
                 continue;
             }
+#endif
             let rho_j = density[j];
             let r_len = sqrt(r2);
 #ifndef SOLVER_DFSPH
@@ -121,7 +137,9 @@ fn particle(i: u32) {
             }
             surface -= params.material.w * correction * (pull + (n_i - normal[j].xyz));
 #endif
+#ifndef SOLVER_DFSPH
         }
+#endif
     }
     // The boundary samples (Rust twin: sph_core::forces::boundary_acceleration_at).
     let rho0 = params.material.x;
