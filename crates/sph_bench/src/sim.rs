@@ -488,6 +488,11 @@ impl AppSimulation {
             if stats.clock_steps >= headless::steps_taken(&self.app) || stats.health.is_unstable() {
                 return;
             }
+            // The readback maps once the device is done: without the wait, a busy machine (CI's
+            // tests in parallel) went through the 100 updates before it arrived, the run planned
+            // its next chunk from a clock 0.2 s old, and pipe_fill.ron on the GPU ended at 2.2 s
+            // of the 2 asked.
+            headless::wait_for_gpu(&self.app);
             self.app.update();
         }
     }
