@@ -14,17 +14,18 @@ use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
 use bevy_sph_fluid::prelude::*;
 use sph_core::{BlockSpawn, BoxContainer, ColliderMotion, ColliderShape, PipeEmitter, TriMesh};
-use std::sync::Mutex;
 use std::time::Duration;
+
+mod common;
 
 const FRAME: f32 = 1.0 / 60.0;
 
-/// The GPU tests of this file run one at a time. A body's force comes back from the device a
-/// frame or two late, and more frames late when another lavapipe app shares the 2 cores: in one
-/// CI run of 2026-11-25, with the floating-box test running beside it, the late force threw
-/// aquaplay's boat out of the channel (y up to 0.39 m); run alone, 3 of 3 runs kept it within
-/// 0.050–0.087 m. Nothing in the plugin yet bounds that lag in frames (docs/scenes.md).
-static GPU_ALONE: Mutex<()> = Mutex::new(());
+// The GPU tests of this file run one at a time (`common::GPU`). A body's force comes back from
+// the device a frame or two late, and more frames late when another lavapipe app shares the 2
+// cores: in one CI run of 2026-11-25, with the floating-box test running beside it, the late
+// force threw aquaplay's boat out of the channel (y up to 0.39 m); run alone, 3 of 3 runs kept
+// it within 0.050–0.087 m. Nothing in the plugin yet bounds that lag in frames
+// (docs/scenes.md).
 const SIDE: f32 = 0.12;
 const DEPTH: f32 = 0.2;
 /// Water steps per frame on the GPU backend in the tank (DFSPH, dt about 2.7 ms). The water's
@@ -252,7 +253,7 @@ fn a_box_of_one_and_a_half_times_the_waters_density_sinks_to_the_floor() {
 /// and read back a frame or two late.
 #[test]
 fn boxes_float_and_sink_by_their_density_on_the_gpu() {
-    let _alone = GPU_ALONE.lock().unwrap_or_else(|e| e.into_inner());
+    let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
     let clock = Clock::Water {
         substeps: GPU_SUBSTEPS,
     };
@@ -522,7 +523,7 @@ fn the_pump_carries_aquaplays_boat_and_turns_its_wheel() {
 /// or two late.
 #[test]
 fn the_pump_carries_aquaplays_boat_and_turns_its_wheel_on_the_gpu() {
-    let _alone = GPU_ALONE.lock().unwrap_or_else(|e| e.into_inner());
+    let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
     pump_carries_boat_and_turns_wheel(SphBackend::Gpu);
 }
 
@@ -608,7 +609,7 @@ fn the_lock_scene_boat_passes_the_open_gate_when_pushed() {
 /// The same on the GPU backend.
 #[test]
 fn the_lock_scene_boat_passes_the_open_gate_when_pushed_on_the_gpu() {
-    let _alone = GPU_ALONE.lock().unwrap_or_else(|e| e.into_inner());
+    let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
     boat_passes_the_open_gate(SphBackend::Gpu);
 }
 

@@ -530,14 +530,7 @@ fn dfsph_on_the_gpu_keeps_degenerate_sets_sane() {
     for ((what, block), expected) in cases.into_iter().zip([1, 2, 64]) {
         let n = block.count();
         assert_eq!(n, expected, "{what}");
-        let mut app = headless_app(n as u32, SphBackend::Gpu);
-        app.insert_resource(SphParams(params));
-        app.world_mut().spawn(SphContainer(container));
-        app.world_mut().spawn(SphBlockSpawn {
-            block,
-            velocity: Vec3::ZERO,
-        });
-        app.update();
+        let mut app = gpu_app_with_block(params, container, block);
         step_to(&mut app, 60);
         let stats = app.world().resource::<SphStats>();
         assert_eq!(stats.error, None, "{what}");

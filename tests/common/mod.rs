@@ -23,6 +23,24 @@ pub fn headless_app(capacity: u32, backend: SphBackend) -> App {
     )
 }
 
+/// A paused GPU app holding `block` (at rest) in `container`, run with `params`, after its first
+/// update (the spawn queued, no step taken).
+pub fn gpu_app_with_block(
+    params: sph_core::SphParams,
+    container: sph_core::BoxContainer,
+    block: sph_core::BlockSpawn,
+) -> App {
+    let mut app = headless_app(block.count() as u32, SphBackend::Gpu);
+    app.insert_resource(SphParams(params));
+    app.world_mut().spawn(SphContainer(container));
+    app.world_mut().spawn(SphBlockSpawn {
+        block,
+        velocity: Vec3::ZERO,
+    });
+    app.update();
+    app
+}
+
 /// Single-steps to `steps` steps.
 pub fn step_to(app: &mut App, steps: u64) {
     bevy_sph_fluid::headless::step_to(app, steps).unwrap();

@@ -557,8 +557,7 @@ fn sph_update_stats(
                 stats.clock_steps = clock.step as u64;
                 record_gpu_iterations(&mut sim.gpu_iterations, &clock, &mut stats);
                 sim.dfsph_budget.observe(&clock, sim.frame.dfsph_iterations);
-                stats.dfsph_solves_cut_short =
-                    clock.dfsph_cut_short.iter().map(|&n| n as u64).sum();
+                stats.dfsph_solves_cut_short = clock.solves_cut_short();
                 let scale = (-(clock.halvings as f32)).exp2();
                 sim.rule_dt = Some(f32::from_bits(clock.rule_dt_bits) * scale);
                 if clock.unstable_step != 0 {

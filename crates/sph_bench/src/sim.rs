@@ -657,7 +657,7 @@ impl Simulation for AppSimulation {
                     density: clock.density_iterations as u64,
                     density_max: clock.density_iterations_max,
                     divergence: clock.divergence_iterations as u64,
-                    cut_short: clock.dfsph_cut_short.iter().map(|&n| n as u64).sum(),
+                    cut_short: clock.solves_cut_short(),
                 })
                 .unwrap_or_default(),
             // The device runs PBF's fixed count of Jacobi iterations every step (WCSPH has

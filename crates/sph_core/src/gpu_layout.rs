@@ -220,6 +220,11 @@ impl GpuClock {
     /// Byte offset of `has_checkpoint` (cleared by the CPU when the buffers are reallocated).
     pub const HAS_CHECKPOINT_OFFSET: u64 = std::mem::offset_of!(GpuClock, has_checkpoint) as u64;
 
+    /// DFSPH: solves of both kinds cut short by the encoded iterations since the reset.
+    pub fn solves_cut_short(&self) -> u64 {
+        self.dfsph_cut_short.iter().map(|&n| n as u64).sum()
+    }
+
     /// The extremes the last step recorded.
     pub fn extremes(&self) -> crate::stability::StepExtremes {
         crate::stability::StepExtremes {
