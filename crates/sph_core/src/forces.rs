@@ -101,14 +101,19 @@ pub fn pressure_around(
 }
 
 /// The boundary's acceleration of particle i, with the pressure p_w mirrored onto each sample
-/// (p_b = p_w, ρ_b = ρ0) and the pseudo-mass Ψ_b = ρ0 V_b (Akinci 2012, in Monaghan's
+/// (ρ_b = ρ0) and the pseudo-mass Ψ_b = ρ0 V_b (Akinci 2012, in Monaghan's
 /// form). p_w = p_i, or where the clamp made p_i zero, `p_around()` ([`pressure_around`], called
 /// only then and only if a sample is within h): next to a wall at a free surface p_i is zero while
 /// the water beside it pushes it on, and the wall answers with the pressure of the water around
-/// it (a pressure extrapolated onto the wall, after Adami et al. 2012, evaluated at the particle):
-/// a_i^p = -Σ_b ρ0 V_b (p_w/ρ_i² + p_w/ρ0²) ∇W_spiky(x_i - x_b),
-/// and on no-slip bodies the fluid's viscosity against the sample's velocity, times the body's
-/// friction f (Akinci 2012 with Müller's Laplacian):
+/// it (a pressure extrapolated onto the wall, after Adami et al. 2012, evaluated at the particle).
+/// Each sample adds the hydrostatic rise between the particle and itself (Adami et al. 2012,
+/// their (g - a_w) term for a wall at rest): p_b = max(p_w + ρ0 g·(x_b - x_i), 0), zero above
+/// a free surface;
+/// a_i^p = -Σ_b ρ0 V_b (p_w/ρ_i² + p_b/ρ0²) ∇W_spiky(x_i - x_b).
+/// (Without the rise, the floor under a column at rest holds its first layer with half the push it
+/// needs, `tests/boundary.rs`, and a box held under water felt 19.6 % more than ρ0 g V,
+/// docs/boundary.md.) On no-slip bodies, the fluid's viscosity against the sample's velocity, times
+/// the body's friction f (Akinci 2012 with Müller's Laplacian):
 /// a_i^v = (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc.
 /// `reaction(body, force, at)` receives the force on the sample's body, -m a_ib (Akinci 2012's two-way coupling).
 #[inline]
@@ -125,7 +130,7 @@ pub fn boundary_acceleration_at(
     let rho_i = input.density[i];
     let rho0 = ctx.rest_density;
     let mut p_around = Some(p_around);
-    let mut mirrored = None;
+    let mut wall_pressure = None;
     let viscous = ctx.viscosity / rho_i;
     let mut total = Vec3::ZERO;
     boundary
@@ -140,14 +145,16 @@ pub fn boundary_acceleration_at(
             }
             let mut a = Vec3::ZERO;
             if input.with_pressure {
-                let mirrored = *mirrored.get_or_insert_with(|| {
+                let p_w = *wall_pressure.get_or_insert_with(|| {
                     let p_i = input.pressure[i];
-                    let p_w = match p_around.take() {
+                    match p_around.take() {
                         Some(around) if p_i <= 0.0 => around(),
                         _ => p_i,
-                    };
-                    p_w / (rho_i * rho_i) + p_w / (rho0 * rho0)
+                    }
                 });
+                // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
+                let p_b = (p_w - rho0 * ctx.gravity.dot(r)).max(0.0);
+                let mirrored = p_w / (rho_i * rho_i) + p_b / (rho0 * rho0);
                 a = ctx.kernels.spiky_grad(r, r_len)
                     * (-rho0 * volume * mirrored * ctx.pressure_gradient_scale);
             }

@@ -1,13 +1,13 @@
 //! The Akinci 2012 boundary in the CPU solver: the container's walls complete the rest lattice at
 //! walls, edges and corners; fluid-boundary forces and the reactions on the bodies balance; the
 //! guard projects particles out of colliders and counts them; spawns leave colliders empty; a
-//! settling tank keeps every particle in the box.
+//! settling tank keeps every particle in the box; the floor holds a column at rest.
 
 use glam::{Quat, Vec3};
 use sph_core::boundary::{BodyForceSum, Boundary};
 use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 use sph_core::density::density_at;
-use sph_core::forces::{boundary_acceleration_at, ForceInputs};
+use sph_core::forces::{boundary_acceleration_at, compute_accelerations, ForceInputs};
 use sph_core::guard::Guard;
 use sph_core::scenario::hydrostatic;
 use sph_core::stage::StageContext;
@@ -202,4 +202,54 @@ fn a_settling_tank_keeps_every_particle_in_the_box() {
         .map(|x| x.y)
         .fold(f32::INFINITY, f32::min);
     assert!(lowest > 0.1 * 0.01, "lowest particle at {lowest} m");
+}
+
+#[test]
+fn the_floor_holds_a_column_at_rest_with_its_hydrostatic_pressure() {
+    // The rest lattice on the floor at p = ρ0 g depth: the pressure gradient must hold every
+    // layer against gravity, the first one included, where half the support comes through the
+    // wall's samples (the mirrored pressure plus the hydrostatic rise to each sample, Adami
+    // 2012). With the mirrored pressure alone the first layer fell at about g/2.
+    let (mut params, container, block) = tank();
+    params.surface_tension = 0.0;
+    let mut solver = CpuSolver::new(params, container, block.count()).unwrap();
+    solver.spawn(&block.positions(), Vec3::ZERO);
+    solver.step();
+    let ctx = StageContext::new(&params);
+    let dx = params.spacing();
+    let top = 12.0 * dx;
+    let positions = block.positions();
+    let mut neighbors = solver.neighbors().clone();
+    let order = neighbors.sort(&positions).to_vec();
+    let sorted: Vec<Vec3> = order.iter().map(|&k| positions[k as usize]).collect();
+    let g = params.gravity.length();
+    let pressure: Vec<f32> = sorted
+        .iter()
+        .map(|x| params.rest_density * g * (top - x.y))
+        .collect();
+    let n = sorted.len();
+    let input = ForceInputs {
+        position: &sorted,
+        velocity: &vec![Vec3::ZERO; n],
+        density: &vec![params.rest_density; n],
+        pressure: &pressure,
+        normal: &vec![Vec3::ZERO; n],
+        boundary: Some(solver.boundary()),
+        with_pressure: true,
+    };
+    let mut acceleration = vec![Vec3::ZERO; n];
+    compute_accelerations(&ctx, &neighbors, &input, &mut acceleration);
+    for (name, probe) in [
+        ("first layer", Vec3::new(5.5, 0.5, 5.5) * dx),
+        ("second layer", Vec3::new(5.5, 1.5, 5.5) * dx),
+        ("mid-depth", Vec3::new(5.5, 5.5, 5.5) * dx),
+    ] {
+        let i = sorted
+            .iter()
+            .position(|x| (*x - probe).length() < 1e-3 * dx)
+            .unwrap();
+        let a = acceleration[i];
+        assert!(a.y.abs() < 0.05 * g, "{name}: a = {a} with g = {g}");
+        assert!(a.x.abs() + a.z.abs() < 1e-3 * g, "{name}: a = {a}");
+    }
 }

@@ -1,9 +1,10 @@
 // a_i = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky                (Monaghan 1992, the symmetric form)
 //     + (μ/ρ_i) Σ m (v_j - v_i)/ρ_j ∇²W_visc             (design eq. 10, VISCOSITY)
 //     - γ Σ K_ij (m C(r) r/|r| + n_i - n_j)               (Akinci 2013, SURFACE_TENSION)
-//     - Σ_b ρ0 V_b (p_w/ρ_i² + p_w/ρ0²) ∇W_spiky          (Akinci 2012, pressure mirrored:
+//     - Σ_b ρ0 V_b (p_w/ρ_i² + p_b/ρ0²) ∇W_spiky          (Akinci 2012, pressure mirrored:
 //       p_w = p_i, or where p_i = 0 the pressure of the water around i,
-//       Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j)
+//       Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j; the sample's p_b = max(p_w + ρ0 g·(x_b - x_i), 0)
+//       adds the hydrostatic rise to it, Adami et al. 2012)
 //     + (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc            (no-slip bodies, friction f)
 //     + g
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
@@ -144,8 +145,8 @@ fn particle(i: u32) {
     // The boundary samples (Rust twin: sph_core::forces::boundary_acceleration_at).
     let rho0 = params.material.x;
     // The wall mirrors p_i, or where the clamp made it zero the Shepard average of the pressure
-    // around i (computed only then, at the first sample within h).
-    var mirrored = -1.0;
+    // around i (computed only then, at the first sample within h; -1 until then).
+    var p_wall = -1.0;
     let viscous = params.material.z / rho_i;
     var wall = vec3<f32>(0.0);
     let g = grid_cell(x_i);
@@ -163,13 +164,15 @@ fn particle(i: u32) {
             // DFSPH's pressure solves answer for the boundary (dfsph_apply).
             var a_b = vec3<f32>(0.0);
 #else
-            if mirrored < 0.0 {
-                var p_wall = pressure[i];
+            if p_wall < 0.0 {
+                p_wall = pressure[i];
                 if p_wall <= 0.0 {
                     p_wall = pressure_around(x_i, c);
                 }
-                mirrored = p_wall / (rho_i * rho_i) + p_wall / (rho0 * rho0);
             }
+            // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
+            let p_b = max(p_wall - rho0 * dot(params.gravity.xyz, r), 0.0);
+            let mirrored = p_wall / (rho_i * rho_i) + p_b / (rho0 * rho0);
             var a_b = spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
 #endif
             let u = boundary_velocity[b];
