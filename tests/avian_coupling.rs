@@ -24,8 +24,9 @@ const FRAME: f32 = 1.0 / 60.0;
 // the device a frame or two late, and more frames late when another lavapipe app shares the 2
 // cores: in one CI run of 2026-11-25, with the floating-box test running beside it, the late
 // force threw aquaplay's boat out of the channel (y up to 0.39 m); run alone, 3 of 3 runs kept
-// it within 0.050–0.087 m. Nothing in the plugin yet bounds that lag in frames
-// (docs/scenes.md).
+// it within 0.050–0.087 m. The plugin now holds the water for a frame while the newest force
+// read back is more than `MAX_BODY_FORCE_LAG` frames old (`assert_short_frames_on_the_gpu`
+// checks it; docs/scenes.md).
 const SIDE: f32 = 0.12;
 const DEPTH: f32 = 0.2;
 /// Water steps per frame on the GPU backend in the tank (DFSPH, dt about 2.7 ms). The water's
@@ -44,12 +45,13 @@ const GPU_SUBSTEPS: u32 = 2;
 const SCENE_SUBSTEPS: u32 = 2;
 
 /// On the GPU with a body in the water, a frame plans at most `max_body_frame_time` of water
-/// (6 ms: one PBF step of 1/120 s, two when the flow shortens the step), whatever it asked for.
+/// (6 ms: one PBF step of 1/120 s, two when the flow shortens the step), whatever it asked for,
+/// and takes steps only while the newest body forces read back are at most
+/// `MAX_BODY_FORCE_LAG` frames old.
 fn assert_short_frames_on_the_gpu(app: &App, backend: SphBackend) {
-    let plan = app
-        .world()
-        .resource::<bevy_sph_fluid::shared::SphSimulation>()
-        .plan;
+    use bevy_sph_fluid::shared::{BodyForceReadback, SphSimulation, MAX_BODY_FORCE_LAG};
+    let sim = app.world().resource::<SphSimulation>();
+    let plan = sim.plan;
     let most = SphControl::default().max_body_frame_time.unwrap();
     if backend == SphBackend::Gpu {
         assert!(
@@ -57,6 +59,14 @@ fn assert_short_frames_on_the_gpu(app: &App, backend: SphBackend) {
             "{} steps covering {} s a frame",
             plan.steps,
             plan.duration
+        );
+        let newest = app.world().resource::<BodyForceReadback>().newest_frame;
+        let lag = sim.frame_number.wrapping_sub(newest.unwrap_or(0));
+        assert!(
+            plan.steps == 0 || lag <= MAX_BODY_FORCE_LAG,
+            "frame {} took {} steps with forces {lag} frames old",
+            sim.frame_number,
+            plan.steps
         );
     }
 }
@@ -584,7 +594,10 @@ fn pump_carries_boat_and_turns_wheel(backend: SphBackend) {
     );
     assert!(at.distance(axle) < 0.01, "the hinge holds the wheel: {at}");
     let end = app.world().get::<Transform>(boat).unwrap().translation;
-    println!("{backend:?}: aquaplay boat: {start} -> {end}, y in [{lowest:.3}, {highest:.3}] m");
+    println!(
+        "{backend:?}: aquaplay boat: {start} -> {end}, y in [{lowest:.3}, {highest:.3}] m; {} frames held for the body forces",
+        app.world().resource::<SphStats>().frames_held_for_body_forces
+    );
     assert!(
         end.x - start.x > 0.2,
         "carried along the channel: {start} -> {end}"

@@ -508,6 +508,12 @@ pub fn runtime_panel(
                     stats.dfsph_solves_cut_short
                 ));
             }
+            if stats.frames_held_for_body_forces > 0 {
+                ui.label(format!(
+                    "frames the water waited for the bodies' forces: {}",
+                    stats.frames_held_for_body_forces
+                ));
+            }
             if let SphHealth::Unstable { step } = stats.health {
                 ui.colored_label(
                     Color32::RED,

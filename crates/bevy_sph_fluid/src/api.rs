@@ -257,6 +257,10 @@ pub struct SphStats {
     /// out of the iterations the frame encoded before they converged or reached their most
     /// (`bevy_sph_fluid::dfsph_budget`); 0 on the CPU, which always iterates to the end.
     pub dfsph_solves_cut_short: u64,
+    /// GPU backend with a dynamic collider in the water: frames since the start that took no
+    /// steps because the newest body forces read back were more than
+    /// [`crate::shared::MAX_BODY_FORCE_LAG`] frames old (a slow or loaded GPU); 0 on the CPU.
+    pub frames_held_for_body_forces: u64,
     /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports
     /// them and `RenderDiagnosticsPlugin` is added (GPU backend), wall clock (CPU backend).
     pub stage_ms: Vec<(String, f64)>,

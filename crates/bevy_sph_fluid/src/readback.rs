@@ -93,9 +93,18 @@ impl EveryFrame for BodyForceReadback {
     }
     fn clear(&mut self) {
         self.latest = None;
+        self.newest_frame = None;
     }
     fn arrived(&mut self, sums: GpuBodyForces) {
-        // A frame without steps leaves the last forces in place.
+        // A frame without steps leaves the last forces in place, but its stamp says they are
+        // still the newest (0: a buffer no frame has stamped yet).
+        if sums.frame != 0
+            && self
+                .newest_frame
+                .is_none_or(|newest| (sums.frame.wrapping_sub(newest) as i32) > 0)
+        {
+            self.newest_frame = Some(sums.frame);
+        }
         if sums.evaluations > 0 {
             self.latest = Some(sums);
         }

@@ -87,6 +87,25 @@ impl FramePlan {
     }
 }
 
+/// The most frames the newest body forces read back may be older than the frame being planned
+/// before the water waits for them (GPU backend, a dynamic collider in the water). The readback
+/// of frame N normally arrives while frame N + 1 or N + 2 is planned.
+pub const MAX_BODY_FORCE_LAG: u32 = 3;
+
+/// The most frames in a row the water waits for the body forces: a readback that stops coming
+/// slows the water down but cannot freeze it.
+pub const MAX_FRAMES_HELD_FOR_FORCES: u32 = 8;
+
+/// Whether frame `planned` holds the water (takes no steps) because the newest body forces read
+/// back, stamped `newest` (`None` before the first), are more than [`MAX_BODY_FORCE_LAG`] frames
+/// old, unless `held_in_a_row` frames were already held ([`MAX_FRAMES_HELD_FOR_FORCES`]). A force
+/// that arrives late does work on a body that bobs; waiting keeps the lag bounded whatever the
+/// GPU's load.
+pub fn holds_for_body_forces(planned: u32, newest: Option<u32>, held_in_a_row: u32) -> bool {
+    let lag = planned.wrapping_sub(newest.unwrap_or(0));
+    lag > MAX_BODY_FORCE_LAG && held_in_a_row < MAX_FRAMES_HELD_FOR_FORCES
+}
+
 /// The GPU backend's drains in the main world (see `flow::lower_gpu_count`): a tail read back
 /// is used only if its sort came at or after both frames.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -197,6 +216,8 @@ pub struct SphSimulation {
     pub rule_dt: Option<f32>,
     /// Frames planned since the start (numbers the GPU's frame budgets).
     pub frame_number: u32,
+    /// Frames in a row that held the water for the body forces ([`holds_for_body_forces`]).
+    pub frames_held_in_a_row: u32,
     /// The GPU backend's drains: when the live count may drop by a tail read back.
     pub gpu_drains: GpuDrainSync,
     /// DFSPH on the GPU: the clock's iteration sums at the last reading.
@@ -241,6 +262,7 @@ impl SphSimulation {
             wall_slip: sph_core::Slip::Free,
             rule_dt: None,
             frame_number: 0,
+            frames_held_in_a_row: 0,
             gpu_drains: GpuDrainSync::default(),
             gpu_iterations: None,
             dfsph_budget: Default::default(),
@@ -415,6 +437,9 @@ pub struct BodyForceReadback {
     pub(crate) source: Option<(Handle<bevy::render::storage::ShaderBuffer>, Entity)>,
     /// The latest sums that arrived and were not yet written to the colliders.
     pub latest: Option<sph_core::gpu_layout::GpuBodyForces>,
+    /// The newest frame stamp read back (`GpuBodyForces::frame`), steps or not: the forces the
+    /// bodies have are at most this old.
+    pub newest_frame: Option<u32>,
 }
 
 /// The probes' sums as last read back (GPU backend, every frame, asynchronously).
@@ -439,6 +464,30 @@ pub struct ClockReadback {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_water_waits_for_body_forces_older_than_the_lag_and_not_forever() {
+        // Forces of frame 7 while frame 10 is planned: 3 frames old, go on; 4 old, wait.
+        assert!(!holds_for_body_forces(10, Some(7), 0));
+        assert!(holds_for_body_forces(11, Some(7), 0));
+        // Before the first reading the stamp counts as 0.
+        assert!(!holds_for_body_forces(2, None, 0));
+        assert!(holds_for_body_forces(5, None, 0));
+        // Never more than MAX_FRAMES_HELD_FOR_FORCES in a row.
+        assert!(holds_for_body_forces(
+            50,
+            Some(7),
+            MAX_FRAMES_HELD_FOR_FORCES - 1
+        ));
+        assert!(!holds_for_body_forces(
+            50,
+            Some(7),
+            MAX_FRAMES_HELD_FOR_FORCES
+        ));
+        // The frame counter wraps.
+        assert!(!holds_for_body_forces(1, Some(u32::MAX - 1), 0));
+        assert!(holds_for_body_forces(3, Some(u32::MAX - 1), 0));
+    }
 
     #[test]
     fn a_capped_plan_covers_at_most_the_time_and_takes_at_least_one_step() {

@@ -5,7 +5,10 @@
 use crate::api::*;
 use crate::colliders::{sph_sync_colliders, sph_write_collider_forces};
 use crate::sets::SphSystems;
-use crate::shared::{ClockReadback, FramePlan, GpuIterations, SphRenderFeedback, SphSimulation};
+use crate::shared::{
+    holds_for_body_forces, BodyForceReadback, ClockReadback, FramePlan, GpuIterations,
+    SphRenderFeedback, SphSimulation,
+};
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::render_resource::DownlevelFlags;
@@ -271,9 +274,10 @@ fn sph_plan_frame(
     time: Res<Time>,
     params: Res<SphParams>,
     control: Res<SphControl>,
-    stats: Res<SphStats>,
+    mut stats: ResMut<SphStats>,
     mut sim: ResMut<SphSimulation>,
     colliders: Query<&SphCollider>,
+    forces: Option<Res<BodyForceReadback>>,
 ) {
     let valid = control.real_time.is_none_or(|r| r.validate().is_ok())
         && control.validate_body_frame_time().is_ok();
@@ -286,7 +290,17 @@ fn sph_plan_frame(
             .any(|c| c.motion == sph_core::ColliderMotion::Dynamic);
         match control.max_body_frame_time {
             Some(most) if bodies && sim.backend == SphBackend::Gpu => {
-                plan.capped(most, sim.expected_dt(&params, &stats))
+                // This frame's number once planned (`sph_plan_step` counts it).
+                let planned = sim.frame_number.wrapping_add(1);
+                let newest = forces.as_ref().and_then(|f| f.newest_frame);
+                if holds_for_body_forces(planned, newest, sim.frames_held_in_a_row) {
+                    sim.frames_held_in_a_row += 1;
+                    stats.frames_held_for_body_forces += 1;
+                    FramePlan::default()
+                } else {
+                    sim.frames_held_in_a_row = 0;
+                    plan.capped(most, sim.expected_dt(&params, &stats))
+                }
             }
             _ => plan,
         }

@@ -548,8 +548,11 @@ pub struct GpuBodyForces {
     pub sums: [u32; 2 * GPU_BODY_SLOTS * GPU_BODY_COMPONENTS],
     /// Force evaluations summed (forces passes since the buffer was cleared).
     pub evaluations: u32,
+    /// The number of the frame that wrote the buffer last (the plugin's frame counter, written
+    /// by the CPU every frame, with steps or not): how old a reading is.
+    pub frame: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 impl Default for GpuBodyForces {
@@ -566,6 +569,9 @@ pub fn body_force_unit(mass: f32) -> f32 {
 }
 
 impl GpuBodyForces {
+    /// Byte offset of [`Self::frame`].
+    pub const FRAME_OFFSET: u64 = std::mem::offset_of!(GpuBodyForces, frame) as u64;
+
     /// The value of one sum in units.
     fn value(&self, body: usize, component: usize) -> i64 {
         let k = 2 * (body * GPU_BODY_COMPONENTS + component);

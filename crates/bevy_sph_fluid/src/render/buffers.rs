@@ -505,6 +505,14 @@ pub(crate) fn prepare_sph_buffers(
             &[0; 8],
         );
     }
+    // Every frame, with steps or not, stamps the force sums with its number: the readback then
+    // tells how many frames old the newest forces are (`sph_plan_frame` holds the water while
+    // they are too old).
+    queue.write_buffer(
+        buffers.at(Buf::BodyForces),
+        sph_core::gpu_layout::GpuBodyForces::FRAME_OFFSET,
+        &frame.number.to_ne_bytes(),
+    );
     for (offset, positions, velocities) in std::mem::take(&mut state.pending_spawns) {
         let offset = offset as u64;
         let zeros = vec![[0.0f32; 4]; positions.len()];

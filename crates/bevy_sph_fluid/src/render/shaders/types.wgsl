@@ -155,7 +155,8 @@ struct GpuCollider {
 struct SphBodyForces {
     sums: array<atomic<u32>, 384>,
     evaluations: atomic<u32>,
-    pad_a: u32,
+    // The number of the frame that wrote the buffer last (the CPU writes it every frame).
+    frame: u32,
     pad_b: u32,
     pad_c: u32,
 }
