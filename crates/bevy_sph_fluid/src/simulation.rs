@@ -293,7 +293,10 @@ fn sph_plan_frame(
                 // This frame's number once planned (`sph_plan_step` counts it).
                 let planned = sim.frame_number.wrapping_add(1);
                 let newest = forces.as_ref().and_then(|f| f.newest_frame);
-                if holds_for_body_forces(planned, newest, sim.frames_held_in_a_row) {
+                // (A frame with nothing to do, paused, holds nothing.)
+                if plan.steps > 0
+                    && holds_for_body_forces(planned, newest, sim.frames_held_in_a_row)
+                {
                     sim.frames_held_in_a_row += 1;
                     stats.frames_held_for_body_forces += 1;
                     FramePlan::default()
