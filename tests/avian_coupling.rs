@@ -49,7 +49,9 @@ const SCENE_SUBSTEPS: u32 = 2;
 /// and takes steps only while the newest body forces read back are at most
 /// `MAX_BODY_FORCE_LAG` frames old.
 fn assert_short_frames_on_the_gpu(app: &App, backend: SphBackend) {
-    use bevy_sph_fluid::shared::{BodyForceReadback, SphSimulation, MAX_BODY_FORCE_LAG};
+    use bevy_sph_fluid::shared::{
+        body_force_lag, BodyForceReadback, SphSimulation, MAX_BODY_FORCE_LAG,
+    };
     let sim = app.world().resource::<SphSimulation>();
     let plan = sim.plan;
     let most = SphControl::default().max_body_frame_time.unwrap();
@@ -61,7 +63,7 @@ fn assert_short_frames_on_the_gpu(app: &App, backend: SphBackend) {
             plan.duration
         );
         let newest = app.world().resource::<BodyForceReadback>().newest_frame;
-        let lag = sim.frame_number.wrapping_sub(newest.unwrap_or(0));
+        let lag = body_force_lag(sim.frame_number, newest);
         assert!(
             plan.steps == 0 || lag <= MAX_BODY_FORCE_LAG,
             "frame {} took {} steps with forces {lag} frames old",

@@ -102,8 +102,14 @@ pub const MAX_FRAMES_HELD_FOR_FORCES: u32 = 8;
 /// that arrives late does work on a body that bobs; waiting keeps the lag bounded whatever the
 /// GPU's load.
 pub fn holds_for_body_forces(planned: u32, newest: Option<u32>, held_in_a_row: u32) -> bool {
-    let lag = planned.wrapping_sub(newest.unwrap_or(0));
-    lag > MAX_BODY_FORCE_LAG && held_in_a_row < MAX_FRAMES_HELD_FOR_FORCES
+    body_force_lag(planned, newest) > MAX_BODY_FORCE_LAG
+        && held_in_a_row < MAX_FRAMES_HELD_FOR_FORCES
+}
+
+/// How many frames frame `frame` comes after the newest body forces read back, stamped `newest`
+/// (`None` before the first reading counts as stamp 0); the frame counter wraps.
+pub fn body_force_lag(frame: u32, newest: Option<u32>) -> u32 {
+    frame.wrapping_sub(newest.unwrap_or(0))
 }
 
 /// The GPU backend's drains in the main world (see `flow::lower_gpu_count`): a tail read back

@@ -145,16 +145,18 @@ pub fn boundary_acceleration_at(
             }
             let mut a = Vec3::ZERO;
             if input.with_pressure {
-                let p_w = *wall_pressure.get_or_insert_with(|| {
+                // p_w and the particle's own term p_w/ρ_i², once per particle.
+                let (p_w, own) = *wall_pressure.get_or_insert_with(|| {
                     let p_i = input.pressure[i];
-                    match p_around.take() {
+                    let p_w = match p_around.take() {
                         Some(around) if p_i <= 0.0 => around(),
                         _ => p_i,
-                    }
+                    };
+                    (p_w, p_w / (rho_i * rho_i))
                 });
                 // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
                 let p_b = (p_w - rho0 * ctx.gravity.dot(r)).max(0.0);
-                let mirrored = p_w / (rho_i * rho_i) + p_b / (rho0 * rho0);
+                let mirrored = own + p_b / (rho0 * rho0);
                 a = ctx.kernels.spiky_grad(r, r_len)
                     * (-rho0 * volume * mirrored * ctx.pressure_gradient_scale);
             }

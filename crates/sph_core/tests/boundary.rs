@@ -11,7 +11,7 @@ use sph_core::forces::{boundary_acceleration_at, compute_accelerations, ForceInp
 use sph_core::guard::Guard;
 use sph_core::scenario::hydrostatic;
 use sph_core::stage::StageContext;
-use sph_core::{BlockSpawn, BoxContainer, CpuSolver, SphParams};
+use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Neighbors, SphParams};
 
 fn tank() -> (SphParams, BoxContainer, BlockSpawn) {
     let params = SphParams::water();
@@ -21,17 +21,28 @@ fn tank() -> (SphParams, BoxContainer, BlockSpawn) {
     (params, container, block)
 }
 
-#[test]
-fn the_walls_complete_the_rest_lattice_at_walls_edges_and_corners() {
-    let (params, container, block) = tank();
+/// The tank's block on the rest lattice, sorted by a copy of the solver's neighbour search (the
+/// solver, after one step, holds the sorted walls): the solver, the search and the positions.
+fn rest_lattice_in_tank(
+    params: SphParams,
+    block: &BlockSpawn,
+) -> (CpuSolver, Neighbors, Vec<Vec3>) {
+    let (_, container, _) = tank();
     let mut solver = CpuSolver::new(params, container, block.count()).unwrap();
     solver.spawn(&block.positions(), Vec3::ZERO);
     solver.step();
-    let ctx = StageContext::new(&params);
     let positions = block.positions();
     let mut neighbors = solver.neighbors().clone();
     let order = neighbors.sort(&positions).to_vec();
-    let sorted: Vec<Vec3> = order.iter().map(|&k| positions[k as usize]).collect();
+    let sorted = order.iter().map(|&k| positions[k as usize]).collect();
+    (solver, neighbors, sorted)
+}
+
+#[test]
+fn the_walls_complete_the_rest_lattice_at_walls_edges_and_corners() {
+    let (params, _, block) = tank();
+    let (solver, neighbors, sorted) = rest_lattice_in_tank(params, &block);
+    let ctx = StageContext::new(&params);
     let dx = params.spacing();
     let probes = [
         ("interior", Vec3::splat(5.5 * dx)),
@@ -210,18 +221,12 @@ fn the_floor_holds_a_column_at_rest_with_its_hydrostatic_pressure() {
     // layer against gravity, the first one included, where half the support comes through the
     // wall's samples (the mirrored pressure plus the hydrostatic rise to each sample, Adami
     // 2012). With the mirrored pressure alone the first layer fell at about g/2.
-    let (mut params, container, block) = tank();
+    let (mut params, _, block) = tank();
     params.surface_tension = 0.0;
-    let mut solver = CpuSolver::new(params, container, block.count()).unwrap();
-    solver.spawn(&block.positions(), Vec3::ZERO);
-    solver.step();
+    let (solver, neighbors, sorted) = rest_lattice_in_tank(params, &block);
     let ctx = StageContext::new(&params);
     let dx = params.spacing();
     let top = 12.0 * dx;
-    let positions = block.positions();
-    let mut neighbors = solver.neighbors().clone();
-    let order = neighbors.sort(&positions).to_vec();
-    let sorted: Vec<Vec3> = order.iter().map(|&k| positions[k as usize]).collect();
     let g = params.gravity.length();
     let pressure: Vec<f32> = sorted
         .iter()

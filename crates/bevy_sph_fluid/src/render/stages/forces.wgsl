@@ -147,6 +147,7 @@ fn particle(i: u32) {
     // The wall mirrors p_i, or where the clamp made it zero the Shepard average of the pressure
     // around i (computed only then, at the first sample within h; -1 until then).
     var p_wall = -1.0;
+    var own = 0.0;
     let viscous = params.material.z / rho_i;
     var wall = vec3<f32>(0.0);
     let g = grid_cell(x_i);
@@ -169,10 +170,11 @@ fn particle(i: u32) {
                 if p_wall <= 0.0 {
                     p_wall = pressure_around(x_i, c);
                 }
+                own = p_wall / (rho_i * rho_i);
             }
             // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
             let p_b = max(p_wall - rho0 * dot(params.gravity.xyz, r), 0.0);
-            let mirrored = p_wall / (rho_i * rho_i) + p_b / (rho0 * rho0);
+            let mirrored = own + p_b / (rho0 * rho0);
             var a_b = spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
 #endif
             let u = boundary_velocity[b];
