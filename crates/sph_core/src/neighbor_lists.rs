@@ -9,6 +9,7 @@
 //! instead of 16).
 
 use crate::boundary::Boundary;
+use crate::neighbor::grid::GROUP;
 use crate::neighbor::Neighbors;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -160,6 +161,32 @@ impl<P: Send + Sync> NeighborLists<P> {
             });
     }
 
+    /// `f(acc, i, pairs of i, &mut a[i], &mut b[i])` for every particle, in parallel, folded per
+    /// chunk from `identity()` and combined with `reduce`: a pass with two outputs and a sum.
+    pub fn update_fold<A: Send, B: Send, R: Send>(
+        &self,
+        a: &mut [A],
+        b: &mut [B],
+        identity: impl Fn() -> R + Sync + Send,
+        f: impl Fn(R, usize, PairsOf<P>, &mut A, &mut B) -> R + Sync + Send,
+        reduce: impl Fn(R, R) -> R + Sync + Send,
+    ) -> R {
+        a[..self.len]
+            .par_chunks_mut(CHUNK)
+            .zip(b[..self.len].par_chunks_mut(CHUNK))
+            .zip(self.chunks.par_iter())
+            .enumerate()
+            .fold(&identity, |acc, (c, ((a, b), chunk))| {
+                a.iter_mut()
+                    .zip(b.iter_mut())
+                    .enumerate()
+                    .fold(acc, |acc, (k, (a, b))| {
+                        f(acc, c * CHUNK + k, chunk.pairs(k), a, b)
+                    })
+            })
+            .reduce(&identity, reduce)
+    }
+
     /// Σ_i f(i, pairs of i) folded per chunk with `fold` and combined with `reduce`, in parallel.
     pub fn fold<A: Send>(
         &self,
@@ -177,6 +204,67 @@ impl<P: Send + Sync> NeighborLists<P> {
                 })
             })
             .reduce(&identity, reduce)
+    }
+}
+
+/// One value per fluid pair of a [`NeighborLists`], laid out like its chunks: what one pass
+/// records about each pair for a later pass over the same lists ([`NeighborLists::update_recording`],
+/// [`NeighborLists::update_reading`]).
+#[derive(Clone, Debug)]
+pub struct PairValues<D> {
+    chunks: Vec<Vec<D>>,
+}
+
+impl<D> Default for PairValues<D> {
+    fn default() -> Self {
+        Self { chunks: Vec::new() }
+    }
+}
+
+impl<P: Send + Sync> NeighborLists<P> {
+    /// As [`Self::update`], with the slots of `values` for the particle's fluid pairs (in the
+    /// list's order) to write: `f(i, pairs of i, &mut out[i], &mut values of i's fluid pairs)`.
+    /// `values` is resized to the lists, keeping its allocations.
+    pub fn update_recording<T: Send, D: Send + Copy + Default>(
+        &self,
+        out: &mut [T],
+        values: &mut PairValues<D>,
+        f: impl Fn(usize, PairsOf<P>, &mut T, &mut [D]) + Sync,
+    ) {
+        values.chunks.resize_with(self.chunks.len(), Vec::new);
+        out[..self.len]
+            .par_chunks_mut(CHUNK)
+            .zip(self.chunks.par_iter())
+            .zip(values.chunks.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, ((out, chunk), recorded))| {
+                recorded.resize(chunk.fluid.len(), D::default());
+                for (k, o) in out.iter_mut().enumerate() {
+                    let range = chunk.fluid_range(k);
+                    f(c * CHUNK + k, chunk.pairs(k), o, &mut recorded[range]);
+                }
+            });
+    }
+
+    /// As [`Self::update`], reading what [`Self::update_recording`] wrote for the particle's
+    /// fluid pairs, which must be those of these lists unchanged since.
+    pub fn update_reading<T: Send, D: Sync>(
+        &self,
+        out: &mut [T],
+        values: &PairValues<D>,
+        f: impl Fn(usize, PairsOf<P>, &mut T, &[D]) + Sync,
+    ) {
+        out[..self.len]
+            .par_chunks_mut(CHUNK)
+            .zip(self.chunks.par_iter())
+            .zip(values.chunks.par_iter())
+            .enumerate()
+            .for_each(|(c, ((out, chunk), recorded))| {
+                for (k, o) in out.iter_mut().enumerate() {
+                    let range = chunk.fluid_range(k);
+                    f(c * CHUNK + k, chunk.pairs(k), o, &recorded[range]);
+                }
+            });
     }
 }
 
@@ -198,15 +286,48 @@ impl IndexLists {
             .enumerate()
             .for_each(|(c, chunk)| {
                 chunk.restart();
-                for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                    let x_i = positions[i];
-                    neighbors.append_neighbors(positions, x_i, i, &mut chunk.fluid);
-                    chunk.fluid_start.push(chunk.fluid.len() as u32);
-                    if let Some(b) = boundary {
-                        b.grid
-                            .append_neighbors(&b.position, x_i, usize::MAX, &mut chunk.boundary);
+                let end = ((c + 1) * CHUNK).min(n);
+                let mut fluid: [Vec<u32>; GROUP] = Default::default();
+                let mut solid: [Vec<u32>; GROUP] = Default::default();
+                let mut i = c * CHUNK;
+                while i < end {
+                    fluid.iter_mut().for_each(Vec::clear);
+                    // The particles from i that share its cell (sorted by cell, they follow it).
+                    let count = match neighbors {
+                        Neighbors::Grid(grid) => {
+                            let members = &positions[i..end.min(i + GROUP)];
+                            let skip = std::array::from_fn(|g| i + g);
+                            grid.append_group_neighbors(positions, members, skip, &mut fluid)
+                        }
+                        Neighbors::Hash(_) => {
+                            neighbors.append_neighbors(positions, positions[i], i, &mut fluid[0]);
+                            1
+                        }
+                    };
+                    // The boundary samples near them, likewise (the samples' grid may be laid
+                    // out differently, so the run may split).
+                    let mut solid_listed = 0;
+                    while solid_listed < count {
+                        solid.iter_mut().for_each(Vec::clear);
+                        let from = i + solid_listed;
+                        let listed = match boundary {
+                            Some(b) => b.grid.append_group_neighbors(
+                                &b.position,
+                                &positions[from..i + count],
+                                [usize::MAX; GROUP],
+                                &mut solid,
+                            ),
+                            None => count - solid_listed,
+                        };
+                        for (g, samples) in solid.iter().enumerate().take(listed) {
+                            chunk.fluid.extend_from_slice(&fluid[solid_listed + g]);
+                            chunk.fluid_start.push(chunk.fluid.len() as u32);
+                            chunk.boundary.extend_from_slice(samples);
+                            chunk.boundary_start.push(chunk.boundary.len() as u32);
+                        }
+                        solid_listed += listed;
                     }
-                    chunk.boundary_start.push(chunk.boundary.len() as u32);
+                    i += count;
                 }
             });
     }
@@ -270,8 +391,12 @@ impl NeighborLists {
 }
 
 impl<P> ListChunk<P> {
+    fn fluid_range(&self, k: usize) -> std::ops::Range<usize> {
+        self.fluid_start[k] as usize..self.fluid_start[k + 1] as usize
+    }
+
     fn pairs(&self, k: usize) -> PairsOf<'_, P> {
-        let f = self.fluid_start[k] as usize..self.fluid_start[k + 1] as usize;
+        let f = self.fluid_range(k);
         let b = self.boundary_start[k] as usize..self.boundary_start[k + 1] as usize;
         PairsOf {
             fluid: &self.fluid[f],

@@ -82,7 +82,7 @@ pub enum CpuStage {
     /// ([`crate::pbf_macklin2013::compute_lambdas`]).
     PbfLambda,
     /// PBF: the position corrections Δp_i and the bodies' reactions
-    /// ([`crate::pbf_macklin2013::compute_corrections`], [`crate::pbf_macklin2013::boundary_reactions`]).
+    /// ([`crate::pbf_macklin2013::compute_corrections`], [`crate::pbf_macklin2013::apply_corrections`]).
     PbfCorrection,
     /// PBF: velocities from the positions, the guard (step 4 of `CpuSolver`'s PBF step).
     PbfVelocity,

@@ -1,7 +1,9 @@
-//! Grid and hash neighbour sets equal a brute-force O(n²) search.
+//! Grid and hash neighbour sets, and the neighbour lists built from them, equal a brute-force
+//! O(n²) search.
 
 use sph_core::glam::Vec3;
 use sph_core::neighbor::Neighbors;
+use sph_core::neighbor_lists::IndexLists;
 use sph_core::rng::SplitMix64;
 use sph_core::{BoxContainer, NeighborSearch};
 use std::collections::BTreeSet;
@@ -17,14 +19,15 @@ fn brute_force(positions: &[Vec3], h: f32) -> Vec<BTreeSet<usize>> {
         .collect()
 }
 
-/// Sorts with `mode` and returns, per original particle, its neighbours as original indices.
-fn search(
+/// The search structure of `mode` over `positions`, its order (checked to be a permutation)
+/// and the sorted positions.
+fn sort(
     mode: NeighborSearch,
     container: &BoxContainer,
     h: f32,
     capacity: usize,
     positions: &[Vec3],
-) -> Vec<BTreeSet<usize>> {
+) -> (Neighbors, Vec<u32>, Vec<Vec3>) {
     let mut neighbors = Neighbors::new(mode, container, h, capacity).unwrap();
     let order = neighbors.sort(positions).to_vec();
     assert_eq!(order.len(), positions.len());
@@ -35,6 +38,18 @@ fn search(
         "order is a permutation"
     );
     let sorted: Vec<Vec3> = order.iter().map(|&i| positions[i as usize]).collect();
+    (neighbors, order, sorted)
+}
+
+/// Sorts with `mode` and returns, per original particle, its neighbours as original indices.
+fn search(
+    mode: NeighborSearch,
+    container: &BoxContainer,
+    h: f32,
+    capacity: usize,
+    positions: &[Vec3],
+) -> Vec<BTreeSet<usize>> {
+    let (neighbors, order, sorted) = sort(mode, container, h, capacity, positions);
     let mut result = vec![BTreeSet::new(); positions.len()];
     for (k, &x) in sorted.iter().enumerate() {
         let mut set = BTreeSet::new();
@@ -48,15 +63,51 @@ fn search(
     result
 }
 
+/// Sorts with `mode`, builds the PBF index lists (the grid's runs of particles sharing a cell
+/// are listed together) and returns, per original particle, its listed neighbours as original
+/// indices, itself included (as [`brute_force`] counts it).
+fn listed(
+    mode: NeighborSearch,
+    container: &BoxContainer,
+    h: f32,
+    capacity: usize,
+    positions: &[Vec3],
+) -> Vec<BTreeSet<usize>> {
+    let (neighbors, order, sorted) = sort(mode, container, h, capacity, positions);
+    let mut lists = IndexLists::default();
+    lists.rebuild_indices(&neighbors, &sorted, None);
+    let mut per_sorted = vec![BTreeSet::new(); positions.len()];
+    lists.update(&mut per_sorted, |i, pairs, set| {
+        set.insert(order[i] as usize);
+        for &j in pairs.fluid {
+            assert_ne!(j as usize, i, "particle {i} lists itself");
+            assert!(set.insert(order[j as usize] as usize), "{j} listed twice");
+        }
+        assert!(pairs.boundary.is_empty());
+    });
+    let mut result = vec![BTreeSet::new(); positions.len()];
+    for (k, set) in per_sorted.into_iter().enumerate() {
+        result[order[k] as usize] = set;
+    }
+    result
+}
+
 fn check_all_modes(container: &BoxContainer, h: f32, positions: &[Vec3], capacity: usize) {
     let expected = brute_force(positions, h);
     for mode in [NeighborSearch::Grid, NeighborSearch::Hash] {
         let got = search(mode, container, h, capacity, positions);
+        let lists = listed(mode, container, h, capacity, positions);
         for i in 0..positions.len() {
             assert_eq!(
                 got[i],
                 expected[i],
                 "{mode:?}: particle {i} of {}",
+                positions.len()
+            );
+            assert_eq!(
+                lists[i],
+                expected[i],
+                "{mode:?} lists: particle {i} of {}",
                 positions.len()
             );
         }

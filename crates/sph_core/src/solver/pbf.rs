@@ -17,8 +17,9 @@ use crate::guard::{Corrections, Guard};
 use crate::neighbor_lists::IndexLists;
 use crate::params::SphParams;
 use crate::pbf_macklin2013::{
-    boundary_reactions, compute_corrections, compute_lambdas, confine_vorticity, correction_weight,
-    over_relax, vorticity, xsph_and_densities, Constraint, PbfContext,
+    apply_corrections, compute_corrections, compute_lambdas, confine_vorticity,
+    constraint_violation, vorticity, xsph_and_densities, Constraint, Correction, CorrectionStep,
+    PbfContext,
 };
 use crate::solvers::SolverStats;
 use crate::stability::largest_magnitude;
@@ -30,7 +31,7 @@ use rayon::prelude::*;
 pub(super) struct PbfScratch {
     lists: IndexLists,
     constraint: Vec<Constraint>,
-    delta: Vec<Vec3>,
+    corrections: Vec<Correction>,
     /// Each particle's move in the last iteration (for the over-relaxation).
     moved: Vec<Vec3>,
     velocity: Vec<Vec3>,
@@ -110,7 +111,7 @@ impl PbfStep<'_> {
         let (p, t) = (&mut *self.parts.particles, &mut *self.parts.timings);
         let n = p.len();
         s.constraint.resize(n, Constraint::default());
-        s.delta.resize(n, Vec3::ZERO);
+        s.corrections.resize(n, Correction::default());
         s.velocity.resize(n, Vec3::ZERO);
         // The passes read only the neighbours' indices (they evaluate the kernel at the moving
         // positions).
@@ -126,43 +127,38 @@ impl PbfStep<'_> {
         s.moved.resize(n, Vec3::ZERO);
         timed(&mut t.pressure_solve, || {
             for k in 0..iterations {
-                error = compute_lambdas(
+                compute_lambdas(
                     &ctx,
                     &s.lists,
                     &p.position,
                     Some(boundary),
                     &mut s.constraint,
-                ) / n.max(1) as f64;
+                );
                 compute_corrections(
                     &ctx,
                     &s.lists,
                     &p.position,
                     Some(boundary),
                     &s.constraint,
-                    &mut s.delta,
+                    &mut s.corrections,
                 );
-                let reactions = boundary_reactions(
-                    &ctx,
-                    &s.lists,
-                    &p.position,
-                    boundary,
-                    &s.constraint,
+                let step = CorrectionStep {
+                    iteration: k,
+                    iterations,
                     dt,
-                    correction_weight(&ctx, k, iterations),
-                );
+                    boundary,
+                    constraint: &s.constraint,
+                    corrections: &s.corrections,
+                };
+                let reactions =
+                    apply_corrections(&ctx, &s.lists, step, &mut p.position, &mut s.moved);
                 forces
                     .iter_mut()
                     .zip(&reactions)
                     .for_each(|(f, r)| f.merge(r));
-                p.position
-                    .par_iter_mut()
-                    .zip(s.delta.par_iter())
-                    .zip(s.moved.par_iter_mut())
-                    .for_each(|((x, &d), u)| {
-                        *u = over_relax(&ctx, k, d, *u);
-                        *x += *u;
-                    });
             }
+            // The last λ pass's violation (before its correction).
+            error = constraint_violation(&ctx, &s.constraint) / n.max(1) as f64;
         });
         // 4. Velocities from the positions, the guard, XSPH.
         timed(&mut t.integrate, || {

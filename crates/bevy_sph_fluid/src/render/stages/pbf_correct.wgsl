@@ -8,7 +8,7 @@
 // moves i by V_b λ_i ∇W_ib, so its body feels -m V_b λ_i ∇W_ib / dt² at the sample, weighted by
 // the iteration's share of the step's moves (correction_weight), summed by
 // shaders/body_reactions.wgsl over the step's iterations.
-// Rust twins: sph_core::pbf_macklin2013::{compute_corrections, boundary_reactions}.
+// Rust twins: sph_core::pbf_macklin2013::{compute_corrections, apply_corrections}.
 #import sph::bindings::{params, position, neighbor_count, pbf_neighbors, normal, boundary_position, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range}
