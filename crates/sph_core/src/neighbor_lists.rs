@@ -207,67 +207,6 @@ impl<P: Send + Sync> NeighborLists<P> {
     }
 }
 
-/// One value per fluid pair of a [`NeighborLists`], laid out like its chunks: what one pass
-/// records about each pair for a later pass over the same lists ([`NeighborLists::update_recording`],
-/// [`NeighborLists::update_reading`]).
-#[derive(Clone, Debug)]
-pub struct PairValues<D> {
-    chunks: Vec<Vec<D>>,
-}
-
-impl<D> Default for PairValues<D> {
-    fn default() -> Self {
-        Self { chunks: Vec::new() }
-    }
-}
-
-impl<P: Send + Sync> NeighborLists<P> {
-    /// As [`Self::update`], with the slots of `values` for the particle's fluid pairs (in the
-    /// list's order) to write: `f(i, pairs of i, &mut out[i], &mut values of i's fluid pairs)`.
-    /// `values` is resized to the lists, keeping its allocations.
-    pub fn update_recording<T: Send, D: Send + Copy + Default>(
-        &self,
-        out: &mut [T],
-        values: &mut PairValues<D>,
-        f: impl Fn(usize, PairsOf<P>, &mut T, &mut [D]) + Sync,
-    ) {
-        values.chunks.resize_with(self.chunks.len(), Vec::new);
-        out[..self.len]
-            .par_chunks_mut(CHUNK)
-            .zip(self.chunks.par_iter())
-            .zip(values.chunks.par_iter_mut())
-            .enumerate()
-            .for_each(|(c, ((out, chunk), recorded))| {
-                recorded.resize(chunk.fluid.len(), D::default());
-                for (k, o) in out.iter_mut().enumerate() {
-                    let range = chunk.fluid_range(k);
-                    f(c * CHUNK + k, chunk.pairs(k), o, &mut recorded[range]);
-                }
-            });
-    }
-
-    /// As [`Self::update`], reading what [`Self::update_recording`] wrote for the particle's
-    /// fluid pairs, which must be those of these lists unchanged since.
-    pub fn update_reading<T: Send, D: Sync>(
-        &self,
-        out: &mut [T],
-        values: &PairValues<D>,
-        f: impl Fn(usize, PairsOf<P>, &mut T, &[D]) + Sync,
-    ) {
-        out[..self.len]
-            .par_chunks_mut(CHUNK)
-            .zip(self.chunks.par_iter())
-            .zip(values.chunks.par_iter())
-            .enumerate()
-            .for_each(|(c, ((out, chunk), recorded))| {
-                for (k, o) in out.iter_mut().enumerate() {
-                    let range = chunk.fluid_range(k);
-                    f(c * CHUNK + k, chunk.pairs(k), o, &recorded[range]);
-                }
-            });
-    }
-}
-
 impl IndexLists {
     /// Rebuilds the lists of `positions` (sorted, searched by `neighbors`) and of the boundary
     /// samples within h of them, reusing the allocations.
