@@ -238,8 +238,12 @@ impl IndexLists {
                             let skip = std::array::from_fn(|g| i + g);
                             grid.append_group_neighbors(positions, members, skip, &mut fluid)
                         }
-                        Neighbors::Hash(_) => {
-                            neighbors.append_neighbors(positions, positions[i], i, &mut fluid[0]);
+                        Neighbors::Hash(hash) => {
+                            hash.for_each_neighbor(positions, positions[i], |j, _, _| {
+                                if j != i {
+                                    fluid[0].push(j as u32);
+                                }
+                            });
                             1
                         }
                     };

@@ -334,10 +334,9 @@ pub struct Correction {
     /// The body of the particle's boundary samples: [`NO_BODY`] without samples,
     /// [`SEVERAL_BODIES`] when they belong to more than one.
     pub body: u32,
-    /// Σ_b V_b ∇W_ib over the samples (Δp_i's boundary part is λ_i times this) [1/m].
+    /// Σ_b V_b ∇W_ib over the samples (Δp_i's boundary part is λ_i times this) [1/m]. Each term
+    /// lies along x_i - x_b, so the sum's moment about a point o is (x_i - o) × `wall_push`.
     pub wall_push: Vec3,
-    /// Σ_b (x_b - o) × V_b ∇W_ib, about the body's origin o [1].
-    pub wall_moment: Vec3,
 }
 
 /// [`Correction::body`] of a particle with no boundary sample in reach.
@@ -405,7 +404,7 @@ impl SCorrPass for Corrections<'_> {
                 constraint,
             };
             let fluid = sums.sum::<N>(wide) * scale;
-            let (mut push, mut moment, mut body) = (Vec3::ZERO, Vec3::ZERO, NO_BODY);
+            let (mut push, mut body) = (Vec3::ZERO, NO_BODY);
             if let Some(b) = boundary {
                 for &s in pairs.boundary {
                     let s = s as usize;
@@ -418,14 +417,12 @@ impl SCorrPass for Corrections<'_> {
                     } else {
                         SEVERAL_BODIES
                     };
-                    moment += (b.position[s] - b.origin[of as usize]).cross(g);
                 }
             }
             *o = Correction {
                 delta: (fluid + push * l_i).clamp_length_max(ctx.max_correction),
                 body,
                 wall_push: push,
-                wall_moment: moment,
             };
         });
     }
@@ -559,7 +556,8 @@ pub fn apply_corrections(
                 if c.body != SEVERAL_BODIES {
                     let sum = &mut sums[c.body as usize];
                     sum.force += (c.wall_push * (l_i * scale)).as_dvec3();
-                    sum.torque += (c.wall_moment * (l_i * scale)).as_dvec3();
+                    let arm = *x - boundary.origin[c.body as usize];
+                    sum.torque += (arm.cross(c.wall_push) * (l_i * scale)).as_dvec3();
                 } else {
                     for &s in pairs.boundary {
                         let s = s as usize;

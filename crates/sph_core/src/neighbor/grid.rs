@@ -168,28 +168,6 @@ impl DenseGrid {
         flush(&batch[..len]);
     }
 
-    /// Appends to `out` the index of every sorted particle j other than `skip` with r < h. The
-    /// candidates are compacted branch-free into a small batch first, as in
-    /// [`Self::for_each_neighbor`], and the batch is copied out whole.
-    #[inline]
-    pub fn append_neighbors(&self, positions: &[Vec3], x_i: Vec3, skip: usize, out: &mut Vec<u32>) {
-        const BATCH: usize = 64;
-        let h2 = self.cell_size * self.cell_size;
-        let mut batch = [0u32; BATCH];
-        let mut len = 0;
-        self.for_each_row(x_i, |start, end| {
-            for (j, &x_j) in (start..end).zip(&positions[start..end]) {
-                batch[len] = j as u32;
-                len += ((x_i - x_j).length_squared() < h2 && j != skip) as usize;
-                if len == BATCH {
-                    out.extend_from_slice(&batch);
-                    len = 0;
-                }
-            }
-        });
-        out.extend_from_slice(&batch[..len]);
-    }
-
     /// Appends to `out[g]` the index of every point j of `points` (sorted by this grid) other
     /// than `skip[g]` within h of `members[g]`, for the longest run of `members` (at most
     /// [`GROUP`]) that shares the first one's cell; returns the run's length (at least 1 when

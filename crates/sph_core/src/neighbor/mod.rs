@@ -67,20 +67,6 @@ impl Neighbors {
         }
     }
 
-    /// Appends to `out` the index of every particle j other than `skip` closer than h to `x_i`,
-    /// on the sorted `positions`.
-    #[inline]
-    pub fn append_neighbors(&self, positions: &[Vec3], x_i: Vec3, skip: usize, out: &mut Vec<u32>) {
-        match self {
-            Self::Grid(g) => g.append_neighbors(positions, x_i, skip, out),
-            Self::Hash(s) => s.for_each_neighbor(positions, x_i, |j, _, _| {
-                if j != skip {
-                    out.push(j as u32);
-                }
-            }),
-        }
-    }
-
     /// Σ_j w(r²) over every neighbour j (i included) for a weight `w` that is zero for r >= h.
     #[inline]
     pub fn sum_over_neighbors(&self, positions: &[Vec3], x_i: Vec3, w: impl Fn(f32) -> f32) -> f32 {
