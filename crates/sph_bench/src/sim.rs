@@ -483,7 +483,11 @@ impl AppSimulation {
     /// Updates (paused) until the GPU clock's readback has caught up with the steps taken, so
     /// time, dt and health are current.
     fn sync_clock(&mut self) {
-        for _ in 0..100 {
+        // Bounded by time rather than a count of updates: on a loaded machine (CI's tests in
+        // parallel on two cores) 100 waited updates were once not enough (2026-11-26,
+        // pipe_fill.ron again at 2.23 s of 2).
+        let start = Instant::now();
+        while start.elapsed() < std::time::Duration::from_secs(60) {
             let stats = self.stats();
             if stats.clock_steps >= headless::steps_taken(&self.app) || stats.health.is_unstable() {
                 return;
