@@ -135,6 +135,10 @@ fn one_step_with_colliders_matches(solver: Solver) {
     }
     let report = cpu.spawn(&block.positions(), spawn_velocity(solver));
     assert!(report.inside_colliders > 0);
+    // Some particles start closer than Δx to the floor's samples (Δx/2 under it), where WCSPH's
+    // forces add the samples' contact pressure (sph_core::stage::BoundaryContact).
+    let floor_contact = 0.5 * params.spacing();
+    assert!(block.positions().iter().any(|x| x.y < floor_contact));
     // Two PBF or DFSPH steps, the second one's force compared (the GPU reports the last
     // frame's).
     let steps = if solver == Solver::Wcsph { 1 } else { 2 };

@@ -91,6 +91,9 @@ pub struct GpuSphParams {
     /// DFSPH: the divergence-free solve's over-relaxation ω
     /// ([`crate::DfsphSettings::divergence_over_relaxation`]), 0, 0, 0.
     pub dfsph_c: [f32; 4],
+    /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m],
+    /// its pressure at r = 0, 2 ρ0 c0² [Pa], 0, 0.
+    pub boundary_contact: [f32; 4],
 }
 
 /// The simulation clock (WGSL `SphClock`), a storage buffer written only by the GPU: the
@@ -337,6 +340,10 @@ impl GpuSphParams {
             ],
             drains: [0; 4],
             dfsph_c: [params.dfsph.divergence_over_relaxation, 0.0, 0.0, 0.0],
+            boundary_contact: {
+                let contact = crate::stage::BoundaryContact::of(params);
+                [contact.radius, contact.modulus, 0.0, 0.0]
+            },
         }
     }
 

@@ -76,15 +76,18 @@ pub fn sample_shape(shape: &ColliderShape, spacing: f32) -> ShapeSamples {
 fn sample_layer(shape: &ColliderShape, depth: f32, s: f32, out: &mut ShapeSamples) {
     match *shape {
         ColliderShape::Cuboid { half_extents } => cuboid(half_extents - Vec3::splat(depth), s, out),
-        ColliderShape::Sphere { radius } => sphere_zone(radius - depth, None, Vec3::ZERO, s, out),
+        ColliderShape::Sphere { radius } => {
+            cap_rings(radius - depth, 1.0, 0.0, true, s, out);
+            cap_rings(radius - depth, -1.0, 0.0, false, s, out);
+        }
         ColliderShape::Capsule {
             radius,
             half_length,
         } => {
             let r = radius - depth;
             cylinder_side(r, half_length, s, false, out);
-            sphere_zone(r, Some(1.0), Vec3::Y * half_length, s, out);
-            sphere_zone(r, Some(-1.0), -Vec3::Y * half_length, s, out);
+            cap_rings(r, 1.0, half_length, true, s, out);
+            cap_rings(r, -1.0, -half_length, true, s, out);
         }
         ColliderShape::Cylinder {
             radius,
@@ -159,27 +162,32 @@ fn cuboid(a: Vec3, s: f32, out: &mut ShapeSamples) {
     }
 }
 
-/// A Fibonacci lattice on the sphere of radius `r` around `center`: the whole sphere, or with
-/// `hemisphere` = Some(+1.0 / -1.0) the upper / lower half (a capsule's caps).
-fn sphere_zone(r: f32, hemisphere: Option<f32>, center: Vec3, s: f32, out: &mut ShapeSamples) {
+/// A hemisphere of radius `r` on the side `side` (+1 / -1) of y, its equator at height `y0`:
+/// rings of latitude about `s` apart along the arc, from the equator (left out with
+/// `equator` = false) to the pole. A capsule's cap (its equator continues the side's rings,
+/// [`cylinder_side`] without ends) or half a sphere. A Fibonacci lattice there left holes a
+/// spacing wide at the caps' seams and at a sphere's poles, where particles slid in.
+fn cap_rings(r: f32, side: f32, y0: f32, equator: bool, s: f32, out: &mut ShapeSamples) {
+    let center = Vec3::Y * y0;
     if r <= 0.0 {
-        out.push(center, Vec3::Y);
+        out.push(center, Vec3::Y * side);
         return;
     }
-    let area = if hemisphere.is_some() { 2.0 } else { 4.0 } * PI * r * r;
-    let n = ((area / (s * s)).round() as usize).max(1);
-    let golden = PI * (3.0 - 5f32.sqrt());
-    for k in 0..n {
-        // Heights uniform in [-1, 1] (the whole sphere) or [0, 1] (a hemisphere).
-        let t = (k as f32 + 0.5) / n as f32;
-        let y = match hemisphere {
-            Some(side) => t * side,
-            None => 1.0 - 2.0 * t,
+    let steps = ((0.5 * PI * r / s).round() as u32).max(1);
+    for k in (!equator) as u32..=steps {
+        let latitude = 0.5 * PI * k as f32 / steps as f32;
+        let (sin, cos) = latitude.sin_cos();
+        let per_ring = if k == steps {
+            1
+        } else {
+            ((2.0 * PI * r * cos / s).round() as u32).max(3)
         };
-        let ring = (1.0 - y * y).max(0.0).sqrt();
-        let phi = golden * k as f32;
-        let normal = Vec3::new(ring * phi.cos(), y, ring * phi.sin());
-        out.push(center + normal * r, normal);
+        let shift = if k % 2 == 0 { 0.0 } else { 0.5 };
+        for m in 0..per_ring {
+            let phi = 2.0 * PI * (m as f32 + shift) / per_ring as f32;
+            let normal = Vec3::new(cos * phi.cos(), side * sin, cos * phi.sin());
+            out.push(center + normal * r, normal);
+        }
     }
 }
 

@@ -25,6 +25,8 @@ pub struct StageContext {
     /// The rest-lattice correction of the pressure gradient, 1 / G
     /// ([`Kernels::lattice_gradient_moment`] times m / (ρ0 Δx³)).
     pub pressure_gradient_scale: f32,
+    /// The boundary samples' contact pressure (WCSPH's forces pass).
+    pub contact: BoundaryContact,
 }
 
 impl StageContext {
@@ -40,7 +42,44 @@ impl StageContext {
             viscosity: params.viscosity,
             surface_tension: params.surface_tension,
             gravity: params.gravity,
+            contact: BoundaryContact::of(params),
         }
+    }
+}
+
+/// The boundary samples' contact pressure: a sample closer to a particle than the particle
+/// spacing Δx (where the rest lattice puts the nearest one) adds
+/// p_c = 2 ρ0 c0² (1 - r/Δx)²
+/// to the pressure it pushes back with. ρ0 c0² is the equation of state's bulk modulus at rest;
+/// the square leaves a lattice pressed a few percent closer almost alone (the hydrostatic tank,
+/// the time step) and grows where a particle reaches the surface, r ≈ Δx/2 on a face and
+/// 0.7 Δx at an edge. The mirrored pressure alone vanishes where a splashing particle's own
+/// pressure is clamped to zero: a thin sheet then slid into the walls and over a box's convex
+/// edges (7,329 guard corrections in `sph-bench run --scenario obstacles`). A short-range
+/// repulsion in the spirit of Monaghan 1994's boundary force; the factor 2 and the square were
+/// chosen from measurements (docs/boundary.md, "Contact").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundaryContact {
+    /// The range Δx [m].
+    pub radius: f32,
+    /// The pressure at r = 0, 2 ρ0 c0² [Pa].
+    pub modulus: f32,
+}
+
+impl BoundaryContact {
+    /// The contact of `params`: its spacing and ρ0 c0² ([`SphParams::speed_of_sound`]).
+    pub fn of(params: &SphParams) -> Self {
+        Self {
+            radius: params.spacing(),
+            modulus: 2.0 * params.rest_density * params.speed_of_sound().powi(2),
+        }
+    }
+
+    /// p_c at distance `r` from a sample [Pa]: 2 ρ0 c0² (1 - r/Δx)² within Δx, else 0.
+    #[inline]
+    pub fn pressure(&self, r: f32) -> f32 {
+        let s = (1.0 - r / self.radius).max(0.0);
+        self.modulus * s * s
     }
 }
 

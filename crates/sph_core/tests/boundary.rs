@@ -258,3 +258,50 @@ fn the_floor_holds_a_column_at_rest_with_its_hydrostatic_pressure() {
         assert!(a.x.abs() + a.z.abs() < 1e-3 * g, "{name}: a = {a}");
     }
 }
+
+/// A lone particle thrown at a wall at 1 m/s: its own pressure is clamped to zero and there is no
+/// water around it to mirror, so only the samples' contact pressure (`BoundaryContact`) can stop
+/// it. It turns back before it reaches the wall, and the guard corrects nothing. Without the
+/// contact it ran into the wall and the guard clamped it.
+#[test]
+fn a_particle_without_pressure_is_turned_back_before_the_wall() {
+    let (mut params, container, _) = tank();
+    params.gravity = Vec3::ZERO;
+    params.surface_tension = 0.0;
+    let dx = params.spacing();
+    let contact = sph_core::stage::BoundaryContact::of(&params);
+    assert_eq!(
+        contact.pressure(dx),
+        0.0,
+        "no contact at the rest lattice's distance"
+    );
+    assert!(contact.pressure(0.5 * dx) > 0.0);
+    let mut solver = CpuSolver::new(params, container, 1).unwrap();
+    solver.spawn(
+        &[Vec3::new(2.0 * dx, 10.0 * dx, 10.0 * dx)],
+        Vec3::new(-1.0, 0.0, 0.0),
+    );
+    let mut closest = f32::INFINITY;
+    let mut pressure = 0.0f32;
+    let travel = 2.0 * dx / 1.0;
+    let steps = (4.0 * travel / params.time_step) as usize;
+    for _ in 0..steps {
+        solver.step();
+        let p = solver.particles();
+        closest = closest.min(p.position[0].x);
+        pressure = pressure.max(p.pressure[0]);
+    }
+    let p = solver.particles();
+    assert_eq!(
+        pressure, 0.0,
+        "the particle's own pressure stays clamped at zero"
+    );
+    assert_eq!(solver.corrections().total(), 0, "the guard acted");
+    assert!(closest > 0.0, "reached x = {closest}");
+    assert!(
+        p.velocity[0].x > 0.0,
+        "not turned back: v = {}",
+        p.velocity[0]
+    );
+    assert_eq!(p.position.len(), 1);
+}

@@ -50,6 +50,9 @@ struct SphUniforms {
     drains: vec4<u32>,
     // DFSPH: the divergence-free solve's over-relaxation ω, 0, 0, 0.
     dfsph_c: vec4<f32>,
+    // The boundary samples' contact (sph_core::stage::BoundaryContact): its range Δx [m], its
+    // pressure at r = 0, 2 ρ0 c0² [Pa], 0, 0.
+    boundary_contact: vec4<f32>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).
