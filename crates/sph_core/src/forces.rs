@@ -107,8 +107,9 @@ pub fn pressure_around(
 /// the water beside it pushes it on, and the wall answers with the pressure of the water around
 /// it (a pressure extrapolated onto the wall, after Adami et al. 2012, evaluated at the particle).
 /// Each sample adds the hydrostatic rise between the particle and itself (Adami et al. 2012,
-/// their (g - a_w) term for a wall at rest), and a sample closer than Δx its contact pressure
-/// p_c ([`crate::stage::BoundaryContact`]): p_b = max(p_w + ρ0 g·(x_b - x_i), 0) + p_c;
+/// their (g - a_w) term for a wall at rest), and a sample closer than Δx, while the particle
+/// approaches it, its contact pressure p_c ([`crate::stage::BoundaryContact`]):
+/// p_b = max(p_w + ρ0 g·(x_b - x_i), 0) + p_c;
 /// a_i^p = -Σ_b ρ0 V_b (p_w/ρ_i² + p_b/ρ0²) ∇W_spiky(x_i - x_b).
 /// (Without the rise, the floor under a column at rest holds its first layer with half the push it
 /// needs, `tests/boundary.rs`, and a box held under water felt 19.6 % more than ρ0 g V,
@@ -155,7 +156,13 @@ pub fn boundary_acceleration_at(
                     (p_w, p_w / (rho_i * rho_i))
                 });
                 // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
-                let p_b = (p_w - rho0 * ctx.gravity.dot(r)).max(0.0) + ctx.contact.pressure(r_len);
+                // The contact pushes only while i approaches the sample (r = x_i - x_b).
+                let contact = if (v_i - boundary.velocity[b]).dot(r) < 0.0 {
+                    ctx.contact.pressure(r_len)
+                } else {
+                    0.0
+                };
+                let p_b = (p_w - rho0 * ctx.gravity.dot(r)).max(0.0) + contact;
                 let mirrored = own + p_b / (rho0 * rho0);
                 a = ctx.kernels.spiky_grad(r, r_len)
                     * (-rho0 * volume * mirrored * ctx.pressure_gradient_scale);

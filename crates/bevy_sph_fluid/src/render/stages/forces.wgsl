@@ -5,7 +5,8 @@
 //       p_w = p_i, or where p_i = 0 the pressure of the water around i,
 //       Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j; the sample's p_b = max(p_w + ρ0 g·(x_b - x_i), 0)
 //       adds the hydrostatic rise to it, Adami et al. 2012, and a sample closer than Δx
-//       its contact pressure 2 ρ0 c0² (1 - r/Δx)², sph_core::stage::BoundaryContact)
+//       its contact pressure 2 ρ0 c0² (1 - r/Δx)² while i approaches it,
+//       sph_core::stage::BoundaryContact)
 //     + (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc            (no-slip bodies, friction f)
 //     + g
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
@@ -174,9 +175,13 @@ fn particle(i: u32) {
                 own = p_wall / (rho_i * rho_i);
             }
             // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
-            // A sample closer than Δx adds its contact pressure 2 ρ0 c0² (1 - r/Δx)².
+            // A sample closer than Δx adds its contact pressure 2 ρ0 c0² (1 - r/Δx)² while i
+            // approaches it.
             let closer = max(1.0 - r_len / params.boundary_contact.x, 0.0);
-            let contact = params.boundary_contact.y * closer * closer;
+            var contact = 0.0;
+            if dot(v_i - boundary_velocity[b].xyz, r) < 0.0 {
+                contact = params.boundary_contact.y * closer * closer;
+            }
             let p_b = max(p_wall - rho0 * dot(params.gravity.xyz, r), 0.0) + contact;
             let mirrored = own + p_b / (rho0 * rho0);
             var a_b = spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
