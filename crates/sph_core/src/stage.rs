@@ -50,16 +50,17 @@ impl StageContext {
 /// The boundary samples' contact pressure: a sample closer to a particle than the particle
 /// spacing Δx (where the rest lattice puts the nearest one) adds
 /// p_c = 2 ρ0 c0² (1 - r/Δx)²
-/// to the pressure it pushes back with, while the particle approaches it ((v_i - v_b)·(x_i - x_b)
-/// < 0): the contact stops an approach and does not throw the particle back (a plastic contact;
-/// pushing both ways shook the hydrostatic tank's top rows). ρ0 c0² is the equation of state's bulk modulus at rest;
-/// the square leaves a lattice pressed a few percent closer almost alone (the hydrostatic tank,
-/// the time step) and grows where a particle reaches the surface, r ≈ Δx/2 on a face and
-/// 0.7 Δx at an edge. The mirrored pressure alone vanishes where a splashing particle's own
-/// pressure is clamped to zero: a thin sheet then slid into the walls and over a box's convex
-/// edges (7,329 guard corrections in `sph-bench run --scenario obstacles`). A short-range
-/// repulsion in the spirit of Monaghan 1994's boundary force; the factor 2 and the square were
-/// chosen from measurements (docs/boundary.md, "Contact").
+/// to the pressure it pushes back with, while the particle approaches it
+/// ((v_i - v_b)·(x_i - x_b) < 0): the contact stops an approach and does not throw the particle
+/// back (a plastic contact; pushing both ways shook the hydrostatic tank's top rows). ρ0 c0² is
+/// the equation of state's bulk modulus at rest; the square leaves a lattice pressed a few
+/// percent closer almost alone (the hydrostatic tank, the time step) and grows where a particle
+/// reaches the surface, r ≈ Δx/2 on a face and 0.7 Δx at an edge. The mirrored pressure alone
+/// vanishes where a splashing particle's own pressure is clamped to zero: a thin sheet then slid
+/// into the walls and over a box's convex edges (7,329 guard corrections in `sph-bench run
+/// --scenario obstacles`). A short-range repulsion in the spirit of Monaghan 1994's boundary
+/// force; the factor 2, the square and the one-way push were chosen from measurements
+/// (docs/boundary.md, "The samples' contact pressure").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundaryContact {
     /// The range Δx [m].
