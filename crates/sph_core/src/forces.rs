@@ -156,12 +156,12 @@ pub fn boundary_acceleration_at(
                     (p_w, p_w / (rho_i * rho_i))
                 });
                 // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
-                // The contact pushes only while i approaches the sample (r = x_i - x_b).
-                let contact = if (v_i - boundary.velocity[b]).dot(r) < 0.0 {
-                    ctx.contact.pressure(r_len)
-                } else {
-                    0.0
-                };
+                // The contact pushes only while i approaches the sample (r = x_i - x_b); the
+                // velocities are read only within its range.
+                let mut contact = ctx.contact.pressure(r_len);
+                if contact > 0.0 && (v_i - boundary.velocity[b]).dot(r) >= 0.0 {
+                    contact = 0.0;
+                }
                 let p_b = (p_w - rho0 * ctx.gravity.dot(r)).max(0.0) + contact;
                 let mirrored = own + p_b / (rho0 * rho0);
                 a = ctx.kernels.spiky_grad(r, r_len)

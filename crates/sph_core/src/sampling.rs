@@ -170,7 +170,10 @@ fn cuboid(a: Vec3, s: f32, out: &mut ShapeSamples) {
 fn cap_rings(r: f32, side: f32, y0: f32, equator: bool, s: f32, out: &mut ShapeSamples) {
     let center = Vec3::Y * y0;
     if r <= 0.0 {
-        out.push(center, Vec3::Y * side);
+        // A point; a sphere's second half (no equator) adds nothing.
+        if equator {
+            out.push(center, Vec3::Y * side);
+        }
         return;
     }
     let steps = ((0.5 * PI * r / s).round() as u32).max(1);

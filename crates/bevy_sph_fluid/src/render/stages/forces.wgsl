@@ -176,11 +176,11 @@ fn particle(i: u32) {
             }
             // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
             // A sample closer than Δx adds its contact pressure 2 ρ0 c0² (1 - r/Δx)² while i
-            // approaches it.
+            // approaches it (its velocity read only within that range).
             let closer = max(1.0 - r_len / params.boundary_contact.x, 0.0);
-            var contact = 0.0;
-            if dot(v_i - boundary_velocity[b].xyz, r) < 0.0 {
-                contact = params.boundary_contact.y * closer * closer;
+            var contact = params.boundary_contact.y * closer * closer;
+            if contact > 0.0 && dot(v_i - boundary_velocity[b].xyz, r) >= 0.0 {
+                contact = 0.0;
             }
             let p_b = max(p_wall - rho0 * dot(params.gravity.xyz, r), 0.0) + contact;
             let mirrored = own + p_b / (rho0 * rho0);
