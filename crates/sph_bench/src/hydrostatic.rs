@@ -9,6 +9,9 @@ use crate::scenarios::Setup;
 use crate::sim::State;
 use sph_core::{Eos, SphParams};
 
+/// The hydrostatic issue's largest speed at the end of a tank at rest [m/s].
+pub const TANK_MAX_SPEED: f64 = 0.05;
+
 /// Accumulates layer pressures over the averaging window.
 pub struct HydrostaticSampler {
     start: f64,
@@ -19,6 +22,9 @@ pub struct HydrostaticSampler {
     sums: Vec<(f64, f64, u64)>,
     density_error_sum: f64,
     density_samples: u64,
+    /// Σ of each sample's largest speed, and the samples above [`TANK_MAX_SPEED`].
+    speed_max_sum: f64,
+    speed_max_over: u64,
 }
 
 impl HydrostaticSampler {
@@ -33,6 +39,8 @@ impl HydrostaticSampler {
             sums: Vec::new(),
             density_error_sum: 0.0,
             density_samples: 0,
+            speed_max_sum: 0.0,
+            speed_max_over: 0,
         }
     }
 
@@ -71,6 +79,13 @@ impl HydrostaticSampler {
         }
         self.density_error_sum += error / state.positions.len() as f64;
         self.density_samples += 1;
+        let speed_max = state
+            .velocities
+            .iter()
+            .map(|v| v.length() as f64)
+            .fold(0.0, f64::max);
+        self.speed_max_sum += speed_max;
+        self.speed_max_over += (speed_max > TANK_MAX_SPEED) as u64;
     }
 
     /// The figures.
@@ -91,11 +106,49 @@ impl HydrostaticSampler {
             })
             .collect();
         let below: Vec<f64> = layers.iter().skip(1).map(|l| l.error_pct.abs()).collect();
+        let samples = self.density_samples.max(1) as f64;
         HydrostaticFigures {
+            speed_max_window_mean: self.speed_max_sum / samples,
+            speed_max_window_over_pct: self.speed_max_over as f64 / samples * 100.0,
             max_error_below_top_pct: below.iter().copied().fold(0.0, f64::max),
             mean_error_below_top_pct: below.iter().sum::<f64>() / below.len().max(1) as f64,
-            density_error_mean_pct: self.density_error_sum / self.density_samples.max(1) as f64,
+            density_error_mean_pct: self.density_error_sum / samples,
             layers,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenarios::{setup, Scenario};
+    use sph_core::glam::Vec3;
+
+    /// A tank state with every particle at rest but one moving at `speed`.
+    fn state(setup: &Setup, speed: f32) -> State {
+        let positions = setup.scene.positions();
+        let n = positions.len();
+        let mut velocities = vec![Vec3::ZERO; n];
+        velocities[n / 2] = Vec3::new(0.0, 0.0, speed);
+        State {
+            positions,
+            velocities,
+            densities: vec![setup.scene.params.rest_density; n],
+            pressures: None,
+        }
+    }
+
+    #[test]
+    fn the_window_reports_the_largest_speed_of_every_sample() {
+        let setup = setup(Scenario::Hydrostatic, 1000, 0.0);
+        let mut sampler = HydrostaticSampler::new(&setup);
+        let late = setup.duration;
+        // Before the window: ignored.
+        sampler.record(&setup, 0.0, &state(&setup, 1.0));
+        sampler.record(&setup, late, &state(&setup, 0.1));
+        sampler.record(&setup, late, &state(&setup, 0.02));
+        let figures = sampler.finish(&setup.scene.params);
+        assert!((figures.speed_max_window_mean - 0.06).abs() < 1e-6);
+        assert_eq!(figures.speed_max_window_over_pct, 50.0);
     }
 }

@@ -89,8 +89,14 @@ fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
     if let Some(h) = &report.hydrostatic {
         eprintln!(
             "sph-bench: pressure vs rho g depth below the top layer: max {:.2} %, mean {:.2} %; \
-             density error {:.3} %",
-            h.max_error_below_top_pct, h.mean_error_below_top_pct, h.density_error_mean_pct
+             density error {:.3} %; largest speed over the last 40 %: {:.4} m/s on average, \
+             above {} m/s in {:.0} % of the samples",
+            h.max_error_below_top_pct,
+            h.mean_error_below_top_pct,
+            h.density_error_mean_pct,
+            h.speed_max_window_mean,
+            hydrostatic::TANK_MAX_SPEED,
+            h.speed_max_window_over_pct
         );
     }
     eprintln!(
@@ -143,10 +149,15 @@ fn validate_command(args: &ValidateArgs, bars: &Bars) -> Result<(), String> {
     if let Some(h) = &report.hydrostatic.hydrostatic {
         eprintln!(
             "sph-bench: hydrostatic: pressure vs rho g depth below the top layer: max {:.2} %, \
-             mean {:.2} % (target <= 5); mean density error {:.3} % (target <= 1); {}",
+             mean {:.2} % (target <= 5); mean density error {:.3} % (target <= 1); largest \
+             speed over the last 40 % {:.4} m/s on average, above {} m/s in {:.0} % of the \
+             samples; {}",
             h.max_error_below_top_pct,
             h.mean_error_below_top_pct,
             h.density_error_mean_pct,
+            h.speed_max_window_mean,
+            hydrostatic::TANK_MAX_SPEED,
+            h.speed_max_window_over_pct,
             health_text(&report.hydrostatic)
         );
     }

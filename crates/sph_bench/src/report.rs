@@ -47,6 +47,12 @@ pub struct HydrostaticFigures {
     pub mean_error_below_top_pct: f64,
     /// Mean compression error over the averaging window [%] (target <= 1).
     pub density_error_mean_pct: f64,
+    /// The largest particle speed of each sample in the averaging window, averaged [m/s]: how
+    /// still the tank is, where `speed_max_end` is one particle at one instant.
+    pub speed_max_window_mean: f64,
+    /// The share of the window's samples whose largest speed exceeds
+    /// [`crate::hydrostatic::TANK_MAX_SPEED`] [%].
+    pub speed_max_window_over_pct: f64,
 }
 
 /// The water's force on one collider, averaged over the last 40 % of the run.
