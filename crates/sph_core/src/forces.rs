@@ -107,15 +107,19 @@ pub fn pressure_around(
 /// the water beside it pushes it on, and the wall answers with the pressure of the water around
 /// it (a pressure extrapolated onto the wall, after Adami et al. 2012, evaluated at the particle).
 /// Each sample adds the hydrostatic rise between the particle and itself (Adami et al. 2012,
-/// their (g - a_w) term for a wall at rest), and a sample closer than Δx, while the particle
-/// approaches it, its contact pressure p_c ([`crate::stage::BoundaryContact`]):
-/// p_b = max(p_w + ρ0 g·(x_b - x_i), 0) + p_c;
+/// their (g - a_w) term for a wall at rest):
+/// p_b = max(p_w + ρ0 g·(x_b - x_i), 0);
 /// a_i^p = -Σ_b ρ0 V_b (p_w/ρ_i² + p_b/ρ0²) ∇W_spiky(x_i - x_b).
 /// (Without the rise, the floor under a column at rest holds its first layer with half the push it
 /// needs, `tests/boundary.rs`, and a box held under water felt 19.6 % more than ρ0 g V,
 /// docs/boundary.md.) On no-slip bodies, the fluid's viscosity against the sample's velocity, times
 /// the body's friction f (Akinci 2012 with Müller's Laplacian):
 /// a_i^v = (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc.
+/// Samples closer than Δx that i approaches add the contact ([`crate::stage::BoundaryContact`]):
+/// their pushes, summed and scaled so that they stop the approach within the step without
+/// reversing it, given `a_fluid` (the fluid's acceleration of i, gravity included) and the
+/// terms above. With `input.with_pressure` false (DFSPH's non-pressure forces) only the
+/// friction and the contact act.
 /// `reaction(body, force, at)` receives the force on the sample's body, -m a_ib (Akinci 2012's two-way coupling).
 #[inline]
 pub fn boundary_acceleration_at(
@@ -123,6 +127,7 @@ pub fn boundary_acceleration_at(
     boundary: &Boundary,
     input: &ForceInputs,
     i: usize,
+    a_fluid: Vec3,
     p_around: impl FnOnce() -> f32,
     mut reaction: impl FnMut(u32, Vec3, Vec3),
 ) -> Vec3 {
@@ -134,6 +139,8 @@ pub fn boundary_acceleration_at(
     let mut wall_pressure = None;
     let viscous = ctx.viscosity / rho_i;
     let mut total = Vec3::ZERO;
+    // The contact's pushes, and the samples' velocities weighted by their push.
+    let (mut push_sum, mut push_velocity, mut push_weight) = (Vec3::ZERO, Vec3::ZERO, 0.0);
     boundary
         .grid
         .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
@@ -141,6 +148,15 @@ pub fn boundary_acceleration_at(
             let volume = boundary.volume[b];
             let body = boundary.body[b];
             let friction = boundary.friction[body as usize];
+            // The velocity is read only within the contact's range.
+            if r_len < ctx.contact.radius {
+                let v_b = boundary.velocity[b];
+                let push = ctx.contact.push(ctx, r, r_len, volume);
+                let weight = push.length();
+                push_sum += push;
+                push_velocity += v_b * weight;
+                push_weight += weight;
+            }
             if !input.with_pressure && friction == 0.0 {
                 return;
             }
@@ -156,13 +172,7 @@ pub fn boundary_acceleration_at(
                     (p_w, p_w / (rho_i * rho_i))
                 });
                 // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
-                // The contact pushes only while i approaches the sample (r = x_i - x_b); the
-                // velocities are read only within its range.
-                let mut contact = ctx.contact.pressure(r_len);
-                if contact > 0.0 && (v_i - boundary.velocity[b]).dot(r) >= 0.0 {
-                    contact = 0.0;
-                }
-                let p_b = (p_w - rho0 * ctx.gravity.dot(r)).max(0.0) + contact;
+                let p_b = (p_w - rho0 * ctx.gravity.dot(r)).max(0.0);
                 let mirrored = own + p_b / (rho0 * rho0);
                 a = ctx.kernels.spiky_grad(r, r_len)
                     * (-rho0 * volume * mirrored * ctx.pressure_gradient_scale);
@@ -174,6 +184,24 @@ pub fn boundary_acceleration_at(
             reaction(body, a * -ctx.mass, boundary.position[b]);
             total += a;
         });
+    if push_weight > 0.0 {
+        let v_rel = v_i - push_velocity / push_weight;
+        let scale = ctx.contact.stopping_scale(push_sum, v_rel, a_fluid + total);
+        if scale > 0.0 {
+            // The same samples again, for each one's share of the contact's reaction.
+            boundary
+                .grid
+                .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
+                    let r_len = r2.sqrt();
+                    if r_len < ctx.contact.radius {
+                        let push = ctx.contact.push(ctx, r, r_len, boundary.volume[b]);
+                        let body = boundary.body[b];
+                        reaction(body, push * (-ctx.mass * scale), boundary.position[b]);
+                    }
+                });
+            total += push_sum * scale;
+        }
+    }
     total
 }
 
@@ -200,11 +228,17 @@ pub fn compute_accelerations(
             || vec![BodyForceSum::default(); bodies],
             |mut sums, (i, a)| {
                 let around = || pressure_around(ctx, neighbors, input, i);
-                let wall =
-                    boundary_acceleration_at(ctx, boundary, input, i, around, |body, f, at| {
-                        sums[body as usize].add(f, at, boundary.origin[body as usize])
-                    });
-                *a = acceleration_at(ctx, neighbors, input, i) + wall;
+                let fluid = acceleration_at(ctx, neighbors, input, i);
+                let wall = boundary_acceleration_at(
+                    ctx,
+                    boundary,
+                    input,
+                    i,
+                    fluid,
+                    around,
+                    |body, f, at| sums[body as usize].add(f, at, boundary.origin[body as usize]),
+                );
+                *a = fluid + wall;
                 sums
             },
         )

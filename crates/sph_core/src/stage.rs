@@ -25,7 +25,7 @@ pub struct StageContext {
     /// The rest-lattice correction of the pressure gradient, 1 / G
     /// ([`Kernels::lattice_gradient_moment`] times m / (ρ0 Δx³)).
     pub pressure_gradient_scale: f32,
-    /// The boundary samples' contact pressure (WCSPH's forces pass).
+    /// The boundary samples' contact (WCSPH's forces and DFSPH's non-pressure forces).
     pub contact: BoundaryContact,
 }
 
@@ -45,28 +45,42 @@ impl StageContext {
             contact: BoundaryContact::of(params),
         }
     }
+
+    /// The same constants with the contact's stopping time step `dt`
+    /// ([`BoundaryContact::time_step`]; non-positive or non-finite values keep dt_max).
+    pub fn with_step_dt(mut self, dt: f32) -> Self {
+        if dt.is_finite() && dt > 0.0 {
+            self.contact.time_step = dt;
+        }
+        self
+    }
 }
 
-/// The boundary samples' contact pressure: a sample closer to a particle than the particle
-/// spacing Δx (where the rest lattice puts the nearest one) adds
+/// The boundary samples' contact: a sample closer to a particle than the particle spacing Δx
+/// (where the rest lattice puts the nearest one) pushes it away with the pressure
 /// p_c = 2 ρ0 c0² (1 - r/Δx)²
-/// to the pressure it pushes back with, while the particle approaches it
-/// ((v_i - v_b)·(x_i - x_b) < 0): the contact stops an approach and does not throw the particle
-/// back (a plastic contact; pushing both ways shook the hydrostatic tank's top rows). ρ0 c0² is
-/// the equation of state's bulk modulus at rest; the square leaves a lattice pressed a few
-/// percent closer almost alone (the hydrostatic tank, the time step) and grows where a particle
-/// reaches the surface, r ≈ Δx/2 on a face and 0.7 Δx at an edge. The mirrored pressure alone
-/// vanishes where a splashing particle's own pressure is clamped to zero: a thin sheet then slid
-/// into the walls and over a box's convex edges (7,329 guard corrections in `sph-bench run
-/// --scenario obstacles`). A short-range repulsion in the spirit of Monaghan 1994's boundary
-/// force; the factor 2, the square and the one-way push were chosen from measurements
-/// (docs/boundary.md, "The samples' contact pressure").
+/// in the mirrored pressure force's form ([`Self::push`]). The pushes of a particle's samples are
+/// summed, and the sum is scaled so that it stops the particle's approach within the step and
+/// never throws it back ([`Self::stopping_scale`], a perfectly inelastic contact; pushing both
+/// ways shook the hydrostatic tank's top rows). ρ0 c0² is the equation of state's bulk modulus
+/// at rest; the square leaves a lattice pressed a few percent closer almost alone (the
+/// hydrostatic tank, the time step) and grows where a particle reaches the surface, r ≈ Δx/2 on
+/// a face and 0.7 Δx at an edge. The mirrored pressure alone vanishes where a splashing
+/// particle's own pressure is clamped to zero: a thin sheet then slid into the walls and over a
+/// box's convex edges (7,329 guard corrections in `sph-bench run --scenario obstacles`). It acts
+/// in WCSPH's forces and in DFSPH's non-pressure forces, whose pressure is likewise zero where
+/// the density is deficient (11,086 corrections in the same run). A short-range repulsion in
+/// the spirit of Monaghan 1994's boundary force; the factor 2, the square and the stopping were
+/// chosen from measurements (docs/boundary.md, "The samples' contact pressure").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundaryContact {
     /// The range Δx [m].
     pub radius: f32,
     /// The pressure at r = 0, 2 ρ0 c0² [Pa].
     pub modulus: f32,
+    /// The time step the contact stops approaches within [s] ([`Self::stopping_scale`]): the
+    /// latest dt the solver chose ([`StageContext::with_step_dt`]), dt_max before the first.
+    pub time_step: f32,
 }
 
 impl BoundaryContact {
@@ -75,7 +89,38 @@ impl BoundaryContact {
         Self {
             radius: params.spacing(),
             modulus: 2.0 * params.rest_density * params.speed_of_sound().powi(2),
+            time_step: params.time_step,
         }
+    }
+
+    /// The factor in [0, 1] that scales a particle's summed contact acceleration `push` so that
+    /// the contact stops the approach and never reverses it (a perfectly inelastic contact):
+    /// with `v_rel` the particle's velocity relative to the samples and `a_other` every other
+    /// acceleration on it, the contact's velocity change over dt ([`Self::time_step`]) along
+    /// n = push/|push| is at most the approach speed the step would otherwise end with,
+    /// -(v_rel + a_other dt)·n. Without the factor, DFSPH's steps (ten times WCSPH's) would
+    /// throw the particles the contact reaches.
+    #[inline]
+    pub fn stopping_scale(&self, push: Vec3, v_rel: Vec3, a_other: Vec3) -> f32 {
+        let magnitude = push.length();
+        if !magnitude.is_finite() || magnitude <= 0.0 {
+            return 0.0;
+        }
+        let approach = -(v_rel + a_other * self.time_step).dot(push) / magnitude;
+        (approach / (magnitude * self.time_step)).clamp(0.0, 1.0)
+    }
+
+    /// Sample b's contact acceleration on particle i before [`Self::stopping_scale`]:
+    /// -ρ0 V_b (p_c/ρ0²) ∇W_spiky(r) / G, the mirrored pressure force's form with p_c alone
+    /// (r = x_i - x_b; zero beyond Δx).
+    #[inline]
+    pub fn push(&self, ctx: &StageContext, r: Vec3, r_len: f32, volume: f32) -> Vec3 {
+        let p_c = self.pressure(r_len);
+        if p_c <= 0.0 {
+            return Vec3::ZERO;
+        }
+        ctx.kernels.spiky_grad(r, r_len)
+            * (-volume * p_c * ctx.pressure_gradient_scale / ctx.rest_density)
     }
 
     /// p_c at distance `r` from a sample [Pa]: 2 ρ0 c0² (1 - r/Δx)² within Δx, else 0.

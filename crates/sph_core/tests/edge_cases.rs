@@ -70,9 +70,10 @@ fn many_particles_on_top_of_each_other_in_one_cell() {
 #[test]
 fn a_lone_particle_falls_and_rests_on_the_floor() {
     for params in all_configurations() {
-        // It falls 0.4 m and bounces off the floor's samples; their contact pressure
-        // (`sph_core::stage::BoundaryContact`) stops it above the floor, where the first row of
-        // a resting lattice would lie (Δx/2), without the guard. Before the contact it sank
+        // It falls 0.4 m onto the floor's samples; their contact
+        // (`sph_core::stage::BoundaryContact`) stops it above the floor without the guard and
+        // holds it there (an inelastic stop: at 2.8 m/s it comes to rest about Δx/4 above the
+        // floor, below the Δx/2 of a resting lattice's first row). Before the contact it sank
         // onto the floor and the guard held it at y = 0.
         let mut s = run(params, &[Vec3::new(0.25, 0.4, 0.25)], 0);
         while s.time() < 1.5 {
@@ -82,7 +83,7 @@ fn a_lone_particle_falls_and_rests_on_the_floor() {
         let (x, v) = (s.particles().position[0], s.particles().velocity[0]);
         let y = x.y / dx;
         assert!(
-            (0.25..0.75).contains(&y),
+            (0.1..0.75).contains(&y),
             "{:?}: y = {y} Δx",
             params.integrator
         );

@@ -701,7 +701,9 @@ impl CpuSolver {
             Solver::Wcsph => {}
         }
         self.solver_stats = SolverStats::default();
-        let ctx = StageContext::new(&self.params);
+        // The contact stops approaches within the latest dt the solver chose (the GPU's clock
+        // holds the same): the previous step's before this step's dt is chosen, then this one's.
+        let ctx = StageContext::new(&self.params).with_step_dt(self.last_dt);
         let dt;
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
@@ -738,7 +740,7 @@ impl CpuSolver {
                         &guard,
                     )
                 });
-                self.evaluate(&ctx, false);
+                self.evaluate(&ctx.with_step_dt(dt), false);
                 let p = &mut self.particles;
                 timed(&mut self.timings.integrate, || {
                     integrate::kick(
@@ -765,7 +767,7 @@ impl CpuSolver {
                         &guard,
                     )
                 });
-                self.evaluate(&ctx, false);
+                self.evaluate(&ctx.with_step_dt(dt), false);
                 let p = &mut self.particles;
                 timed(&mut self.timings.integrate, || {
                     integrate::leapfrog_kick(
@@ -808,8 +810,9 @@ impl CpuSolver {
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
         let stale = self.forces_stale;
+        let last_dt = self.last_dt;
         let (parts, scratch, _) = self.split();
-        let outcome = dfsph::DfsphStep { parts, scratch }.advance(step_dt, stale, &guard);
+        let outcome = dfsph::DfsphStep { parts, scratch }.advance(step_dt, stale, last_dt, &guard);
         self.record_body_forces(outcome.forces);
         self.solver_stats = outcome.stats;
         self.forces_stale = false;

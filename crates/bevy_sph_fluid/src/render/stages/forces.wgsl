@@ -4,11 +4,13 @@
 //     - Σ_b ρ0 V_b (p_w/ρ_i² + p_b/ρ0²) ∇W_spiky          (Akinci 2012, pressure mirrored:
 //       p_w = p_i, or where p_i = 0 the pressure of the water around i,
 //       Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j; the sample's p_b = max(p_w + ρ0 g·(x_b - x_i), 0)
-//       adds the hydrostatic rise to it, Adami et al. 2012, and a sample closer than Δx
-//       its contact pressure 2 ρ0 c0² (1 - r/Δx)² while i approaches it,
-//       sph_core::stage::BoundaryContact)
+//       adds the hydrostatic rise to it, Adami et al. 2012)
 //     + (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc            (no-slip bodies, friction f)
 //     + g
+//     + s Σ_{r<Δx} -V_b (p_c/ρ0) ∇W_spiky                 (the samples' contact,
+//       p_c = 2 ρ0 c0² (1 - r/Δx)², s in [0, 1] the share that stops i's approach within the
+//       clock's dt without reversing it; every variant, DFSPH's too:
+//       sph_core::stage::BoundaryContact)
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
 // and the integrator's closing phase on the particle's own velocity (neighbours read only
 // positions and predicted velocities, so this is race-free):
@@ -64,6 +66,34 @@ fn pressure_around(x_i: vec3<f32>, c: vec3<i32>) -> f32 {
         return weighted / weights;
     }
     return 0.0;
+}
+
+// Sample b's contact acceleration before its stopping share: -V_b (p_c/ρ0) ∇W_spiky(r) with
+// p_c = 2 ρ0 c0² (1 - r/Δx)², zero beyond Δx (sph_core::stage::BoundaryContact::push).
+fn contact_push(r: vec3<f32>, r_len: f32, volume: f32) -> vec3<f32> {
+    let closer = max(1.0 - r_len / params.boundary_contact.x, 0.0);
+    let p_c = params.boundary_contact.y * closer * closer;
+    if p_c <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    return spiky_grad(r, r_len) * (-volume * p_c / params.material.x);
+}
+
+// The share s in [0, 1] of the summed push that stops the approach within dt without reversing
+// it: s |push| dt <= -(v_rel + a_other dt)·push/|push|, with dt the clock's, the latest the
+// time-step pass chose (dt_max before the first; sph_core::stage::BoundaryContact::stopping_scale
+// and StageContext::with_step_dt).
+fn contact_stopping_scale(push: vec3<f32>, v_rel: vec3<f32>, a_other: vec3<f32>) -> f32 {
+    let magnitude = length(push);
+    if !(magnitude > 0.0) {
+        return 0.0;
+    }
+    var dt = step_dt();
+    if !(dt > 0.0) {
+        dt = params.time_step.x;
+    }
+    let approach = -dot(v_rel + a_other * dt, push) / magnitude;
+    return clamp(approach / (magnitude * dt), 0.0, 1.0);
 }
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
@@ -152,6 +182,10 @@ fn particle(i: u32) {
     var own = 0.0;
     let viscous = params.material.z / rho_i;
     var wall = vec3<f32>(0.0);
+    // The contact's pushes, and the samples' velocities weighted by their push.
+    var push_sum = vec3<f32>(0.0);
+    var push_velocity = vec3<f32>(0.0);
+    var push_weight = 0.0;
     let g = grid_cell(x_i);
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(g, q);
@@ -163,6 +197,14 @@ fn particle(i: u32) {
                 continue;
             }
             let r_len = sqrt(r2);
+            // The velocity is read only within the contact's range.
+            if r_len < params.boundary_contact.x {
+                let push = contact_push(r, r_len, sample.w);
+                let weight = length(push);
+                push_sum += push;
+                push_velocity += boundary_velocity[b].xyz * weight;
+                push_weight += weight;
+            }
 #ifdef SOLVER_DFSPH
             // DFSPH's pressure solves answer for the boundary (dfsph_apply).
             var a_b = vec3<f32>(0.0);
@@ -175,14 +217,7 @@ fn particle(i: u32) {
                 own = p_wall / (rho_i * rho_i);
             }
             // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
-            // A sample closer than Δx adds its contact pressure 2 ρ0 c0² (1 - r/Δx)² while i
-            // approaches it (its velocity read only within that range).
-            let closer = max(1.0 - r_len / params.boundary_contact.x, 0.0);
-            var contact = params.boundary_contact.y * closer * closer;
-            if contact > 0.0 && dot(v_i - boundary_velocity[b].xyz, r) >= 0.0 {
-                contact = 0.0;
-            }
-            let p_b = max(p_wall - rho0 * dot(params.gravity.xyz, r), 0.0) + contact;
+            let p_b = max(p_wall - rho0 * dot(params.gravity.xyz, r), 0.0);
             let mirrored = own + p_b / (rho0 * rho0);
             var a_b = spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
 #endif
@@ -200,6 +235,24 @@ fn particle(i: u32) {
 #ifdef SURFACE_TENSION
     a += surface;
 #endif
+    if push_weight > 0.0 {
+        let scale = contact_stopping_scale(push_sum, v_i - push_velocity / push_weight, a);
+        if scale > 0.0 {
+            // The same samples again, for each one's share of the contact's reaction.
+            for (var q = 0u; q < 9u; q++) {
+                let range = boundary_range(g, q);
+                for (var b = range.x; b < range.y; b++) {
+                    let sample = boundary_position[b];
+                    let r = x_i - sample.xyz;
+                    let r_len = sqrt(dot(r, r));
+                    if r_len < params.boundary_contact.x && !drained(position[i].w) {
+                        add_reaction(boundary_body[b], contact_push(r, r_len, sample.w) * (-m * scale), sample.xyz);
+                    }
+                }
+            }
+            a += push_sum * scale;
+        }
+    }
     acceleration[i] = vec4<f32>(a, 0.0);
     let dt = step_dt();
     if frozen() {
