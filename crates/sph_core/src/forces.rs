@@ -188,17 +188,40 @@ pub fn boundary_acceleration_at(
         let v_rel = v_i - push_velocity / push_weight;
         let scale = ctx.contact.stopping_scale(push_sum, v_rel, a_fluid + total);
         if scale > 0.0 {
-            // The same samples again, for each one's share of the contact's reaction.
+            // The particle takes s Σ push. Its reaction, -m s Σ push, goes to the samples that
+            // push along n = Σ push/|Σ push|, in proportion to (push_b·n)₊: a sample pushing
+            // against n (a sinking body's, over a particle it traps on the floor) does not lean
+            // on the particle, or the trapped layer would hold the body up like a strut.
+            let n = push_sum.normalize_or_zero();
+            let along_n = |r: Vec3, r_len: f32, b: usize| {
+                ctx.contact
+                    .push(ctx, r, r_len, boundary.volume[b])
+                    .dot(n)
+                    .max(0.0)
+            };
+            let mut along = 0.0;
             boundary
                 .grid
                 .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
                     let r_len = r2.sqrt();
                     if r_len < ctx.contact.radius {
-                        let push = ctx.contact.push(ctx, r, r_len, boundary.volume[b]);
-                        let body = boundary.body[b];
-                        reaction(body, push * (-ctx.mass * scale), boundary.position[b]);
+                        along += along_n(r, r_len, b);
                     }
                 });
+            if along > 0.0 {
+                let force = push_sum * (-ctx.mass * scale / along);
+                boundary
+                    .grid
+                    .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
+                        let r_len = r2.sqrt();
+                        if r_len < ctx.contact.radius {
+                            let w = along_n(r, r_len, b);
+                            if w > 0.0 {
+                                reaction(boundary.body[b], force * w, boundary.position[b]);
+                            }
+                        }
+                    });
+            }
             total += push_sum * scale;
         }
     }

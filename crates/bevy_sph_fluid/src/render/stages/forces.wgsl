@@ -238,15 +238,35 @@ fn particle(i: u32) {
     if push_weight > 0.0 {
         let scale = contact_stopping_scale(push_sum, v_i - push_velocity / push_weight, a);
         if scale > 0.0 {
-            // The same samples again, for each one's share of the contact's reaction.
+            // The reaction -m s Σ push goes to the samples that push along n = Σ push/|Σ push|,
+            // in proportion to (push_b·n)₊ (a sample pushing against n does not lean on i).
+            let n = normalize(push_sum);
+            var along = 0.0;
             for (var q = 0u; q < 9u; q++) {
                 let range = boundary_range(g, q);
                 for (var b = range.x; b < range.y; b++) {
                     let sample = boundary_position[b];
                     let r = x_i - sample.xyz;
                     let r_len = sqrt(dot(r, r));
-                    if r_len < params.boundary_contact.x && !drained(position[i].w) {
-                        add_reaction(boundary_body[b], contact_push(r, r_len, sample.w) * (-m * scale), sample.xyz);
+                    if r_len < params.boundary_contact.x {
+                        along += max(dot(contact_push(r, r_len, sample.w), n), 0.0);
+                    }
+                }
+            }
+            if along > 0.0 && !drained(position[i].w) {
+                let force = push_sum * (-m * scale / along);
+                for (var q = 0u; q < 9u; q++) {
+                    let range = boundary_range(g, q);
+                    for (var b = range.x; b < range.y; b++) {
+                        let sample = boundary_position[b];
+                        let r = x_i - sample.xyz;
+                        let r_len = sqrt(dot(r, r));
+                        if r_len < params.boundary_contact.x {
+                            let w = max(dot(contact_push(r, r_len, sample.w), n), 0.0);
+                            if w > 0.0 {
+                                add_reaction(boundary_body[b], force * w, sample.xyz);
+                            }
+                        }
                     }
                 }
             }
