@@ -72,9 +72,9 @@ fn app_with_colliders(backend: SphBackend) -> (App, Vec<Entity>, usize) {
     app_with_colliders_for(backend, Solver::Wcsph)
 }
 
-/// The block's velocity at spawn: PBF pushes only where the water is compressed, and the
-/// samples' contact only while a particle approaches them, so their blocks fall onto the
-/// colliders and the floor (DFSPH's block starts at rest: gravity presses it onto them).
+/// The block's velocity at spawn: PBF pushes only where the water is compressed, and WCSPH's
+/// contact only while a particle approaches a sample, so their blocks fall onto the colliders
+/// and the floor.
 fn spawn_velocity(solver: Solver) -> Vec3 {
     match solver {
         Solver::Pbf | Solver::Wcsph => Vec3::new(0.0, -0.5, 0.0),
@@ -137,9 +137,8 @@ fn one_step_with_colliders_matches(solver: Solver) {
     let report = cpu.spawn(&block.positions(), spawn_velocity(solver));
     assert!(report.inside_colliders > 0);
     // Some particles start closer than Δx to the floor's samples (Δx/2 under it) and move towards
-    // them, where WCSPH's forces and DFSPH's non-pressure forces add the samples' contact
-    // (sph_core::stage::BoundaryContact). Without it in forces.wgsl, the accelerations differ by
-    // 0.14 (WCSPH) and 0.94 (DFSPH) of the largest.
+    // them, where WCSPH's forces add the samples' contact (sph_core::stage::BoundaryContact).
+    // Without it in forces.wgsl, the accelerations differ by 0.14 of the largest.
     let floor_contact = 0.5 * params.spacing();
     assert!(block.positions().iter().any(|x| x.y < floor_contact));
     // Two PBF or DFSPH steps, the second one's force compared (the GPU reports the last

@@ -115,11 +115,11 @@ pub fn pressure_around(
 /// docs/boundary.md.) On no-slip bodies, the fluid's viscosity against the sample's velocity, times
 /// the body's friction f (Akinci 2012 with Müller's Laplacian):
 /// a_i^v = (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc.
-/// Samples closer than Δx that i approaches add the contact ([`crate::stage::BoundaryContact`]):
-/// their pushes, summed and scaled so that they stop the approach within the step without
-/// reversing it, given `a_fluid` (the fluid's acceleration of i, gravity included) and the
-/// terms above. With `input.with_pressure` false (DFSPH's non-pressure forces) only the
-/// friction and the contact act.
+/// Samples closer than Δx add the contact ([`crate::stage::BoundaryContact`]): their pushes,
+/// summed and scaled so that they stop i's approach within the step without reversing it, given
+/// `a_fluid` (the fluid's acceleration of i, gravity included) and the terms above. With `input.with_pressure` false (DFSPH's non-pressure forces) only the
+/// friction acts: DFSPH's boundary is its solves' (a stopping contact there left a sinking body on
+/// a trapped layer of water, docs/boundary.md).
 /// `reaction(body, force, at)` receives the force on the sample's body, -m a_ib (Akinci 2012's two-way coupling).
 #[inline]
 pub fn boundary_acceleration_at(
@@ -149,7 +149,7 @@ pub fn boundary_acceleration_at(
             let body = boundary.body[b];
             let friction = boundary.friction[body as usize];
             // The velocity is read only within the contact's range.
-            if r_len < ctx.contact.radius {
+            if input.with_pressure && r_len < ctx.contact.radius {
                 let v_b = boundary.velocity[b];
                 let push = ctx.contact.push(ctx, r, r_len, volume);
                 let weight = push.length();

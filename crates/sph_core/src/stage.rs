@@ -25,7 +25,7 @@ pub struct StageContext {
     /// The rest-lattice correction of the pressure gradient, 1 / G
     /// ([`Kernels::lattice_gradient_moment`] times m / (ρ0 Δx³)).
     pub pressure_gradient_scale: f32,
-    /// The boundary samples' contact (WCSPH's forces and DFSPH's non-pressure forces).
+    /// The boundary samples' contact (WCSPH's forces).
     pub contact: BoundaryContact,
 }
 
@@ -68,8 +68,9 @@ impl StageContext {
 /// a face and 0.7 Δx at an edge. The mirrored pressure alone vanishes where a splashing
 /// particle's own pressure is clamped to zero: a thin sheet then slid into the walls and over a
 /// box's convex edges (7,329 guard corrections in `sph-bench run --scenario obstacles`). It acts
-/// in WCSPH's forces and in DFSPH's non-pressure forces, whose pressure is likewise zero where
-/// the density is deficient (11,086 corrections in the same run). A short-range repulsion in
+/// in WCSPH's forces only: in DFSPH's non-pressure forces it took that run's corrections from
+/// 11,086 to 312, but a body heavier than water then settled onto a trapped layer of water
+/// (docs/boundary.md). A short-range repulsion in
 /// the spirit of Monaghan 1994's boundary force; the factor 2, the square and the stopping were
 /// chosen from measurements (docs/boundary.md, "The samples' contact pressure").
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,8 +79,10 @@ pub struct BoundaryContact {
     pub radius: f32,
     /// The pressure at r = 0, 2 ρ0 c0² [Pa].
     pub modulus: f32,
-    /// The time step the contact stops approaches within [s] ([`Self::stopping_scale`]): the
-    /// latest dt the solver chose ([`StageContext::with_step_dt`]), dt_max before the first.
+    /// The time step the contact stops approaches within [s] ([`Self::stopping_scale`]): dt_max
+    /// in an evaluation that comes before the step's dt is chosen, the step's dt in the closing
+    /// evaluation of kick-drift-kick and the leapfrog ([`StageContext::with_step_dt`]). Never the
+    /// previous step's: the state alone decides the step.
     pub time_step: f32,
 }
 
@@ -98,8 +101,7 @@ impl BoundaryContact {
     /// with `v_rel` the particle's velocity relative to the samples and `a_other` every other
     /// acceleration on it, the contact's velocity change over dt ([`Self::time_step`]) along
     /// n = push/|push| is at most the approach speed the step would otherwise end with,
-    /// -(v_rel + a_other dt)·n. Without the factor, DFSPH's steps (ten times WCSPH's) would
-    /// throw the particles the contact reaches.
+    /// -(v_rel + a_other dt)·n.
     #[inline]
     pub fn stopping_scale(&self, push: Vec3, v_rel: Vec3, a_other: Vec3) -> f32 {
         let magnitude = push.length();

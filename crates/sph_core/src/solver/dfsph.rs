@@ -222,17 +222,11 @@ impl DfsphStep<'_> {
     }
 
     /// One DFSPH step at the dt `step_dt` makes of the rule's. `stale`: the densities, lists and
-    /// factors do not hold for the current positions (spawns, parameter changes). `last_dt`: the
-    /// previous step's dt, within which the non-pressure forces' contact stops approaches (this
-    /// step's is chosen after them).
-    pub fn advance(
-        &mut self,
-        step_dt: StepDt,
-        stale: bool,
-        last_dt: f32,
-        guard: &Guard,
-    ) -> DfsphOutcome {
-        let ctx = StageContext::new(self.parts.params).with_step_dt(last_dt);
+    /// factors do not hold for the current positions (spawns, parameter changes). The
+    /// non-pressure forces' contact stops approaches within dt_max (this step's dt is chosen
+    /// after them).
+    pub fn advance(&mut self, step_dt: StepDt, stale: bool, guard: &Guard) -> DfsphOutcome {
+        let ctx = StageContext::new(self.parts.params);
         let boundary_moved = self.parts.boundary.sort();
         if stale || boundary_moved {
             self.neighborhood(&ctx);

@@ -701,9 +701,9 @@ impl CpuSolver {
             Solver::Wcsph => {}
         }
         self.solver_stats = SolverStats::default();
-        // The contact stops approaches within the latest dt the solver chose (the GPU's clock
-        // holds the same): the previous step's before this step's dt is chosen, then this one's.
-        let ctx = StageContext::new(&self.params).with_step_dt(self.last_dt);
+        // The contact stops approaches within dt_max in an evaluation before this step's dt is
+        // chosen, and within this step's dt in the closing one (the GPU's roles do the same).
+        let ctx = StageContext::new(&self.params);
         let dt;
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
@@ -810,9 +810,8 @@ impl CpuSolver {
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
         let stale = self.forces_stale;
-        let last_dt = self.last_dt;
         let (parts, scratch, _) = self.split();
-        let outcome = dfsph::DfsphStep { parts, scratch }.advance(step_dt, stale, last_dt, &guard);
+        let outcome = dfsph::DfsphStep { parts, scratch }.advance(step_dt, stale, &guard);
         self.record_body_forces(outcome.forces);
         self.solver_stats = outcome.stats;
         self.forces_stale = false;

@@ -9,7 +9,7 @@
 //     + g
 //     + s Σ_{r<Δx} -V_b (p_c/ρ0) ∇W_spiky                 (the samples' contact,
 //       p_c = 2 ρ0 c0² (1 - r/Δx)², s in [0, 1] the share that stops i's approach within the
-//       clock's dt without reversing it; every variant, DFSPH's too:
+//       step (contact_dt) without reversing it; not in SOLVER_DFSPH:
 //       sph_core::stage::BoundaryContact)
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
 // and the integrator's closing phase on the particle's own velocity (neighbours read only
@@ -79,19 +79,29 @@ fn contact_push(r: vec3<f32>, r_len: f32, volume: f32) -> vec3<f32> {
     return spiky_grad(r, r_len) * (-volume * p_c / params.material.x);
 }
 
+// The time step the contact stops approaches within: the step's, chosen by the time-step pass,
+// in the closing evaluations (POST_KDK, POST_LEAPFROG_KICK); dt_max in the others, which come
+// before it (sph_core::stage::BoundaryContact::time_step).
+fn contact_dt() -> f32 {
+#ifdef POST_KDK
+    return step_dt();
+#else
+#ifdef POST_LEAPFROG_KICK
+    return step_dt();
+#else
+    return params.time_step.x;
+#endif
+#endif
+}
+
 // The share s in [0, 1] of the summed push that stops the approach within dt without reversing
-// it: s |push| dt <= -(v_rel + a_other dt)·push/|push|, with dt the clock's, the latest the
-// time-step pass chose (dt_max before the first; sph_core::stage::BoundaryContact::stopping_scale
-// and StageContext::with_step_dt).
+// it: s |push| dt <= -(v_rel + a_other dt)·push/|push| (BoundaryContact::stopping_scale).
 fn contact_stopping_scale(push: vec3<f32>, v_rel: vec3<f32>, a_other: vec3<f32>) -> f32 {
     let magnitude = length(push);
     if !(magnitude > 0.0) {
         return 0.0;
     }
-    var dt = step_dt();
-    if !(dt > 0.0) {
-        dt = params.time_step.x;
-    }
+    let dt = contact_dt();
     let approach = -dot(v_rel + a_other * dt, push) / magnitude;
     return clamp(approach / (magnitude * dt), 0.0, 1.0);
 }
@@ -197,6 +207,7 @@ fn particle(i: u32) {
                 continue;
             }
             let r_len = sqrt(r2);
+#ifndef SOLVER_DFSPH
             // The velocity is read only within the contact's range.
             if r_len < params.boundary_contact.x {
                 let push = contact_push(r, r_len, sample.w);
@@ -205,6 +216,7 @@ fn particle(i: u32) {
                 push_velocity += boundary_velocity[b].xyz * weight;
                 push_weight += weight;
             }
+#endif
 #ifdef SOLVER_DFSPH
             // DFSPH's pressure solves answer for the boundary (dfsph_apply).
             var a_b = vec3<f32>(0.0);
