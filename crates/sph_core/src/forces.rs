@@ -193,39 +193,46 @@ pub fn boundary_acceleration_at(
             // against n (a sinking body's, over a particle it traps on the floor) does not lean
             // on the particle, or the trapped layer would hold the body up like a strut.
             let n = push_sum.normalize_or_zero();
-            let along_n = |r: Vec3, r_len: f32, b: usize| {
-                ctx.contact
-                    .push(ctx, r, r_len, boundary.volume[b])
-                    .dot(n)
-                    .max(0.0)
-            };
-            let mut along = 0.0;
-            boundary
-                .grid
-                .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
-                    let r_len = r2.sqrt();
-                    if r_len < ctx.contact.radius {
-                        along += along_n(r, r_len, b);
-                    }
-                });
+            let along = contact_shares(ctx, boundary, x_i, n, |_, _| {});
             if along > 0.0 {
                 let force = push_sum * (-ctx.mass * scale / along);
-                boundary
-                    .grid
-                    .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
-                        let r_len = r2.sqrt();
-                        if r_len < ctx.contact.radius {
-                            let w = along_n(r, r_len, b);
-                            if w > 0.0 {
-                                reaction(boundary.body[b], force * w, boundary.position[b]);
-                            }
-                        }
-                    });
+                contact_shares(ctx, boundary, x_i, n, |b, w| {
+                    reaction(boundary.body[b], force * w, boundary.position[b])
+                });
             }
             total += push_sum * scale;
         }
     }
     total
+}
+
+/// Σ_b (push_b·n)₊ over the samples within Δx of `x_i`, calling `each(b, (push_b·n)₊)` for the
+/// samples where it is positive (the contact's reaction is shared along n in these proportions).
+fn contact_shares(
+    ctx: &StageContext,
+    boundary: &Boundary,
+    x_i: Vec3,
+    n: Vec3,
+    mut each: impl FnMut(usize, f32),
+) -> f32 {
+    let mut along = 0.0;
+    boundary
+        .grid
+        .for_each_neighbor(&boundary.position, x_i, |b, r, r2| {
+            let r_len = r2.sqrt();
+            if r_len < ctx.contact.radius {
+                let w = ctx
+                    .contact
+                    .push(ctx, r, r_len, boundary.volume[b])
+                    .dot(n)
+                    .max(0.0);
+                if w > 0.0 {
+                    along += w;
+                    each(b, w);
+                }
+            }
+        });
+    along
 }
 
 /// Fills `acceleration` for every (sorted) particle; returns the fluid's force and torque on

@@ -106,6 +106,29 @@ fn contact_stopping_scale(push: vec3<f32>, v_rel: vec3<f32>, a_other: vec3<f32>)
     return clamp(approach / (magnitude * dt), 0.0, 1.0);
 }
 
+// Σ_b (push_b·n)₊ over the samples within Δx of x_i (grid cell g); with a nonzero `force`, each
+// such sample's body also receives force (push_b·n)₊ (the contact's reaction, shared along n).
+fn contact_shares(x_i: vec3<f32>, g: vec3<i32>, n: vec3<f32>, force: vec3<f32>) -> f32 {
+    var along = 0.0;
+    let reacting = any(force != vec3<f32>(0.0));
+    for (var q = 0u; q < 9u; q++) {
+        let range = boundary_range(g, q);
+        for (var b = range.x; b < range.y; b++) {
+            let sample = boundary_position[b];
+            let r = x_i - sample.xyz;
+            let r_len = sqrt(dot(r, r));
+            if r_len < params.boundary_contact.x {
+                let w = max(dot(contact_push(r, r_len, sample.w), n), 0.0);
+                along += w;
+                if reacting && w > 0.0 {
+                    add_reaction(boundary_body[b], force * w, sample.xyz);
+                }
+            }
+        }
+    }
+    return along;
+}
+
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(
     @builtin(global_invocation_id) id: vec3<u32>,
@@ -253,34 +276,9 @@ fn particle(i: u32) {
             // The reaction -m s Σ push goes to the samples that push along n = Σ push/|Σ push|,
             // in proportion to (push_b·n)₊ (a sample pushing against n does not lean on i).
             let n = normalize(push_sum);
-            var along = 0.0;
-            for (var q = 0u; q < 9u; q++) {
-                let range = boundary_range(g, q);
-                for (var b = range.x; b < range.y; b++) {
-                    let sample = boundary_position[b];
-                    let r = x_i - sample.xyz;
-                    let r_len = sqrt(dot(r, r));
-                    if r_len < params.boundary_contact.x {
-                        along += max(dot(contact_push(r, r_len, sample.w), n), 0.0);
-                    }
-                }
-            }
+            let along = contact_shares(x_i, g, n, vec3<f32>(0.0));
             if along > 0.0 && !drained(position[i].w) {
-                let force = push_sum * (-m * scale / along);
-                for (var q = 0u; q < 9u; q++) {
-                    let range = boundary_range(g, q);
-                    for (var b = range.x; b < range.y; b++) {
-                        let sample = boundary_position[b];
-                        let r = x_i - sample.xyz;
-                        let r_len = sqrt(dot(r, r));
-                        if r_len < params.boundary_contact.x {
-                            let w = max(dot(contact_push(r, r_len, sample.w), n), 0.0);
-                            if w > 0.0 {
-                                add_reaction(boundary_body[b], force * w, sample.xyz);
-                            }
-                        }
-                    }
-                }
+                contact_shares(x_i, g, n, push_sum * (-m * scale / along));
             }
             a += push_sum * scale;
         }
