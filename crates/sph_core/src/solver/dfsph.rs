@@ -222,9 +222,7 @@ impl DfsphStep<'_> {
     }
 
     /// One DFSPH step at the dt `step_dt` makes of the rule's. `stale`: the densities, lists and
-    /// factors do not hold for the current positions (spawns, parameter changes). The
-    /// non-pressure forces' contact stops approaches within dt_max (this step's dt is chosen
-    /// after them).
+    /// factors do not hold for the current positions (spawns, parameter changes).
     pub fn advance(&mut self, step_dt: StepDt, stale: bool, guard: &Guard) -> DfsphOutcome {
         let ctx = StageContext::new(self.parts.params);
         let boundary_moved = self.parts.boundary.sort();
