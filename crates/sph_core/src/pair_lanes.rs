@@ -64,6 +64,15 @@ impl Lanes {
             z: [0.0; LANES],
             squared: [0.0; LANES],
         };
+        #[cfg(target_arch = "x86_64")]
+        if WIDE && wide_lanes() {
+            if let Some(full) = full_block(block, positions.len()) {
+                // SAFETY: the CPU has AVX2 (`wide_lanes()`, a cached flag); `full_block`
+                // checked the indices.
+                unsafe { gather_offsets_avx2(x_i, positions, full, &mut lanes) };
+                return lanes;
+            }
+        }
         for (l, &j) in block.iter().enumerate().take(LANES) {
             let r = x_i - positions[j as usize];
             lanes.x[l] = r.x;
@@ -88,6 +97,56 @@ impl Lanes {
         } else {
             self.squared[l]
         }
+    }
+}
+
+/// `block` as a full block of [`LANES`] indices, each below `len`; `None` for a list's last,
+/// shorter block (or an index out of bounds, which the scalar path then reports). A shorter
+/// block stays on the scalar path: measured on the PBF passes (docs/pbf.md), padding it into
+/// a local array, or loading and gathering it under a mask, cost more than it saved.
+#[inline(always)]
+fn full_block(block: &[u32], len: usize) -> Option<&[u32; LANES]> {
+    let full = <&[u32; LANES]>::try_from(block).ok()?;
+    full.iter().all(|&j| (j as usize) < len).then_some(full)
+}
+
+/// The offsets from `x_i` to the eight `positions[j]` of `block` into `lanes`, by three AVX2
+/// gathers (one per component, from the Vec3 array's stride of three floats) instead of 24
+/// scalar loads and stores; the stores of whole lanes then forward to the consumer's loads.
+///
+/// # Safety
+/// The CPU has AVX2, and every index of `block` is below `positions.len()`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn gather_offsets_avx2(
+    x_i: Vec3,
+    positions: &[Vec3],
+    block: &[u32; LANES],
+    lanes: &mut Lanes,
+) {
+    use std::arch::x86_64::*;
+    debug_assert!(block.iter().all(|&j| (j as usize) < positions.len()));
+    let base = positions.as_ptr() as *const f32;
+    // SAFETY: the caller's contract: AVX2, and 3 j + 2 < 3 len for every j of `block`.
+    unsafe {
+        let index = _mm256_loadu_si256(block.as_ptr() as *const __m256i);
+        let index = _mm256_add_epi32(index, _mm256_add_epi32(index, index));
+        let x = _mm256_i32gather_ps::<4>(base, index);
+        let y = _mm256_i32gather_ps::<4>(base.add(1), index);
+        let z = _mm256_i32gather_ps::<4>(base.add(2), index);
+        _mm256_storeu_ps(
+            lanes.x.as_mut_ptr(),
+            _mm256_sub_ps(_mm256_set1_ps(x_i.x), x),
+        );
+        _mm256_storeu_ps(
+            lanes.y.as_mut_ptr(),
+            _mm256_sub_ps(_mm256_set1_ps(x_i.y), y),
+        );
+        _mm256_storeu_ps(
+            lanes.z.as_mut_ptr(),
+            _mm256_sub_ps(_mm256_set1_ps(x_i.z), z),
+        );
     }
 }
 

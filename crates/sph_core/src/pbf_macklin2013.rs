@@ -659,20 +659,19 @@ impl FluidXsph<'_> {
         let [mut w_sum, mut sx, mut sy, mut sz] = [[0.0f32; LANES]; 4];
         for block in fluid.chunks(LANES) {
             let r = Lanes::gather::<WIDE>(x_i, positions, block, beyond);
-            let [mut dx, mut dy, mut dz, mut volume] = [[0.0f32; LANES]; 4];
+            // v_i - v_j (the lanes past the list's end hold zeros).
+            let dv = Lanes::gather::<WIDE>(v_i, velocity, block, 0.0);
+            let mut volume = [0.0f32; LANES];
             for (l, &j) in block.iter().enumerate() {
-                let j = j as usize;
-                let dv = velocity[j] - v_i;
-                (dx[l], dy[l], dz[l]) = (dv.x, dv.y, dv.z);
-                volume[l] = ctx.mass / constraint[j].density;
+                volume[l] = ctx.mass / constraint[j as usize].density;
             }
             for l in 0..LANES {
                 let w = k.value_and_gradient_factor(r.r2::<WIDE>(l)).0;
                 w_sum[l] += w;
                 let weight = volume[l] * w;
-                sx[l] += dx[l] * weight;
-                sy[l] += dy[l] * weight;
-                sz[l] += dz[l] * weight;
+                sx[l] -= dv.x[l] * weight;
+                sy[l] -= dv.y[l] * weight;
+                sz[l] -= dv.z[l] * weight;
             }
         }
         (

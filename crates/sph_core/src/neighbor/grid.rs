@@ -1,7 +1,11 @@
 //! Dense uniform grid over the container (cell size h) with a counting sort: count per cell ->
 //! exclusive prefix sum -> scatter, the same three passes as the GPU pipeline.
 
+#[cfg(target_arch = "x86_64")]
+use super::group_avx2::append_hits;
+use super::group_avx2::WIDTH;
 use crate::container::BoxContainer;
+use crate::pair_lanes::wide_lanes;
 use crate::params::ParamError;
 use glam::{IVec3, UVec3, Vec3};
 
@@ -174,6 +178,8 @@ impl DenseGrid {
     /// there are members). The run shares the 27 cells' candidates, so each candidate is loaded
     /// once and tested against the whole run: [`GROUP`] independent compactions instead of one
     /// chain per particle (the lists' build cost, docs/pbf.md).
+    /// Where the CPU has AVX2 ([`wide_lanes`]), candidates are tested eight at a time
+    /// (`group_avx2`); the lists are the same.
     #[inline]
     pub fn append_group_neighbors(
         &self,
@@ -182,6 +188,20 @@ impl DenseGrid {
         skip: [usize; GROUP],
         out: &mut [Vec<u32>; GROUP],
     ) -> usize {
+        self.append_group_neighbors_in(points, members, skip, out, wide_lanes())
+    }
+
+    /// [`Self::append_group_neighbors`], with the AVX2 tests when `wide` (and the CPU has them).
+    #[inline]
+    fn append_group_neighbors_in(
+        &self,
+        points: &[Vec3],
+        members: &[Vec3],
+        skip: [usize; GROUP],
+        out: &mut [Vec<u32>; GROUP],
+        wide: bool,
+    ) -> usize {
+        let wide = wide && wide_lanes();
         // Candidates tested between two flushes of the batches.
         const SEGMENT: usize = 64;
         const CAP: usize = 2 * SEGMENT;
@@ -198,7 +218,8 @@ impl DenseGrid {
         // Missing members sit at infinity: no candidate is within h of them.
         let mut x = [Vec3::splat(f32::INFINITY); GROUP];
         x[..count].copy_from_slice(&members[..count]);
-        let mut batch = [[0u32; CAP]; GROUP];
+        // Room for a whole block's store past CAP (`group_avx2::append_hits`).
+        let mut batch = [[0u32; CAP + WIDTH]; GROUP];
         let mut len = [0usize; GROUP];
         self.for_each_row(leader, |start, end| {
             let mut from = start;
@@ -210,6 +231,16 @@ impl DenseGrid {
                         len[g] = 0;
                     }
                 }
+                #[cfg(target_arch = "x86_64")]
+                if wide && to <= points.len() {
+                    let mut rows = batch.each_mut().map(|b| &mut b[..]);
+                    // SAFETY: `wide_lanes()` holds; from <= to <= points.len(); each batch has
+                    // CAP + WIDTH slots and at most CAP - SEGMENT used, and to - from <= SEGMENT.
+                    from = unsafe {
+                        append_hits(points, (from, to), &x, &skip, h2, &mut rows, &mut len)
+                    };
+                }
+                let _ = wide;
                 for (j, &x_j) in (from..to).zip(&points[from..to]) {
                     for g in 0..GROUP {
                         batch[g][len[g]] = j as u32;
@@ -278,5 +309,50 @@ impl DenseGrid {
         let mut n = 0;
         self.for_each_row(x_i, |start, end| n += end - start);
         n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::SplitMix64;
+
+    #[test]
+    fn the_wide_and_the_scalar_tests_list_the_same_neighbours() {
+        let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::splat(0.3));
+        let h = 0.04;
+        let mut grid = DenseGrid::new(&container, h).expect("a small grid");
+        let mut rng = SplitMix64::new(7);
+        let cloud: Vec<Vec3> = (0..3000)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 0.3)
+            .collect();
+        let order = grid.sort(&cloud).to_vec();
+        let sorted: Vec<Vec3> = order.iter().map(|&k| cloud[k as usize]).collect();
+        let (mut listed, mut i) = (0, 0);
+        while i < sorted.len() {
+            let members = &sorted[i..(i + GROUP).min(sorted.len())];
+            let skip = std::array::from_fn(|g| i + g);
+            let mut wide: [Vec<u32>; GROUP] = Default::default();
+            let mut scalar: [Vec<u32>; GROUP] = Default::default();
+            let count = grid.append_group_neighbors_in(&sorted, members, skip, &mut wide, true);
+            let again = grid.append_group_neighbors_in(&sorted, members, skip, &mut scalar, false);
+            assert_eq!(count, again);
+            assert_eq!(wide, scalar, "the run from {i}");
+            for (g, list) in wide.iter().enumerate().take(count) {
+                let x = sorted[i + g];
+                let expected: Vec<u32> = (0..sorted.len() as u32)
+                    .filter(|&j| {
+                        j as usize != i + g && (x - sorted[j as usize]).length_squared() < h * h
+                    })
+                    .collect();
+                assert_eq!(list, &expected, "particle {}", i + g);
+                listed += list.len();
+            }
+            i += count;
+        }
+        assert!(
+            listed > 10 * sorted.len(),
+            "a dense enough cloud: {listed} pairs"
+        );
     }
 }

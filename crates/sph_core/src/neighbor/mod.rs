@@ -3,6 +3,7 @@
 //! the particles of the 27 cells around each particle with an exact distance check.
 
 pub mod grid;
+mod group_avx2;
 pub mod hash;
 
 pub use grid::DenseGrid;
