@@ -44,12 +44,12 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
             }
         }
         Solver::Dfsph | Solver::Pbf => {
+            // The solver's own rule, unless a dt is given (then fixed, or the largest with
+            // --adaptive on), with --cfl's λ in place of the solver's.
+            p.use_solver(args.solver);
             if let Some(lambda) = args.cfl {
                 p.cfl_factor = lambda;
             }
-            // The solver's own rule, unless a dt is given (then fixed, or the largest with
-            // --adaptive on).
-            p.use_solver(args.solver);
             if let Some(dt) = args.dt {
                 p.time_step = dt;
                 p.adaptive_time_step = args.adaptive;

@@ -2,7 +2,9 @@
 //! calculation" from a particle spacing, and validation with errors that name the field.
 
 use crate::kernel::Kernels;
-use crate::solvers::{dfsph_max_time_step, DfsphSettings, PbfSettings, Solver, PBF_MAX_TIME_STEP};
+use crate::solvers::{
+    dfsph_max_time_step, DfsphSettings, PbfSettings, Solver, PBF_CFL_FACTOR, PBF_MAX_TIME_STEP,
+};
 use glam::Vec3;
 use std::fmt;
 
@@ -246,8 +248,14 @@ impl SphParams {
 
     /// Switches to `solver` with its own time-step rule: for WCSPH the fixed dt of
     /// [`Self::from_spacing`] (λ h / (c0 + v_peak) with v_peak = c0 / 10), for DFSPH the adaptive
-    /// rule λ Δx / v_max clamped to [`dfsph_max_time_step`]. Other fields stay.
+    /// rule λ Δx / v_max clamped to [`dfsph_max_time_step`], for PBF λ h / v_max clamped to
+    /// [`PBF_MAX_TIME_STEP`] with λ = `cfl_factor` set to [`PBF_CFL_FACTOR`]. Leaving PBF for
+    /// another solver sets λ back to [`DEFAULT_CFL_FACTOR`]; otherwise λ stays, as do the
+    /// other fields (set `cfl_factor` after this call to choose another λ).
     pub fn use_solver(&mut self, solver: Solver) {
+        if self.solver == Solver::Pbf && solver != Solver::Pbf {
+            self.cfl_factor = DEFAULT_CFL_FACTOR;
+        }
         self.solver = solver;
         match solver {
             Solver::Wcsph => {
@@ -260,6 +268,7 @@ impl SphParams {
                 self.adaptive_time_step = true;
             }
             Solver::Pbf => {
+                self.cfl_factor = PBF_CFL_FACTOR;
                 self.time_step = PBF_MAX_TIME_STEP;
                 self.adaptive_time_step = true;
             }

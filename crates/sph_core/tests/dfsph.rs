@@ -173,6 +173,19 @@ fn use_solver_switches_the_time_step_rule() {
     p.use_solver(Solver::Wcsph);
     assert!(!p.adaptive_time_step);
     assert!((p.time_step / wcsph_dt - 1.0).abs() < 1e-3);
+    // PBF brings its own λ; leaving it restores the default, so WCSPH's dt is as before.
+    p.use_solver(Solver::Pbf);
+    assert!(p.adaptive_time_step);
+    assert_eq!(p.cfl_factor, sph_core::solvers::PBF_CFL_FACTOR);
+    assert_eq!(p.time_step, sph_core::solvers::PBF_MAX_TIME_STEP);
+    p.use_solver(Solver::Wcsph);
+    assert_eq!(p.cfl_factor, sph_core::params::DEFAULT_CFL_FACTOR);
+    assert!((p.time_step / wcsph_dt - 1.0).abs() < 1e-3);
+    // λ chosen after the switch stays.
+    p.use_solver(Solver::Dfsph);
+    p.cfl_factor = 0.3;
+    p.use_solver(Solver::Dfsph);
+    assert_eq!(p.cfl_factor, 0.3);
 }
 
 #[test]
