@@ -3,7 +3,6 @@
 //! left-packing store of the hits (the permutation of each 8-bit mask from a 1 KiB table)
 //! instead of eight dependent scalar compactions per member.
 
-use super::grid::GROUP;
 use glam::Vec3;
 
 /// Candidates per test.
@@ -30,7 +29,7 @@ const PACK: [u32; 256] = {
 };
 
 /// Tests the candidates `from..` of `points` in blocks of [`WIDTH`] (as many whole blocks as fit
-/// before `to`) against the members `x` (at infinity when missing) and appends the index of
+/// before `to`) against the `GROUP` members `x` (at infinity when missing) and appends the index of
 /// each candidate within `h2` of member g, other than `skip[g]`, to `batch[g][len[g]..]`;
 /// returns where it stopped (the rest, fewer than [`WIDTH`], is the caller's).
 ///
@@ -39,7 +38,7 @@ const PACK: [u32; 256] = {
 /// `to - from + WIDTH` more entries after `len[g]` (a store writes a whole block).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,popcnt")]
-pub unsafe fn append_hits(
+pub unsafe fn append_hits<const GROUP: usize>(
     points: &[Vec3],
     (from, to): (usize, usize),
     x: &[Vec3; GROUP],
