@@ -207,6 +207,70 @@ impl<P: Send + Sync> NeighborLists<P> {
     }
 }
 
+/// Calls `emit(i, fluid neighbours of i, boundary samples of i)` for the particles
+/// `from..end` of `positions` (sorted, searched by `neighbors`) in order, i itself excluded;
+/// `scratch` holds the index lists between calls. On the dense grid, the particles that share a
+/// cell are searched together ([`crate::neighbor::DenseGrid::append_group_neighbors`]); the
+/// lists are in increasing index order either way.
+fn for_each_listed(
+    neighbors: &Neighbors,
+    positions: &[Vec3],
+    boundary: Option<&Boundary>,
+    (from, end): (usize, usize),
+    scratch: &mut ListScratch,
+    mut emit: impl FnMut(usize, &[u32], &[u32]),
+) {
+    let ListScratch { fluid, solid } = scratch;
+    let mut i = from;
+    while i < end {
+        fluid.iter_mut().for_each(Vec::clear);
+        // The particles from i that share its cell (sorted by cell, they follow it).
+        let count = match neighbors {
+            Neighbors::Grid(grid) => {
+                let members = &positions[i..end.min(i + GROUP)];
+                let skip = std::array::from_fn(|g| i + g);
+                grid.append_group_neighbors(positions, members, skip, fluid)
+            }
+            Neighbors::Hash(hash) => {
+                hash.for_each_neighbor(positions, positions[i], |j, _, _| {
+                    if j != i {
+                        fluid[0].push(j as u32);
+                    }
+                });
+                1
+            }
+        };
+        // The boundary samples near them, likewise (the samples' grid may be laid out
+        // differently, so the run may split).
+        let mut solid_listed = 0;
+        while solid_listed < count {
+            solid.iter_mut().for_each(Vec::clear);
+            let first = i + solid_listed;
+            let listed = match boundary {
+                Some(b) => b.grid.append_group_neighbors(
+                    &b.position,
+                    &positions[first..i + count],
+                    [usize::MAX; GROUP],
+                    solid,
+                ),
+                None => count - solid_listed,
+            };
+            for (g, samples) in solid.iter().enumerate().take(listed) {
+                emit(first + g, &fluid[solid_listed + g], samples);
+            }
+            solid_listed += listed;
+        }
+        i += count;
+    }
+}
+
+/// The index lists of one run of particles, reused between runs.
+#[derive(Default)]
+struct ListScratch {
+    fluid: [Vec<u32>; GROUP],
+    solid: [Vec<u32>; GROUP],
+}
+
 impl IndexLists {
     /// Rebuilds the lists of `positions` (sorted, searched by `neighbors`) and of the boundary
     /// samples within h of them, reusing the allocations.
@@ -225,53 +289,21 @@ impl IndexLists {
             .enumerate()
             .for_each(|(c, chunk)| {
                 chunk.restart();
-                let end = ((c + 1) * CHUNK).min(n);
-                let mut fluid: [Vec<u32>; GROUP] = Default::default();
-                let mut solid: [Vec<u32>; GROUP] = Default::default();
-                let mut i = c * CHUNK;
-                while i < end {
-                    fluid.iter_mut().for_each(Vec::clear);
-                    // The particles from i that share its cell (sorted by cell, they follow it).
-                    let count = match neighbors {
-                        Neighbors::Grid(grid) => {
-                            let members = &positions[i..end.min(i + GROUP)];
-                            let skip = std::array::from_fn(|g| i + g);
-                            grid.append_group_neighbors(positions, members, skip, &mut fluid)
-                        }
-                        Neighbors::Hash(hash) => {
-                            hash.for_each_neighbor(positions, positions[i], |j, _, _| {
-                                if j != i {
-                                    fluid[0].push(j as u32);
-                                }
-                            });
-                            1
-                        }
-                    };
-                    // The boundary samples near them, likewise (the samples' grid may be laid
-                    // out differently, so the run may split).
-                    let mut solid_listed = 0;
-                    while solid_listed < count {
-                        solid.iter_mut().for_each(Vec::clear);
-                        let from = i + solid_listed;
-                        let listed = match boundary {
-                            Some(b) => b.grid.append_group_neighbors(
-                                &b.position,
-                                &positions[from..i + count],
-                                [usize::MAX; GROUP],
-                                &mut solid,
-                            ),
-                            None => count - solid_listed,
-                        };
-                        for (g, samples) in solid.iter().enumerate().take(listed) {
-                            chunk.fluid.extend_from_slice(&fluid[solid_listed + g]);
-                            chunk.fluid_start.push(chunk.fluid.len() as u32);
-                            chunk.boundary.extend_from_slice(samples);
-                            chunk.boundary_start.push(chunk.boundary.len() as u32);
-                        }
-                        solid_listed += listed;
-                    }
-                    i += count;
-                }
+                let range = (c * CHUNK, ((c + 1) * CHUNK).min(n));
+                let mut scratch = ListScratch::default();
+                for_each_listed(
+                    neighbors,
+                    positions,
+                    boundary,
+                    range,
+                    &mut scratch,
+                    |_, fluid, samples| {
+                        chunk.fluid.extend_from_slice(fluid);
+                        chunk.fluid_start.push(chunk.fluid.len() as u32);
+                        chunk.boundary.extend_from_slice(samples);
+                        chunk.boundary_start.push(chunk.boundary.len() as u32);
+                    },
+                );
             });
     }
 }
@@ -279,7 +311,8 @@ impl IndexLists {
 impl NeighborLists {
     /// Rebuilds the lists of `source`'s particles with `kernel`'s gradient scaled by m (fluid)
     /// and by ρ0 V_b (boundary), reusing the allocations; writes the densities
-    /// ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (i included) of the same kernel on the way.
+    /// ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (i included) of the same kernel on the way. The pairs
+    /// are found as [`IndexLists::rebuild_indices`] finds them, then evaluated in list order.
     pub fn rebuild(&mut self, source: ListSource, kernel: impl PairKernel, density: &mut [f32]) {
         let ListSource {
             neighbors,
@@ -299,36 +332,44 @@ impl NeighborLists {
             .enumerate()
             .for_each(|(c, (density, chunk))| {
                 chunk.restart();
-                for (k, rho) in density.iter_mut().enumerate() {
-                    let i = c * CHUNK + k;
-                    let x_i = positions[i];
-                    let mut fluid = self_weight;
-                    neighbors.for_each_neighbor(positions, x_i, |j, r, r2| {
-                        if j != i {
-                            let (w, grad) = kernel(r, r2);
+                let from = c * CHUNK;
+                let mut scratch = ListScratch::default();
+                for_each_listed(
+                    neighbors,
+                    positions,
+                    boundary,
+                    (from, from + density.len()),
+                    &mut scratch,
+                    |i, fluid_list, samples| {
+                        let x_i = positions[i];
+                        let mut fluid = self_weight;
+                        for &j in fluid_list {
+                            let r = x_i - positions[j as usize];
+                            let (w, grad) = kernel(r, r.length_squared());
                             fluid += w;
                             chunk.fluid.push(Pair {
-                                index: j as u32,
+                                index: j,
                                 grad: grad * mass,
                             });
                         }
-                    });
-                    chunk.fluid_start.push(chunk.fluid.len() as u32);
-                    let mut solid = 0.0;
-                    if let Some(b) = boundary {
-                        b.grid.for_each_neighbor(&b.position, x_i, |k, r, r2| {
-                            let (w, grad) = kernel(r, r2);
-                            let psi = rest_density * b.volume[k];
-                            solid += psi * w;
-                            chunk.boundary.push(Pair {
-                                index: k as u32,
-                                grad: grad * psi,
-                            });
-                        });
-                    }
-                    chunk.boundary_start.push(chunk.boundary.len() as u32);
-                    *rho = mass * fluid + solid;
-                }
+                        chunk.fluid_start.push(chunk.fluid.len() as u32);
+                        let mut solid = 0.0;
+                        if let Some(b) = boundary {
+                            for &k in samples {
+                                let r = x_i - b.position[k as usize];
+                                let (w, grad) = kernel(r, r.length_squared());
+                                let psi = rest_density * b.volume[k as usize];
+                                solid += psi * w;
+                                chunk.boundary.push(Pair {
+                                    index: k,
+                                    grad: grad * psi,
+                                });
+                            }
+                        }
+                        chunk.boundary_start.push(chunk.boundary.len() as u32);
+                        density[i - from] = mass * fluid + solid;
+                    },
+                );
             });
     }
 }

@@ -1,9 +1,9 @@
-//! Grid and hash neighbour sets, and the neighbour lists built from them, equal a brute-force
-//! O(n²) search.
+//! Grid and hash neighbour sets, and the neighbour lists built from them (PBF's indices and
+//! DFSPH's weighted pairs), equal a brute-force O(n²) search.
 
 use sph_core::glam::Vec3;
 use sph_core::neighbor::Neighbors;
-use sph_core::neighbor_lists::IndexLists;
+use sph_core::neighbor_lists::{IndexLists, ListSource, NeighborLists};
 use sph_core::rng::SplitMix64;
 use sph_core::{BoxContainer, NeighborSearch};
 use std::collections::BTreeSet;
@@ -85,6 +85,43 @@ fn listed(
         }
         assert!(pairs.boundary.is_empty());
     });
+    // DFSPH's lists with weighted gradients list the same pairs, in the same order, with the
+    // kernel evaluated at each pair and the densities summed over them (a test kernel: W = 1,
+    // ∇W = r, so ρ_i = m (1 + neighbours) and each gradient is m (x_i - x_j)).
+    let mut weighted = NeighborLists::default();
+    let mut density = vec![0.0; sorted.len()];
+    let mass = 2.0;
+    let source = ListSource {
+        neighbors: &neighbors,
+        positions: &sorted,
+        boundary: None,
+        mass,
+        rest_density: 1000.0,
+    };
+    weighted.rebuild(source, |r, _| (1.0, r), &mut density);
+    let mut indices = vec![Vec::new(); sorted.len()];
+    lists.update(&mut indices, |_, pairs, out| *out = pairs.fluid.to_vec());
+    weighted.fold(
+        || (),
+        |_, i, pairs| {
+            let listed: Vec<u32> = pairs.fluid.iter().map(|p| p.index).collect();
+            assert_eq!(listed, indices[i], "{mode:?}: particle {i}'s weighted list");
+            for p in pairs.fluid {
+                let r = sorted[i] - sorted[p.index as usize];
+                assert!(
+                    (p.grad - r * mass).length() <= 1e-6,
+                    "{mode:?}: pair ({i}, {})",
+                    p.index
+                );
+            }
+            assert_eq!(
+                density[i],
+                mass * (1 + listed.len()) as f32,
+                "{mode:?}: ρ_{i}"
+            );
+        },
+        |_, _| (),
+    );
     let mut result = vec![BTreeSet::new(); positions.len()];
     for (k, set) in per_sorted.into_iter().enumerate() {
         result[order[k] as usize] = set;
