@@ -9,8 +9,10 @@
 //! instead of 16).
 
 use crate::boundary::Boundary;
+use crate::kernel::CubicSpline;
 use crate::neighbor::grid::GROUP;
 use crate::neighbor::Neighbors;
+use crate::pair_lanes::{lane_sum, wide_lanes, Lanes, LANES};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -371,6 +373,124 @@ impl NeighborLists {
                     },
                 );
             });
+    }
+}
+
+impl NeighborLists {
+    /// [`Self::rebuild`] with the cubic spline `kernel` (DFSPH's), the fluid pairs evaluated
+    /// eight at a time ([`crate::pair_lanes`], in the AVX2 copy where the CPU has it) with the
+    /// fused [`CubicSpline::value_and_gradient_factor`]: the same pairs, W and ∇W to rounding.
+    pub fn rebuild_cubic_spline(
+        &mut self,
+        source: ListSource,
+        kernel: &CubicSpline,
+        density: &mut [f32],
+    ) {
+        let ListSource {
+            neighbors,
+            positions,
+            boundary,
+            mass,
+            rest_density,
+        } = source;
+        let n = positions.len();
+        self.len = n;
+        self.chunks
+            .resize_with(n.div_ceil(CHUNK), ListChunk::default);
+        let self_weight = kernel.value(0.0);
+        let wide = wide_lanes();
+        density[..n]
+            .par_chunks_mut(CHUNK)
+            .zip(self.chunks.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (density, chunk))| {
+                chunk.restart();
+                let from = c * CHUNK;
+                let mut scratch = ListScratch::default();
+                for_each_listed(
+                    neighbors,
+                    positions,
+                    boundary,
+                    (from, from + density.len()),
+                    &mut scratch,
+                    |i, fluid_list, samples| {
+                        let x_i = positions[i];
+                        let fluid = FluidPairs {
+                            kernel,
+                            x_i,
+                            list: fluid_list,
+                            positions,
+                            mass,
+                        }
+                        .append(wide, &mut chunk.fluid);
+                        chunk.fluid_start.push(chunk.fluid.len() as u32);
+                        let mut solid = 0.0;
+                        if let Some(b) = boundary {
+                            for &k in samples {
+                                let r = x_i - b.position[k as usize];
+                                let (w, f) = kernel.value_and_gradient_factor(r.length_squared());
+                                let psi = rest_density * b.volume[k as usize];
+                                solid += psi * w;
+                                chunk.boundary.push(Pair {
+                                    index: k,
+                                    grad: r * (f * psi),
+                                });
+                            }
+                        }
+                        chunk.boundary_start.push(chunk.boundary.len() as u32);
+                        density[i - from] = mass * (self_weight + fluid) + solid;
+                    },
+                );
+            });
+    }
+}
+
+/// One particle's fluid pairs of [`NeighborLists::rebuild_cubic_spline`].
+struct FluidPairs<'a> {
+    kernel: &'a CubicSpline,
+    x_i: Vec3,
+    list: &'a [u32],
+    positions: &'a [Vec3],
+    mass: f32,
+}
+
+impl FluidPairs<'_> {
+    /// Appends the pairs (m ∇W_ij) to `out` and returns Σ_j W_ij, in the AVX2 copy when `wide`.
+    #[inline]
+    fn append(&self, wide: bool, out: &mut Vec<Pair>) -> f32 {
+        #[cfg(target_arch = "x86_64")]
+        if wide {
+            #[target_feature(enable = "avx2,fma")]
+            fn avx2(pass: &FluidPairs, out: &mut Vec<Pair>) -> f32 {
+                pass.in_lanes::<true>(out)
+            }
+            // SAFETY: `wide` comes from `wide_lanes()`: this CPU has AVX2 and FMA.
+            return unsafe { avx2(self, out) };
+        }
+        let _ = wide;
+        self.in_lanes::<false>(out)
+    }
+
+    #[inline(always)]
+    fn in_lanes<const WIDE: bool>(&self, out: &mut Vec<Pair>) -> f32 {
+        let beyond = 2.0 * self.kernel.h;
+        let mut w_sum = [0.0f32; LANES];
+        for block in self.list.chunks(LANES) {
+            let r = Lanes::gather::<WIDE>(self.x_i, self.positions, block, beyond);
+            let mut f = [0.0f32; LANES];
+            for l in 0..LANES {
+                let (w, factor) = self.kernel.value_and_gradient_factor(r.r2::<WIDE>(l));
+                w_sum[l] += w;
+                f[l] = factor * self.mass;
+            }
+            for (l, &j) in block.iter().enumerate() {
+                out.push(Pair {
+                    index: j,
+                    grad: Vec3::new(r.x[l], r.y[l], r.z[l]) * f[l],
+                });
+            }
+        }
+        lane_sum(&w_sum)
     }
 }
 

@@ -2,6 +2,7 @@
 //! DFSPH's weighted pairs), equal a brute-force O(n²) search.
 
 use sph_core::glam::Vec3;
+use sph_core::kernel::CubicSpline;
 use sph_core::neighbor::Neighbors;
 use sph_core::neighbor_lists::{IndexLists, ListSource, NeighborLists};
 use sph_core::rng::SplitMix64;
@@ -118,6 +119,45 @@ fn listed(
                 density[i],
                 mass * (1 + listed.len()) as f32,
                 "{mode:?}: ρ_{i}"
+            );
+        },
+        |_, _| (),
+    );
+    // DFSPH's lists (the cubic spline, pairs evaluated in lanes) hold the same pairs as the
+    // scalar evaluation of the same kernel, W and ∇W to rounding.
+    let kernel = CubicSpline::new(h, 0.5 * h);
+    let mut exact = NeighborLists::default();
+    let mut exact_density = vec![0.0; sorted.len()];
+    exact.rebuild(
+        source,
+        |r, r2| {
+            let r_len = r2.sqrt();
+            (kernel.value(r_len), kernel.gradient(r, r_len))
+        },
+        &mut exact_density,
+    );
+    let mut fast = NeighborLists::default();
+    let mut fast_density = vec![0.0; sorted.len()];
+    fast.rebuild_cubic_spline(source, &kernel, &mut fast_density);
+    let mut fast_pairs = vec![Vec::new(); sorted.len()];
+    fast.update(&mut fast_pairs, |_, pairs, out| *out = pairs.fluid.to_vec());
+    let scale = mass * kernel.l;
+    exact.fold(
+        || (),
+        |_, i, pairs| {
+            assert_eq!(
+                pairs.fluid.len(),
+                fast_pairs[i].len(),
+                "{mode:?}: particle {i}"
+            );
+            for (a, b) in pairs.fluid.iter().zip(&fast_pairs[i]) {
+                assert_eq!(a.index, b.index);
+                assert!((a.grad - b.grad).length() <= 1e-5 * scale, "{a:?} {b:?}");
+            }
+            let (a, b) = (exact_density[i], fast_density[i]);
+            assert!(
+                (a - b).abs() <= 1e-5 * a.abs().max(mass * kernel.k),
+                "ρ {a} {b}"
             );
         },
         |_, _| (),

@@ -125,7 +125,7 @@ impl DfsphStep<'_> {
             s.source.resize(n, 0.0);
             s.stiffness.resize(n, 0.0);
             let kernel = s.kernel;
-            s.lists.rebuild(
+            s.lists.rebuild_cubic_spline(
                 ListSource {
                     neighbors,
                     positions: &p.position,
@@ -133,10 +133,7 @@ impl DfsphStep<'_> {
                     mass: ctx.mass,
                     rest_density: ctx.rest_density,
                 },
-                |r, r2| {
-                    let r_len = r2.sqrt();
-                    (kernel.value(r_len), kernel.gradient(r, r_len))
-                },
+                &kernel,
                 &mut p.density,
             );
             compute_factors(&s.lists, Some(boundary), s.rest_factor, &mut s.factors);
