@@ -316,67 +316,31 @@ impl NeighborLists {
     /// ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (i included) of the same kernel on the way. The pairs
     /// are found as [`IndexLists::rebuild_indices`] finds them, then evaluated in list order.
     pub fn rebuild(&mut self, source: ListSource, kernel: impl PairKernel, density: &mut [f32]) {
-        let ListSource {
-            neighbors,
-            positions,
-            boundary,
-            mass,
-            rest_density,
-        } = source;
-        let n = positions.len();
-        self.len = n;
-        self.chunks
-            .resize_with(n.div_ceil(CHUNK), ListChunk::default);
+        let (positions, mass) = (source.positions, source.mass);
         let self_weight = kernel(Vec3::ZERO, 0.0).0;
-        density[..n]
-            .par_chunks_mut(CHUNK)
-            .zip(self.chunks.par_iter_mut())
-            .enumerate()
-            .for_each(|(c, (density, chunk))| {
-                chunk.restart();
-                let from = c * CHUNK;
-                let mut scratch = ListScratch::default();
-                for_each_listed(
-                    neighbors,
-                    positions,
-                    boundary,
-                    (from, from + density.len()),
-                    &mut scratch,
-                    |i, fluid_list, samples| {
-                        let x_i = positions[i];
-                        let mut fluid = self_weight;
-                        for &j in fluid_list {
-                            let r = x_i - positions[j as usize];
-                            let (w, grad) = kernel(r, r.length_squared());
-                            fluid += w;
-                            chunk.fluid.push(Pair {
-                                index: j,
-                                grad: grad * mass,
-                            });
-                        }
-                        chunk.fluid_start.push(chunk.fluid.len() as u32);
-                        let mut solid = 0.0;
-                        if let Some(b) = boundary {
-                            for &k in samples {
-                                let r = x_i - b.position[k as usize];
-                                let (w, grad) = kernel(r, r.length_squared());
-                                let psi = rest_density * b.volume[k as usize];
-                                solid += psi * w;
-                                chunk.boundary.push(Pair {
-                                    index: k,
-                                    grad: grad * psi,
-                                });
-                            }
-                        }
-                        chunk.boundary_start.push(chunk.boundary.len() as u32);
-                        density[i - from] = mass * fluid + solid;
-                    },
-                );
-            });
+        self.rebuild_by(
+            source,
+            density,
+            |x_i, list, out| {
+                let mut fluid = self_weight;
+                for &j in list {
+                    let r = x_i - positions[j as usize];
+                    let (w, grad) = kernel(r, r.length_squared());
+                    fluid += w;
+                    out.push(Pair {
+                        index: j,
+                        grad: grad * mass,
+                    });
+                }
+                fluid
+            },
+            |r, psi| {
+                let (w, grad) = kernel(r, r.length_squared());
+                (w, grad * psi)
+            },
+        );
     }
-}
 
-impl NeighborLists {
     /// [`Self::rebuild`] with the cubic spline `kernel` (DFSPH's), the fluid pairs evaluated
     /// eight at a time ([`crate::pair_lanes`], in the AVX2 copy where the CPU has it) with the
     /// fused [`CubicSpline::value_and_gradient_factor`]: the same pairs, W and ∇W to rounding.
@@ -385,6 +349,39 @@ impl NeighborLists {
         source: ListSource,
         kernel: &CubicSpline,
         density: &mut [f32],
+    ) {
+        let (positions, mass) = (source.positions, source.mass);
+        let self_weight = kernel.value(0.0);
+        let wide = wide_lanes();
+        self.rebuild_by(
+            source,
+            density,
+            |x_i, list, out| {
+                let pass = FluidPairs {
+                    kernel,
+                    x_i,
+                    list,
+                    positions,
+                    mass,
+                };
+                self_weight + pass.append(wide, out)
+            },
+            |r, psi| {
+                let (w, f) = kernel.value_and_gradient_factor(r.length_squared());
+                (w, r * (f * psi))
+            },
+        );
+    }
+
+    /// The walk both rebuilds share: the pairs found by [`for_each_listed`], then per particle
+    /// `fluid(x_i, list, pairs)` appends the fluid pairs and returns Σ_j W_ij (i included), and
+    /// `solid(r, Ψ_b)` gives a boundary pair's (W, Ψ_b ∇W); the densities on the way.
+    fn rebuild_by(
+        &mut self,
+        source: ListSource,
+        density: &mut [f32],
+        fluid: impl Fn(Vec3, &[u32], &mut Vec<Pair>) -> f32 + Sync,
+        solid: impl Fn(Vec3, f32) -> (f32, Vec3) + Sync,
     ) {
         let ListSource {
             neighbors,
@@ -397,8 +394,6 @@ impl NeighborLists {
         self.len = n;
         self.chunks
             .resize_with(n.div_ceil(CHUNK), ListChunk::default);
-        let self_weight = kernel.value(0.0);
-        let wide = wide_lanes();
         density[..n]
             .par_chunks_mut(CHUNK)
             .zip(self.chunks.par_iter_mut())
@@ -415,30 +410,19 @@ impl NeighborLists {
                     &mut scratch,
                     |i, fluid_list, samples| {
                         let x_i = positions[i];
-                        let fluid = FluidPairs {
-                            kernel,
-                            x_i,
-                            list: fluid_list,
-                            positions,
-                            mass,
-                        }
-                        .append(wide, &mut chunk.fluid);
+                        let fluid_weight = fluid(x_i, fluid_list, &mut chunk.fluid);
                         chunk.fluid_start.push(chunk.fluid.len() as u32);
-                        let mut solid = 0.0;
+                        let mut solid_weight = 0.0;
                         if let Some(b) = boundary {
                             for &k in samples {
-                                let r = x_i - b.position[k as usize];
-                                let (w, f) = kernel.value_and_gradient_factor(r.length_squared());
                                 let psi = rest_density * b.volume[k as usize];
-                                solid += psi * w;
-                                chunk.boundary.push(Pair {
-                                    index: k,
-                                    grad: r * (f * psi),
-                                });
+                                let (w, grad) = solid(x_i - b.position[k as usize], psi);
+                                solid_weight += psi * w;
+                                chunk.boundary.push(Pair { index: k, grad });
                             }
                         }
                         chunk.boundary_start.push(chunk.boundary.len() as u32);
-                        density[i - from] = mass * (self_weight + fluid) + solid;
+                        density[i - from] = mass * fluid_weight + solid_weight;
                     },
                 );
             });
