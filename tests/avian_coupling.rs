@@ -37,17 +37,18 @@ const DEPTH: f32 = 0.2;
 const GPU_SUBSTEPS: u32 = 2;
 
 /// Water steps per frame asked for in the shipped scenes (PBF, dt up to 1/120 s). On the GPU,
-/// where the force lags a frame or two, `SphControl::max_body_frame_time` (6 ms by default) cuts
-/// a frame to 6 ms of water, or one step, while the boat floats. Measured in aquaplay.ron on the GPU with 2 steps
-/// a frame, before that limit (a lag of up to 33 ms): the boat's heave grew every bob (the late
-/// force does work on it) until it left the channel at 1.4 s; with 1 step it floats (y within
-/// 0.052..0.088 m) and is carried 0.45 m.
+/// where the force lags about three frames, `SphControl::max_body_frame_time` (6 ms by default)
+/// cuts a frame to 6 ms of water (one step, shortened) while the boat floats. Measured in
+/// aquaplay.ron on the GPU with 2 steps a frame, before that limit (a lag of up to 50 ms): the
+/// boat's heave grew every bob (the late force does work on it) until it left the channel at
+/// 1.4 s; with one full step of 1/120 s (25 ms late) it floated in most runs but was thrown to
+/// y = 0.58 m in one CI run; at 6 ms it floats with the forces two frames later still.
 const SCENE_SUBSTEPS: u32 = 2;
 
 /// On the GPU with a body in the water, a frame plans at most `max_body_frame_time` of water
-/// (6 ms: one PBF step of 1/120 s, two when the flow shortens the step), whatever it asked for,
-/// and takes steps only while the newest body forces read back are at most
-/// `MAX_BODY_FORCE_LAG` frames old.
+/// (6 ms: one PBF step of 1/120 s shortened to it, two when the flow shortens the step below
+/// 3 ms), whatever it asked for, and takes steps only while the newest body forces read back
+/// are at most `MAX_BODY_FORCE_LAG` frames old.
 fn assert_short_frames_on_the_gpu(app: &App, backend: SphBackend) {
     use bevy_sph_fluid::shared::{
         body_force_lag, BodyForceReadback, SphSimulation, MAX_BODY_FORCE_LAG,
@@ -57,7 +58,7 @@ fn assert_short_frames_on_the_gpu(app: &App, backend: SphBackend) {
     let most = SphControl::default().max_body_frame_time.unwrap();
     if backend == SphBackend::Gpu {
         assert!(
-            plan.steps <= 1 || plan.duration <= most * 1.001,
+            plan.duration <= most * 1.001,
             "{} steps covering {} s a frame",
             plan.steps,
             plan.duration

@@ -61,16 +61,20 @@ pub struct SphControl {
     /// refused and named in [`SphStats::error`].
     pub rollback: sph_core::Rollback,
     /// GPU backend, while a dynamic [`SphCollider`] is in the water: the most simulated time
-    /// one frame covers [s] (at least one step; `None`: no limit). The water's force on a body
-    /// is read back a frame or two late, and a late force does work on a body that bobs: with
-    /// 16 ms of water a frame a boat of 400 kg/m³ bobbed higher each time until it left the
-    /// water (docs/scenes.md). Default [`DEFAULT_MAX_BODY_FRAME_TIME`]; allowed (0, 1] s.
+    /// one frame covers [s] (`None`: no limit); a frame takes at least one step, shortened to
+    /// this time when the time-step rule's is longer. The water's force on a body is read back
+    /// about three frames late, and a late force does work on a body that bobs: with 8.3 ms of
+    /// water a frame a boat of 400 kg/m³ sometimes, and with 16 ms always, bobbed higher each
+    /// time until it left the water (docs/scenes.md). Default [`DEFAULT_MAX_BODY_FRAME_TIME`];
+    /// allowed (0, 1] s.
     pub max_body_frame_time: Option<f32>,
 }
 
 /// The default of [`SphControl::max_body_frame_time`] [s]: two DFSPH steps of 2.7 ms a frame, or
-/// PBF's one step of 1/120 s (a frame takes at least one), both measured to keep floating
-/// bodies stable on the GPU; four DFSPH steps (10.8 ms) and two PBF steps (16.7 ms) were not.
+/// one PBF step shortened from 1/120 s to 6 ms, both measured to keep floating bodies stable on
+/// the GPU, with a boat still afloat when its forces came two frames later than usual; four
+/// DFSPH steps (10.8 ms) and two PBF steps (16.7 ms) were not, and PBF's full step of 8.3 ms
+/// threw a boat out in one CI run.
 pub const DEFAULT_MAX_BODY_FRAME_TIME: f32 = 0.006;
 
 impl SphControl {

@@ -7,8 +7,9 @@
 //! that into avian's forces (the split avian's maintainers ask for, avian issue #265). On the
 //! GPU the force is summed on the device and read back a frame or two late, without a stall.
 //! A late force does work on a body that bobs, so on the GPU a frame covers at most
-//! [`SphControl::max_body_frame_time`] of water while a dynamic collider is in it (one PBF step
-//! of 1/120 s holds a boat of 400 kg/m³; two let its bobbing grow until it left the water).
+//! [`SphControl::max_body_frame_time`] of water while a dynamic collider is in it (6 ms; a
+//! longer step is shortened to it). The forces arrive three frames late on lavapipe: at PBF's
+//! 1/120 s a frame a boat of 400 kg/m³ bobbed higher each time until it left the water.
 //!
 //! Time: by default avian steps in its fixed schedule by the game's time, the water by its own
 //! frame plan; they agree only when the water runs in real-time mode ([`SphControl::real_time`])

@@ -67,22 +67,25 @@ impl FramePlan {
 }
 
 impl FramePlan {
-    /// The plan cut to cover at most `max_time` of simulated time when a step takes `dt`
-    /// (at least one step; real-time mode's budget is cut with it).
+    /// The plan cut to cover at most `max_time` of simulated time when a step takes `dt`:
+    /// as many whole steps as fit, and at least one; a single step longer than `max_time` is
+    /// shortened to it through the frame's budget (the device's `budget_dt`), and real-time
+    /// mode's budget is cut with the steps.
     pub fn capped(self, max_time: f32, dt: f32) -> Self {
-        if !(dt > 0.0 && max_time > 0.0) || self.steps <= 1 {
+        if !(dt > 0.0 && max_time > 0.0) {
             return self;
         }
         // A hair over, so that two steps of 0.003 s fit in 0.006 s despite rounding.
         let most = ((max_time / dt * (1.0 + 1e-4)).floor() as u32).max(1);
-        if self.steps <= most {
+        if self.steps <= most && self.steps as f32 * dt <= max_time * (1.0 + 1e-4) {
             return self;
         }
-        let duration = most as f32 * dt;
+        let steps = self.steps.min(most);
+        let duration = (steps as f32 * dt).min(max_time);
         Self {
-            steps: most,
+            steps,
             duration,
-            budget: self.budget.map(|b| b.min(duration)),
+            budget: Some(self.budget.map_or(duration, |b| b.min(duration))),
         }
     }
 }
@@ -502,12 +505,23 @@ mod tests {
             duration: 0.03,
             budget: None,
         };
-        // Two steps of 3 ms fit in 6 ms, rounding aside.
+        // Two steps of 3 ms fit in 6 ms, rounding aside; the device spends them as a budget.
         let two = plan.capped(0.006, 0.003);
-        assert_eq!((two.steps, two.budget), (2, None));
+        assert_eq!(two.steps, 2);
         assert!((two.duration - 0.006).abs() < 1e-7);
-        // A step longer than the limit still goes: one a frame.
-        assert_eq!(plan.capped(0.006, 1.0 / 120.0).steps, 1);
+        assert_eq!(two.budget, Some(two.duration));
+        // A step longer than the limit still goes, one a frame, shortened to the limit.
+        let one = plan.capped(0.006, 1.0 / 120.0);
+        assert_eq!(
+            (one.steps, one.duration, one.budget),
+            (1, 0.006, Some(0.006))
+        );
+        let single = FramePlan {
+            steps: 1,
+            duration: 1.0 / 120.0,
+            budget: None,
+        };
+        assert_eq!(single.capped(0.006, 1.0 / 120.0), one);
         // A plan within the limit, or without a known dt, is left alone.
         assert_eq!(plan.capped(1.0, 0.003), plan);
         assert_eq!(plan.capped(0.006, 0.0), plan);
