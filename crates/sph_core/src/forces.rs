@@ -18,6 +18,10 @@ pub struct ForceInputs<'a> {
     pub position: &'a [Vec3],
     /// Velocities seen by the viscosity term (current or predicted, per integrator).
     pub velocity: &'a [Vec3],
+    /// Velocities the boundary's contact stops (see [`boundary_acceleration_at`]): the ones the
+    /// next drift starts from before this evaluation's acceleration, v½ in kick-drift-kick's
+    /// closing evaluation; `velocity` otherwise.
+    pub contact_velocity: &'a [Vec3],
     /// Densities from the density pass.
     pub density: &'a [f32],
     /// Pressures from the density pass.
@@ -117,7 +121,13 @@ pub fn pressure_around(
 /// a_i^v = (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc.
 /// Samples closer than Δx add the contact ([`crate::stage::BoundaryContact`]): their pushes,
 /// summed and scaled so that they stop i's approach within the step without reversing it, given
-/// `a_fluid` (the fluid's acceleration of i, gravity included) and the terms above. With `input.with_pressure` false (DFSPH's non-pressure forces) only the
+/// `a_fluid` (the fluid's acceleration of i, gravity included) and the terms above. The approach
+/// is that of `input.contact_velocity`, the velocity the next drift starts from: in
+/// kick-drift-kick's closing evaluation v½, which the closing kick and the next step's first
+/// half-kick take to v½ + a dt before the particle moves. (Stopping the viscosity's prediction
+/// v* = v½ + a_old dt/2 instead let a particle pushed off a wall last step come back unchecked:
+/// the wall rows of a tank at rest jittered at 0.05 to 0.09 m/s, and splashes reached 0.3 mm
+/// into the walls, docs/boundary.md.) With `input.with_pressure` false (DFSPH's non-pressure forces) only the
 /// friction acts: DFSPH's boundary is its solves' (a stopping contact there left a sinking body on
 /// a trapped layer of water, docs/boundary.md).
 /// `reaction(body, force, at)` receives the force on the sample's body, -m a_ib (Akinci 2012's two-way coupling).
@@ -185,7 +195,7 @@ pub fn boundary_acceleration_at(
             total += a;
         });
     if push_weight > 0.0 {
-        let v_rel = v_i - push_velocity / push_weight;
+        let v_rel = input.contact_velocity[i] - push_velocity / push_weight;
         let scale = ctx.contact.stopping_scale(push_sum, v_rel, a_fluid + total);
         if scale > 0.0 {
             // The particle takes s Σ push. Its reaction, -m s Σ push, goes to the samples that

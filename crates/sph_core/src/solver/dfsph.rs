@@ -240,6 +240,7 @@ impl DfsphStep<'_> {
         let input = ForceInputs {
             position: &p.position,
             velocity: &p.velocity,
+            contact_velocity: &p.velocity,
             density: &p.density,
             pressure: &p.pressure,
             normal: &p.normal,

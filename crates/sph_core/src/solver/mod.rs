@@ -581,6 +581,15 @@ impl CpuSolver {
                         } else {
                             &p.velocity_predicted
                         },
+                        // Kick-drift-kick's closing evaluation: v½, which the next drift
+                        // starts from plus a dt (the leapfrog's stays on its prediction).
+                        contact_velocity: if use_velocity
+                            || self.params.integrator == Integrator::KickDriftKick
+                        {
+                            &p.velocity
+                        } else {
+                            &p.velocity_predicted
+                        },
                         density: &p.density,
                         pressure: &p.pressure,
                         normal: &p.normal,

@@ -8,8 +8,9 @@
 //     + (f μ/ρ_i) Σ_b V_b (v_b - v_i) ∇²W_visc            (no-slip bodies, friction f)
 //     + g
 //     + s Σ_{r<Δx} -V_b (p_c/ρ0) ∇W_spiky                 (the samples' contact,
-//       p_c = 2 ρ0 c0² (1 - r/Δx)², s in [0, 1] the share that stops i's approach within the
-//       step (contact_dt) without reversing it; not in SOLVER_DFSPH:
+//       p_c = 2 ρ0 c0² q² (1 + (8 q)⁴), q = 1 - r/Δx, s in [0, 1] the share that stops the
+//       approach of v½ (POST_KDK) or v_i within the step (contact_dt) without reversing it;
+//       not in SOLVER_DFSPH:
 //       sph_core::stage::BoundaryContact)
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
 // and the integrator's closing phase on the particle's own velocity (neighbours read only
@@ -69,10 +70,13 @@ fn pressure_around(x_i: vec3<f32>, c: vec3<i32>) -> f32 {
 }
 
 // Sample b's contact acceleration before its stopping share: -V_b (p_c/ρ0) ∇W_spiky(r) with
-// p_c = 2 ρ0 c0² (1 - r/Δx)², zero beyond Δx (sph_core::stage::BoundaryContact::push).
+// p_c = 2 ρ0 c0² q² (1 + (8 q)⁴), q = 1 - r/Δx, zero beyond Δx
+// (sph_core::stage::BoundaryContact::push and ::pressure).
 fn contact_push(r: vec3<f32>, r_len: f32, volume: f32) -> vec3<f32> {
     let closer = max(1.0 - r_len / params.boundary_contact.x, 0.0);
-    let p_c = params.boundary_contact.y * closer * closer;
+    let q2 = closer * closer;
+    let steep = 64.0 * q2;
+    let p_c = params.boundary_contact.y * q2 * (1.0 + steep * steep);
     if p_c <= 0.0 {
         return vec3<f32>(0.0);
     }
@@ -271,7 +275,15 @@ fn particle(i: u32) {
     a += surface;
 #endif
     if push_weight > 0.0 {
-        let scale = contact_stopping_scale(push_sum, v_i - push_velocity / push_weight, a);
+        // The velocity the next drift starts from before a: kick-drift-kick's v½ (the closing
+        // kick and the next step's first half-kick add a dt), else v_i
+        // (sph_core::forces::ForceInputs::contact_velocity).
+#ifdef POST_KDK
+        let v_contact = velocity[i].xyz;
+#else
+        let v_contact = v_i;
+#endif
+        let scale = contact_stopping_scale(push_sum, v_contact - push_velocity / push_weight, a);
         if scale > 0.0 {
             // The reaction -m s Σ push goes to the samples that push along n = Σ push/|Σ push|,
             // in proportion to (push_b·n)₊ (a sample pushing against n does not lean on i).
