@@ -76,10 +76,11 @@ impl FramePlan {
             return self;
         }
         // A hair over, so that two steps of 0.003 s fit in 0.006 s despite rounding.
-        let most = ((max_time / dt * (1.0 + 1e-4)).floor() as u32).max(1);
-        if self.steps <= most && self.steps as f32 * dt <= max_time * (1.0 + 1e-4) {
+        let slack = max_time * (1.0 + 1e-4);
+        if self.steps as f32 * dt <= slack {
             return self;
         }
+        let most = ((slack / dt).floor() as u32).max(1);
         let steps = self.steps.min(most);
         let duration = (steps as f32 * dt).min(max_time);
         Self {
