@@ -3,10 +3,13 @@
 //! validated, and the solver survives the extremes.
 
 use sph_core::dfsph_bender2017::{apply_stiffness, compute_factors, density_rate, ParticleFactor};
-use sph_core::glam::Vec3;
+use sph_core::glam::{Quat, Vec3};
 use sph_core::kernel::CubicSpline;
 use sph_core::neighbor_lists::{ListSource, NeighborLists};
-use sph_core::{BlockSpawn, BoxContainer, CpuSolver, DfsphSettings, Neighbors, Solver, SphParams};
+use sph_core::{
+    BlockSpawn, BoxContainer, Collider, ColliderShape, CpuSolver, DfsphSettings, Neighbors, Pose,
+    Solver, SphParams,
+};
 
 /// A lattice block with a deterministic jitter of `jitter` Δx, sorted, with its lists built.
 struct Block {
@@ -258,6 +261,45 @@ fn dam_break(particles_per_side: usize) -> CpuSolver {
     let mut solver = CpuSolver::new(params, container, positions.len()).unwrap();
     solver.spawn(&positions, Vec3::ZERO);
     solver
+}
+
+/// Archimedes, in a tank like `sph-bench run --scenario buoyancy`'s (8,000 particles, Δx = 1 cm):
+/// a 6 × 4 × 6 Δx box held at mid-depth feels ρ0 g V upward within 15 % over the last 0.4 s of
+/// 1 s, through the solves' boundary reactions. It reads −11 % here (sph-bench's tank, at
+/// Δx = 0.99 cm, −5.1 %; the issue's ±5 % is a figure of sph-bench, not of this test). With the
+/// divergence solve's over-relaxation pushing on where a particle's compression was already
+/// gone, it read +58.5 % (docs/dfsph.md).
+#[test]
+fn a_box_held_under_water_feels_its_buoyancy() {
+    let scene = sph_core::scenario::hydrostatic(0.2, 0.2, 0.01);
+    let mut params = scene.params;
+    params.use_solver(Solver::Dfsph);
+    let (rho0, g) = (params.rest_density, params.gravity.length());
+    let mut solver = CpuSolver::new(params, scene.container, scene.particle_count()).unwrap();
+    // Faces on the lattice's cell planes.
+    let half = Vec3::new(0.03, 0.02, 0.03);
+    let pose = Pose {
+        translation: Vec3::splat(0.1),
+        rotation: Quat::IDENTITY,
+    };
+    let cube = Collider::new(ColliderShape::Cuboid { half_extents: half }, pose);
+    let id = solver.add_collider(cube).unwrap();
+    solver.spawn(&scene.positions(), Vec3::ZERO);
+    while solver.time() < 0.6 {
+        solver.step();
+    }
+    solver.take_collider_forces();
+    while solver.time() < 1.0 {
+        solver.step();
+    }
+    let force = solver.collider_force(id).unwrap().force;
+    let expected = rho0 * g * 8.0 * half.x * half.y * half.z;
+    let error = force.y / expected - 1.0;
+    assert!(
+        error.abs() < 0.15,
+        "{force} N against rho0 g V = {expected} N: {:+.1} %",
+        error * 100.0
+    );
 }
 
 #[test]

@@ -19,7 +19,7 @@ use crate::boundary::BodyForceSum;
 use crate::boundary::Boundary;
 use crate::dfsph_bender2017::{
     apply_stiffness, boundary_reactions, compute_factors, density_source, dfsph_time_step,
-    divergence_source, rest_lattice_factor, stiffness_from_source, ParticleFactor,
+    divergence_source, rest_lattice_factor, stiffness_from_source, OverRelaxation, ParticleFactor,
     DENSITY_WARM_START, DIVERGENCE_WARM_START,
 };
 use crate::forces::{compute_accelerations, ForceInputs};
@@ -197,8 +197,11 @@ impl DfsphStep<'_> {
         while (iterations < min || error > eta) && iterations < max {
             // The divergence-free solve's iterations after its first are over-relaxed (the
             // constant-density solve's are not: with it, a tank at rest kept moving, 0.042 m/s).
-            let omega = (iterations > 0 && matches!(solve, Solve::Divergence))
-                .then_some(settings.divergence_over_relaxation);
+            let omega =
+                (iterations > 0 && matches!(solve, Solve::Divergence)).then_some(OverRelaxation {
+                    omega: settings.divergence_over_relaxation,
+                    converged_source: eta * rho0,
+                });
             stiffness_from_source(&s.source, &s.factors, scale, omega, &mut s.stiffness, total);
             apply_stiffness(&s.lists, &s.stiffness, &s.factors, dt, &mut p.velocity);
             error = mean_error(s, &p.velocity, &p.density);

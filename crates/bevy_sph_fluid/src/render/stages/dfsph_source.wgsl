@@ -71,7 +71,10 @@ fn main(
         set_stiffness(i, jacobi);
 #else
 #ifdef DIVERGENCE_SOLVE
-        set_stiffness(i, over_relaxed(jacobi, stiffness(i)));
+        // Plain Jacobi where the particle is within the solve's tolerance (params.dfsph.y ρ0):
+        // no momentum on a particle whose compression is gone (see stiffness_from_source).
+        let converged = s <= params.dfsph.y * rest_density();
+        set_stiffness(i, select(over_relaxed(jacobi, stiffness(i)), jacobi, converged));
 #else
         set_stiffness(i, jacobi);
 #endif
