@@ -197,7 +197,7 @@ pub struct OverRelaxation {
 /// only where the source is above `converged_source`: the momentum (ω - 1) κ'_i would push on a
 /// particle whose compression is already gone, and the expansion it leaves is taken back by no
 /// solve (the sources are clamped at 0). With the momentum everywhere, a box held under water
-/// read +60.6 % over ρ0 g V instead of −5.2 % (docs/dfsph.md). The threshold is the solve's own
+/// read +60.6 % over ρ0 g V instead of −5.1 % (docs/dfsph.md). The threshold is the solve's own
 /// tolerance rather than 0, so that the rule does not flip on rounding: a source that converges
 /// to 0 sits at 0 within rounding, where the CPU and the GPU would disagree.
 pub fn stiffness_from_source(

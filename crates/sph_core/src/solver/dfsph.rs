@@ -197,12 +197,19 @@ impl DfsphStep<'_> {
         while (iterations < min || error > eta) && iterations < max {
             // The divergence-free solve's iterations after its first are over-relaxed (the
             // constant-density solve's are not: with it, a tank at rest kept moving, 0.042 m/s).
-            let omega =
+            let relaxation =
                 (iterations > 0 && matches!(solve, Solve::Divergence)).then_some(OverRelaxation {
                     omega: settings.divergence_over_relaxation,
                     converged_source: eta * rho0,
                 });
-            stiffness_from_source(&s.source, &s.factors, scale, omega, &mut s.stiffness, total);
+            stiffness_from_source(
+                &s.source,
+                &s.factors,
+                scale,
+                relaxation,
+                &mut s.stiffness,
+                total,
+            );
             apply_stiffness(&s.lists, &s.stiffness, &s.factors, dt, &mut p.velocity);
             error = mean_error(s, &p.velocity, &p.density);
             iterations += 1;
