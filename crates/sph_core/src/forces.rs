@@ -126,10 +126,12 @@ pub fn pressure_around(
 /// kick-drift-kick's closing evaluation v½, which the closing kick and the next step's first
 /// half-kick take to v½ + a dt before the particle moves. (Stopping the viscosity's prediction
 /// v* = v½ + a_old dt/2 instead let a particle pushed off a wall last step come back unchecked:
-/// a lone particle thrown at a wall at 16 m/s reached it, `tests/boundary.rs`, docs/boundary.md.) With `input.with_pressure` false (DFSPH's non-pressure forces) only the
-/// friction acts: DFSPH's boundary is its solves' (a stopping contact there left a sinking body on
-/// a trapped layer of water, docs/boundary.md).
-/// `reaction(body, force, at)` receives the force on the sample's body, -m a_ib (Akinci 2012's two-way coupling).
+/// a lone particle thrown at a wall at 16 m/s reached it, `tests/boundary.rs`, docs/boundary.md.)
+/// With `input.with_pressure` false (DFSPH's non-pressure forces) only the friction acts: DFSPH's
+/// boundary is its solves' (a stopping contact there left a sinking body on a trapped layer of
+/// water, docs/boundary.md).
+/// `reaction(body, force, at)` receives the force on the sample's body, -m a_ib (Akinci 2012's
+/// two-way coupling).
 #[inline]
 pub fn boundary_acceleration_at(
     ctx: &StageContext,

@@ -574,22 +574,21 @@ impl CpuSolver {
                     compute_normals(ctx, neighbors, &p.position, &p.density, &mut p.normal)
                 }),
                 CpuStage::Forces => {
+                    let current_or_predicted = |current: bool| {
+                        if current {
+                            &p.velocity
+                        } else {
+                            &p.velocity_predicted
+                        }
+                    };
                     let input = ForceInputs {
                         position: &p.position,
-                        velocity: if use_velocity {
-                            &p.velocity
-                        } else {
-                            &p.velocity_predicted
-                        },
+                        velocity: current_or_predicted(use_velocity),
                         // Kick-drift-kick's closing evaluation: v½, which the next drift
                         // starts from plus a dt (the leapfrog's stays on its prediction).
-                        contact_velocity: if use_velocity
-                            || self.params.integrator == Integrator::KickDriftKick
-                        {
-                            &p.velocity
-                        } else {
-                            &p.velocity_predicted
-                        },
+                        contact_velocity: current_or_predicted(
+                            use_velocity || self.params.integrator == Integrator::KickDriftKick,
+                        ),
                         density: &p.density,
                         pressure: &p.pressure,
                         normal: &p.normal,
