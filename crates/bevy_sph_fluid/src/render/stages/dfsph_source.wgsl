@@ -88,19 +88,20 @@ fn main(
 #endif
     }
 #ifndef DFSPH_WARM
+    // One barrier, then thread 0 adds the workgroup's terms: lavapipe runs each barrier as a
+    // switch between all of the workgroup's SIMD groups, and the tree reduction's seven cost
+    // more than the 63 additions (docs/dfsph.md).
     partial[local] = term;
     workgroupBarrier();
-    for (var stride = #{WORKGROUP_SIZE}u / 2u; stride > 0u; stride /= 2u) {
-        if local < stride {
-            partial[local] += partial[local + stride];
-        }
-        workgroupBarrier();
-    }
     if local == 0u {
+        var sum = 0.0;
+        for (var k = 0u; k < #{WORKGROUP_SIZE}u; k++) {
+            sum += partial[k];
+        }
 #ifdef TO_B
-        add_error(1u, partial[0]);
+        add_error(1u, sum);
 #else
-        add_error(0u, partial[0]);
+        add_error(0u, sum);
 #endif
     }
 #ifndef DFSPH_FIRST
