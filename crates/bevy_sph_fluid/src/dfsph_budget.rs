@@ -14,7 +14,7 @@
 //!   those of the last [`WINDOW_STEPS`] steps), clamped to the settings' least and most.
 //!   Measured on dambreak32k (docs/dfsph.md): `2 m + 8` encoded the divergence-free solve's
 //!   most (100) at nearly every frame for a mean of 32 a step; `m + m/4 + 8` encodes about 70
-//!   and cut 7 of 448 solves short (5 with `2 m + 8`); `m + 8` cut 9 short, and the doubling
+//!   and cut 7 of 446 solves short (5 with `2 m + 8`); `m + 8` cut 9 short, and the doubling
 //!   that follows each (below) left it no cheaper;
 //! - a solve that ran out of passes before it converged (the clock's `dfsph_cut_short`, counted
 //!   by the device) enters the window as if it had needed twice the budget it had, so the next
