@@ -14,23 +14,16 @@
 //!   boundary samples (Akinci 2012);
 //! - the stiffness κ_i [m⁵/(kg s²)] is a pressure over density squared, p_i/ρ_i², so it does not
 //!   depend on dt and warm-starts across steps whose dt differ;
-//! - the pressure acceleration is a_i = -Σ_j (κ_i + κ_j) g_ij - 2 κ_i Σ_b g_ib: the symmetric
-//!   form with the particle's stiffness mirrored onto the samples (κ_b = κ_i, as WCSPH's walls
-//!   mirror p_i, `crate::forces`). With κ_b = 0 instead (the boundary answering with κ_i once,
-//!   until the seventh session of 2026-11-26), a wall row needs twice its pressure to hold: the
-//!   tank's bottom layer read +85 % and the rows next to the side walls too (mean 10.1 %);
-//! - the samples hold the hydrostatic rise between particle and sample besides (as WCSPH's
-//!   walls do, Adami et al. 2012's g term): [`BoundaryRise`], a step's constant, applied with
-//!   the non-pressure accelerations. Mirroring alone (κ_b = κ_i) under-states a floor's pressure
-//!   and over-states a ceiling's, so a box held under water read +28 % (docs/dfsph.md);
+//! - the pressure acceleration is a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib (the symmetric
+//!   form, the boundary answering with the particle's own stiffness);
 //! - the rate of density change is Dρ_i/Dt = Σ_j (v_i - v_j)·g_ij + Σ_b (v_i - v_b)·g_ib.
 //!
 //! With the neighbours' stiffness held (a Jacobi step), κ_i alone changes Dρ_i/Dt by exactly
 //! -dt κ_i D_i, through i's own velocity and its neighbours', with
-//! D_i = (Σ_j g_ij + 2 Σ_b g_ib)·(Σ_j g_ij + Σ_b g_ib) + Σ_j |g_ij|² (the DFSPH factor is
-//! α_i = ρ_i / D_i in the paper's κ; ours is 1 / D_i). Hence the stiffness that removes a
-//! predicted density excess s_i = ρ*_i - ρ0 in one step is κ_i = s_i / (dt² D_i), and the one
-//! that removes a compression rate d_i = Dρ_i/Dt is κ_i = d_i / (dt D_i).
+//! D_i = |Σ_j g_ij + Σ_b g_ib|² + Σ_j |g_ij|² (the DFSPH factor is α_i = ρ_i / D_i in the
+//! paper's κ; ours is 1 / D_i). Hence the stiffness that removes a predicted density excess
+//! s_i = ρ*_i - ρ0 in one step is κ_i = s_i / (dt² D_i), and the one that removes a compression
+//! rate d_i = Dρ_i/Dt is κ_i = d_i / (dt D_i).
 
 use crate::boundary::{BodyForceSum, Boundary};
 use crate::kernel::CubicSpline;
@@ -54,9 +47,6 @@ pub struct ParticleFactor {
     pub boundary_grad: Vec3,
     /// Σ_b v_b·g_ib, the moving boundary's share of Dρ_i/Dt.
     pub boundary_flux: f32,
-    /// max(p_i, 0) of the pressure p_i = (κ_i^ρ + κ_i^v) ρ0² that the solves' totals held when
-    /// the factors were found, the floor of [`BoundaryRise`] [Pa].
-    pub rise_floor: f32,
     /// Fluid and boundary neighbours.
     pub neighbor_count: u32,
 }
@@ -94,100 +84,15 @@ pub fn rest_lattice_factor(params: &SphParams) -> f32 {
     sum * params.particle_mass * params.particle_mass
 }
 
-/// The pressure the boundary samples hold beyond the mirrored p_i: the hydrostatic rise between
-/// the particle and each sample (Adami et al. 2012's g term, as WCSPH's walls,
-/// `crate::forces::boundary_acceleration_at`), p_b^rise = max(ρ0 g·(x_b - x_i), -p̂_i), p̂_i the
-/// particle's [`ParticleFactor::rise_floor`] (a sample above a free-surface particle does not
-/// pull on it). It does not depend on the stiffness, so it acts once a step, with the
-/// non-pressure accelerations (v* = v + dt (a_np + a_rise)), and its reactions join the bodies'
-/// forces once.
-#[derive(Clone, Copy, Debug)]
-pub struct BoundaryRise<'a> {
-    /// Particle positions (the factors').
-    pub positions: &'a [Vec3],
-    /// The factors, for the floors.
-    pub factors: &'a [ParticleFactor],
-    /// g [m/s²].
-    pub gravity: Vec3,
-    /// ρ0 [kg/m³].
-    pub rest_density: f32,
-}
-
-impl BoundaryRise<'_> {
-    /// p_b^rise / ρ0² of particle i and a sample at `x_b`.
-    #[inline]
-    fn over_rho0_squared(&self, i: usize, x_b: Vec3) -> f32 {
-        let rho0 = self.rest_density;
-        let rise =
-            (rho0 * self.gravity.dot(x_b - self.positions[i])).max(-self.factors[i].rise_floor);
-        rise / (rho0 * rho0)
-    }
-
-    /// The rise's acceleration of particle i, a_i^rise = -Σ_b (p_b^rise/ρ0²) g_ib.
-    pub fn acceleration(&self, i: usize, pairs: PairsOf, boundary: &Boundary) -> Vec3 {
-        pairs.boundary.iter().fold(Vec3::ZERO, |a, pair| {
-            let x_b = boundary.position[pair.index as usize];
-            a - pair.grad * self.over_rho0_squared(i, x_b)
-        })
-    }
-
-    /// v_i += dt (a_i + a_i^rise): the predicted velocities of the non-pressure accelerations
-    /// `acceleration` and the rise.
-    pub fn predict(
-        &self,
-        lists: &NeighborLists,
-        boundary: &Boundary,
-        acceleration: &[Vec3],
-        dt: f32,
-        v: &mut [Vec3],
-    ) {
-        lists.update(v, |i, pairs, v_i| {
-            *v_i += (acceleration[i] + self.acceleration(i, pairs, boundary)) * dt;
-        });
-    }
-
-    /// The fluid's force on each boundary body from the rise: m (p_b^rise/ρ0²) g_ib per pair,
-    /// at the sample, with its torque (indexed like [`Boundary::friction`]).
-    pub fn reactions(
-        &self,
-        lists: &NeighborLists,
-        boundary: &Boundary,
-        mass: f32,
-    ) -> Vec<BodyForceSum> {
-        let bodies = boundary.body_count();
-        lists.fold(
-            || vec![BodyForceSum::default(); bodies],
-            |mut sums, i, pairs| {
-                for p in pairs.boundary {
-                    let b = p.index as usize;
-                    let x_b = boundary.position[b];
-                    let force = p.grad * (mass * self.over_rho0_squared(i, x_b));
-                    let body = boundary.body[b] as usize;
-                    sums[body].add(force, x_b, boundary.origin[body]);
-                }
-                sums
-            },
-            |mut a, b| {
-                a.iter_mut().zip(&b).for_each(|(a, b)| a.merge(b));
-                a
-            },
-        )
-    }
-}
-
-/// Fills `factors` from the lists: 1/D_i, Σ_b g_ib, Σ_b v_b·g_ib, neighbour counts, and the
-/// rise's floor from `totals`, the solves' summed stiffness (κ^ρ, κ^v) of each particle (none:
-/// 0). `reference` is a typical D (the rest lattice's) that scales the cut-off for isolated
-/// particles.
+/// Fills `factors` from the lists: 1/D_i, Σ_b g_ib, Σ_b v_b·g_ib, neighbour counts.
+/// `reference` is a typical D (the rest lattice's) that scales the cut-off for isolated particles.
 pub fn compute_factors(
     lists: &NeighborLists,
     boundary: Option<&Boundary>,
-    totals: Option<(&[f32], &[f32])>,
-    rest_density: f32,
     reference: f32,
     factors: &mut [ParticleFactor],
 ) {
-    lists.update(factors, |i, pairs, out| {
+    lists.update(factors, |_, pairs, out| {
         let mut sum = Vec3::ZERO;
         let mut squares = 0.0;
         for pair in pairs.fluid {
@@ -202,11 +107,7 @@ pub fn compute_factors(
                 boundary_flux += b.velocity[pair.index as usize].dot(pair.grad);
             }
         }
-        let rise_floor = totals.map_or(0.0, |(density, divergence)| {
-            ((density[i] + divergence[i]) * rest_density * rest_density).max(0.0)
-        });
-        // The boundary mirrors κ_i (see the module).
-        let d = (sum + 2.0 * boundary_grad).dot(sum + boundary_grad) + squares;
+        let d = (sum + boundary_grad).length_squared() + squares;
         *out = ParticleFactor {
             inverse_factor: if d > FACTOR_EPSILON * reference {
                 1.0 / d
@@ -215,7 +116,6 @@ pub fn compute_factors(
             },
             boundary_grad,
             boundary_flux,
-            rise_floor,
             neighbor_count: (pairs.fluid.len() + pairs.boundary.len()) as u32,
         };
     });
@@ -324,7 +224,7 @@ pub fn stiffness_from_source(
         });
 }
 
-/// v_i += dt a_i with the pressure acceleration a_i = -Σ_j (κ_i + κ_j) g_ij - 2 κ_i Σ_b g_ib.
+/// v_i += dt a_i with the pressure acceleration a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib.
 pub fn apply_stiffness(
     lists: &NeighborLists,
     stiffness: &[f32],
@@ -334,7 +234,7 @@ pub fn apply_stiffness(
 ) {
     lists.update(v, |i, pairs, v_i| {
         let k_i = stiffness[i];
-        let mut a = -2.0 * k_i * factors[i].boundary_grad;
+        let mut a = -k_i * factors[i].boundary_grad;
         for p in pairs.fluid {
             a -= (k_i + stiffness[p.index as usize]) * p.grad;
         }
@@ -343,7 +243,7 @@ pub fn apply_stiffness(
 }
 
 /// The fluid's force on each boundary body from the stiffness `total` of a solve: the reaction
-/// -m a_ib = 2 m κ_i g_ib of every pair (the boundary mirrors κ_i), at the sample, with its torque about the body's origin
+/// -m a_ib = m κ_i g_ib of every pair, at the sample, with its torque about the body's origin
 /// (Akinci 2012's two-way coupling). Indexed like [`Boundary::friction`].
 pub fn boundary_reactions(
     lists: &NeighborLists,
@@ -355,7 +255,7 @@ pub fn boundary_reactions(
     lists.fold(
         || vec![BodyForceSum::default(); bodies],
         |mut sums, i, pairs| {
-            let k = 2.0 * total[i] * mass;
+            let k = total[i] * mass;
             if k != 0.0 {
                 for p in pairs.boundary {
                     let b = p.index as usize;

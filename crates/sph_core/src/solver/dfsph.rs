@@ -4,8 +4,7 @@
 //! 1. non-pressure accelerations a_np (viscosity, surface tension, gravity, boundary friction)
 //!    at the step's start, where densities, factors and lists are already known;
 //! 2. dt from the flow speed ([`dfsph_time_step`]);
-//! 3. predicted velocities v* = v + dt (a_np + a_rise), with the boundary's hydrostatic rise
-//!    ([`crate::dfsph_bender2017::BoundaryRise`]);
+//! 3. predicted velocities v* = v + dt a_np;
 //! 4. the constant-density solve corrects v* until the predicted density error is small;
 //! 5. x += dt v*, the guard;
 //! 6. neighbour sort, densities, lists and factors at the new positions;
@@ -20,8 +19,8 @@ use crate::boundary::BodyForceSum;
 use crate::boundary::Boundary;
 use crate::dfsph_bender2017::{
     apply_stiffness, boundary_reactions, compute_factors, density_source, dfsph_time_step,
-    divergence_source, rest_lattice_factor, stiffness_from_source, BoundaryRise, OverRelaxation,
-    ParticleFactor, DENSITY_WARM_START, DIVERGENCE_WARM_START,
+    divergence_source, rest_lattice_factor, stiffness_from_source, OverRelaxation, ParticleFactor,
+    DENSITY_WARM_START, DIVERGENCE_WARM_START,
 };
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::frame_budget::StepDt;
@@ -137,16 +136,7 @@ impl DfsphStep<'_> {
                 &kernel,
                 &mut p.density,
             );
-            p.stiffness_density.resize(n, 0.0);
-            p.stiffness_divergence.resize(n, 0.0);
-            compute_factors(
-                &s.lists,
-                Some(boundary),
-                Some((&p.stiffness_density, &p.stiffness_divergence)),
-                ctx.rest_density,
-                s.rest_factor,
-                &mut s.factors,
-            );
+            compute_factors(&s.lists, Some(boundary), s.rest_factor, &mut s.factors);
         });
     }
 
@@ -276,25 +266,11 @@ impl DfsphStep<'_> {
             self.parts.particles,
             self.parts.boundary,
         ));
-        let (p, s) = (&mut *self.parts.particles, &*self.scratch);
-        let rise = BoundaryRise {
-            positions: &p.position,
-            factors: &s.factors,
-            gravity: ctx.gravity,
-            rest_density: ctx.rest_density,
-        };
-        let rise_reactions = rise.reactions(
-            &s.lists,
-            self.parts.boundary,
-            self.parts.params.particle_mass,
-        );
-        rise.predict(
-            &s.lists,
-            self.parts.boundary,
-            &p.acceleration,
-            dt,
-            &mut p.velocity,
-        );
+        let p = &mut *self.parts.particles;
+        p.velocity
+            .par_iter_mut()
+            .zip(p.acceleration.par_iter())
+            .for_each(|(v, &a)| *v += a * dt);
         // 4. Constant density.
         let density = self.solve(Solve::Density, dt);
         // 5. Move.
@@ -320,7 +296,7 @@ impl DfsphStep<'_> {
                 let rho = p.density[i];
                 *pressure = (p.stiffness_density[i] + p.stiffness_divergence[i]) * rho * rho;
             });
-        for reactions in [&rise_reactions, &density.reactions, &divergence.reactions] {
+        for reactions in [&density.reactions, &divergence.reactions] {
             forces
                 .iter_mut()
                 .zip(reactions)

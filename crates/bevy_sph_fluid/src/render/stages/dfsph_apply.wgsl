@@ -1,5 +1,5 @@
 // The first pass of a DFSPH Jacobi iteration (Bender & Koschier 2017, Algorithms 2 and 3):
-// first the decision, then v_i += dt a_i with a_i = -Σ_j (κ_i + κ_j) g_ij - 2 κ_i Σ_b g_ib (see
+// first the decision, then v_i += dt a_i with a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib (see
 // shaders/dfsph.wgsl), and the stiffness joins the solve's sum.
 // The decision (every thread takes the same): with `applied` iterations done and the last
 // source's mean error e (sum a, or FROM_B sum b), the solve goes on while
@@ -51,7 +51,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let k_i = stiffness(i);
-    var a = -2.0 * k_i * factor(i).boundary_grad;
+    var a = -k_i * factor(i).boundary_grad;
     let fluid = neighbor_count[i];
     for (var k = 0u; k < fluid; k++) {
         let p = pair(i, k);

@@ -1,6 +1,5 @@
-//! DFSPH's predicted velocities v* = v + dt (a_np + a_rise) after the time step, with the
-//! rollback checkpoint (`dfsph_predict.wgsl`; CPU twins: step 3 of `sph_core::solver::dfsph`,
-//! `sph_core::dfsph_bender2017::BoundaryRise::predict`).
+//! DFSPH's predicted velocities v* = v + dt a_np after the time step, with the rollback
+//! checkpoint (`dfsph_predict.wgsl`; CPU twin: step 3 of `sph_core::solver::dfsph`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{DfsphPhase, EvaluationPlan};
@@ -21,9 +20,6 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Velocity,
         Buf::Acceleration,
         Buf::AccelerationStart,
-        Buf::SortedAccelerationStart,
-        Buf::BoundaryPosition,
-        Buf::BoundaryCellStart,
         Buf::Clock,
         Buf::Checkpoint,
     ],

@@ -1,16 +1,14 @@
 // The end of a DFSPH solve: the bodies' reactions, the solve's statistics, and after the
 // divergence-free solve the step's close.
-// - Reactions (Akinci 2012's two-way coupling): each boundary pair's -m a_ib = 2 m κ_i g_ib with
-//   the stiffness the solve summed (the boundary mirrors κ_i), at the sample (summed by
-//   shaders/body_reactions.wgsl); the constant-density solve's pass adds the step's
-//   hydrostatic rise, m (p_b^rise/ρ0²) g_ib, at the same positions as the predict pass.
+// - Reactions (Akinci 2012's two-way coupling): each boundary pair's -m a_ib = m κ_i g_ib with
+//   the stiffness the solve summed, at the sample (summed by shaders/body_reactions.wgsl).
 // - Thread 0 adds the solve's applied iterations to the clock's sums and keeps its last mean
 //   error (the sum its last source wrote: a after an even count, b after an odd one).
 //   A solve still open whose decision would go on ran out of the passes the CPU encoded (its
 //   iteration budget, src/dfsph_budget.rs): it is counted as cut short.
 // - DIVERGENCE_SOLVE: p_i = (κ_i + κ_i^v) ρ_i², the pumps, the probes.
 // Nothing is summed while the clock is frozen or a state is being restored.
-// Rust twins: sph_core::dfsph_bender2017::boundary_reactions and BoundaryRise::reactions, the end of
+// Rust twins: sph_core::dfsph_bender2017::boundary_reactions, the end of
 // sph_core::solver::dfsph::DfsphStep::advance, sph_core::pump::apply_pumps (CpuSolver::step).
 #import sph::bindings::{params, clock, position, velocity, velocity_predicted, density, pressure, boundary_position, boundary_body}
 #import sph::kernels::cubic_grad
@@ -21,20 +19,13 @@
 #import sph::probes::record_probes
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
-#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, goes_on, rise_floor, rise_over_rho0_squared}
+#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, goes_on}
 
 fn particle(i: u32) {
     let x_i = position[i].xyz;
-    let k = 2.0 * total(i) * mass();
-#ifdef DIVERGENCE_SOLVE
-    let p_floor = 0.0;
-    let rises = false;
-#else
-    let p_floor = rise_floor(i);
-    let rises = true;
-#endif
+    let k = total(i) * mass();
     // The factors pass counted the samples within h at these positions: none, no reaction.
-    if (k != 0.0 || rises) && boundary_neighbors(i) > 0.0 {
+    if k != 0.0 && boundary_neighbors(i) > 0.0 {
         let h2 = params.kernel_a.y;
         let rho0 = rest_density();
         let cell = grid_cell(x_i);
@@ -48,12 +39,8 @@ fn particle(i: u32) {
                     continue;
                 }
                 let g = cubic_grad(r, sqrt(r2)) * (rho0 * sample.w);
-                var f = k;
-                if rises {
-                    f += mass() * rise_over_rho0_squared(x_i, sample.xyz, p_floor);
-                }
                 if !drained(position[i].w) {
-                    add_reaction(boundary_body[b], g * f, sample.xyz);
+                    add_reaction(boundary_body[b], g * k, sample.xyz);
                 }
             }
         }
