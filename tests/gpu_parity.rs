@@ -289,6 +289,21 @@ fn dfsph_steps_on_the_gpu_match_the_cpu_solver() {
                 "{what}: iterations"
             );
             assert!(moved > 1e-4, "{what}: the water moves");
+            // The pressures read back, (κ^ρ + κ^v) ρ² of the solves, are the CPU's.
+            let p = cpu.particles();
+            let mut cpu_order: Vec<usize> = (0..p.len()).collect();
+            cpu_order.sort_by_key(|&k| p.id[k]);
+            let p_max = p.pressure.iter().copied().fold(0.0, f32::max);
+            let dp = by_id(&s)
+                .iter()
+                .zip(&cpu_order)
+                .map(|(&g, &c)| (s.pressures[g] - p.pressure[c]).abs())
+                .fold(0.0, f32::max);
+            assert!(p_max > 1.0, "{what}: the water has pressure ({p_max} Pa)");
+            assert!(
+                dp <= 1e-3 * p_max,
+                "{what}: pressures differ by {dp} Pa of {p_max}"
+            );
             assert!(dx <= 1e-6, "{what}: positions differ by {dx} m");
             assert!(dv <= 1e-3 * v_max, "{what}: velocities differ by {dv} m/s");
             assert!(drho <= 2e-5, "{what}: densities differ by {drho}");

@@ -432,6 +432,9 @@ pub struct SphSnapshot {
     pub accelerations: Vec<Vec3>,
     /// Densities [kg/m³].
     pub densities: Vec<f32>,
+    /// Pressures [Pa] (WCSPH: the equation of state's; DFSPH: (κ^ρ + κ^v) ρ² of the solves, the
+    /// pressure its accelerations carry; PBF: 0).
+    pub pressures: Vec<f32>,
     /// Neighbours within h (GPU backend, while [`SphControl::record_neighbor_counts`]).
     pub neighbor_counts: Option<Vec<u32>>,
 }
@@ -457,8 +460,8 @@ impl SphSnapshot {
 
 /// Handles of the GPU state buffers: read back by [`SphReadbackRequest`] (GPU backend), and
 /// bindable by a material to draw particles straight from the GPU. On the GPU backend the render
-/// world writes them; on the CPU backend the plugin copies the solver's positions, velocities and
-/// densities into them every frame. Never modify these assets yourself. Replaced when
+/// world writes them; on the CPU backend the plugin copies the solver's positions, velocities,
+/// densities and pressures into them every frame. Never modify these assets yourself. Replaced when
 /// [`SphCapacity`] changes.
 #[derive(Resource, Clone, Debug, PartialEq, Eq)]
 pub struct SphGpuBuffers {
@@ -470,6 +473,9 @@ pub struct SphGpuBuffers {
     pub acceleration: Handle<ShaderBuffer>,
     /// `array<f32>`: density [kg/m³].
     pub density: Handle<ShaderBuffer>,
+    /// `array<f32>`: pressure [Pa] after each step (WCSPH: the equation of state's; DFSPH:
+    /// (κ^ρ + κ^v) ρ² of the solves; PBF: 0).
+    pub pressure: Handle<ShaderBuffer>,
     /// `array<u32>`: neighbours within h, written while [`SphControl::record_neighbor_counts`].
     pub neighbor_count: Handle<ShaderBuffer>,
     /// `SphClock` ([`sph_core::gpu_layout::GpuClock`]): dt, steps, simulated time, the last
@@ -500,6 +506,7 @@ impl SphGpuBuffers {
             velocity: make(16 * n),
             acceleration: make(16 * n),
             density: make(4 * n),
+            pressure: make(4 * n),
             neighbor_count: make(4 * n),
             clock: make(std::mem::size_of::<sph_core::gpu_layout::GpuClock>()),
             body_forces: make(std::mem::size_of::<sph_core::gpu_layout::GpuBodyForces>()),

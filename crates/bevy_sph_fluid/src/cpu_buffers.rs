@@ -47,6 +47,7 @@ fn sph_write_cpu_buffers(
                 velocity: make(16 * n),
                 acceleration: make(16 * n),
                 density: make(4 * n),
+                pressure: make(4 * n),
                 neighbor_count: make(4 * n),
                 clock: make(std::mem::size_of::<sph_core::gpu_layout::GpuClock>()),
                 body_forces: make(16),
@@ -76,6 +77,10 @@ fn sph_write_cpu_buffers(
         (
             &buffers.density,
             p.density.iter().flat_map(|d| d.to_le_bytes()).collect(),
+        ),
+        (
+            &buffers.pressure,
+            p.pressure.iter().flat_map(|d| d.to_le_bytes()).collect(),
         ),
     ];
     for (handle, bytes) in parts {

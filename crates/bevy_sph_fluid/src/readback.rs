@@ -17,13 +17,14 @@ enum Part {
     Velocity = 1,
     Acceleration = 2,
     Density = 3,
-    NeighborCount = 4,
+    Pressure = 4,
+    NeighborCount = 5,
 }
 
 /// Readbacks in flight: the bytes of each part as they arrive.
 #[derive(Resource, Default)]
 struct PendingReadback {
-    parts: [Option<Vec<u8>>; 5],
+    parts: [Option<Vec<u8>>; 6],
     /// Whether the neighbour counts were asked for too.
     with_neighbor_counts: bool,
     in_flight: bool,
@@ -191,6 +192,7 @@ fn sph_request_readback(
                         velocities: p.velocity.clone(),
                         accelerations: p.acceleration.clone(),
                         densities: p.density.clone(),
+                        pressures: p.pressure.clone(),
                         neighbor_counts: None,
                     }
                 })
@@ -224,6 +226,7 @@ fn sph_request_readback(
                 (Part::Velocity, &buffers.velocity, 16),
                 (Part::Acceleration, &buffers.acceleration, 16),
                 (Part::Density, &buffers.density, 4),
+                (Part::Pressure, &buffers.pressure, 4),
                 (Part::NeighborCount, &buffers.neighbor_count, 4),
             ] {
                 if part == Part::NeighborCount && !with_neighbor_counts {
@@ -250,11 +253,11 @@ fn sph_deliver_snapshot(
     sim: Res<SphSimulation>,
     mut stats: ResMut<SphStats>,
 ) {
-    let needed = if pending.with_neighbor_counts { 5 } else { 4 };
+    let needed = if pending.with_neighbor_counts { 6 } else { 5 };
     if !pending.in_flight || pending.parts[..needed].iter().any(Option::is_none) {
         return;
     }
-    let [Some(position), Some(velocity), Some(acceleration), Some(density), neighbor_counts] =
+    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(pressure), neighbor_counts] =
         std::mem::take(&mut pending.parts)
     else {
         return;
@@ -271,6 +274,7 @@ fn sph_deliver_snapshot(
         velocities: velocity.iter().map(xyz).collect(),
         accelerations: acceleration.iter().map(xyz).collect(),
         densities: bytemuck::pod_collect_to_vec(&density),
+        pressures: bytemuck::pod_collect_to_vec(&pressure),
         neighbor_counts: neighbor_counts.map(|bytes| bytemuck::pod_collect_to_vec(&bytes)),
     };
     // The GPU backend measures health on readback. With rollback on, non-finite values are the

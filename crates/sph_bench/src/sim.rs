@@ -19,9 +19,9 @@ pub struct State {
     pub velocities: Vec<Vec3>,
     /// Densities [kg/m³].
     pub densities: Vec<f32>,
-    /// Pressures [Pa] where the backend keeps them (the CPU; a DFSPH pressure is the solves'
+    /// Pressures [Pa], as the solver keeps them (both backends; a DFSPH pressure is the solves'
     /// stiffness times ρ², not a function of the density). `None`: the equation of state of
-    /// the densities (WCSPH on the GPU).
+    /// the densities.
     pub pressures: Option<Vec<f32>>,
 }
 
@@ -595,7 +595,7 @@ impl Simulation for AppSimulation {
             positions: s.positions,
             velocities: s.velocities,
             densities: s.densities,
-            pressures: None,
+            pressures: Some(s.pressures),
         })
     }
 

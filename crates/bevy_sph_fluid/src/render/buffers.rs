@@ -270,7 +270,7 @@ fn allocate(
     capacity: u32,
     grid_dims: UVec3,
     key: VariantKey,
-    readable: [Buffer; 8],
+    readable: [Buffer; 9],
 ) -> GpuBuffers {
     let n = capacity as u64;
     let cells = (grid_dims.x * grid_dims.y * grid_dims.z) as u64;
@@ -287,7 +287,7 @@ fn allocate(
     } else {
         0
     };
-    let [position, velocity, acceleration, density, neighbor_count, clock, body_forces, probes] =
+    let [position, velocity, acceleration, density, pressure, neighbor_count, clock, body_forces, probes] =
         readable;
     let size = |buf: Buf| -> u64 {
         match buf {
@@ -318,6 +318,7 @@ fn allocate(
             Buf::Velocity => velocity.clone(),
             Buf::Acceleration => acceleration.clone(),
             Buf::Density => density.clone(),
+            Buf::Pressure => pressure.clone(),
             Buf::NeighborCount => neighbor_count.clone(),
             Buf::Clock => clock.clone(),
             Buf::BodyForces => body_forces.clone(),
@@ -403,13 +404,14 @@ pub(crate) fn prepare_sph_buffers(
         &handles.velocity,
         &handles.acceleration,
         &handles.density,
+        &handles.pressure,
         &handles.neighbor_count,
         &handles.clock,
         &handles.body_forces,
         &handles.probes,
     ]
     .map(|h| assets.get(h).map(|b| b.buffer.clone()));
-    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(neighbor_count), Some(clock), Some(body_forces), Some(probes)] =
+    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(pressure), Some(neighbor_count), Some(clock), Some(body_forces), Some(probes)] =
         readable
     else {
         state.status = Some("gpu: preparing buffers".into());
@@ -447,6 +449,7 @@ pub(crate) fn prepare_sph_buffers(
                 velocity,
                 acceleration,
                 density,
+                pressure,
                 neighbor_count,
                 clock,
                 body_forces,
