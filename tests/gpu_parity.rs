@@ -144,6 +144,10 @@ struct Differences {
     dv: f32,
     /// Largest relative density difference.
     drho: f32,
+    /// Largest |Δp| of the pressures read back [Pa].
+    dp: f32,
+    /// The CPU's largest pressure [Pa].
+    p_max: f32,
     /// The CPU's largest speed [m/s].
     v_max: f32,
     /// The farthest a CPU particle moved from its spawn position [m].
@@ -166,6 +170,12 @@ fn differences(s: &SphSnapshot, cpu: &CpuSolver, block: &BlockSpawn, what: &str)
         .zip(&cpu_order)
         .map(|(&g, &c)| (s.densities[g] - cpu_p.density[c]).abs() / cpu_p.density[c])
         .fold(0.0, f32::max);
+    let dp = gpu_order
+        .iter()
+        .zip(&cpu_order)
+        .map(|(&g, &c)| (s.pressures[g] - cpu_p.pressure[c]).abs())
+        .fold(0.0, f32::max);
+    let p_max = cpu_p.pressure.iter().copied().fold(0.0, f32::max);
     let v_max = cpu_p
         .velocity
         .iter()
@@ -184,6 +194,8 @@ fn differences(s: &SphSnapshot, cpu: &CpuSolver, block: &BlockSpawn, what: &str)
         dx,
         dv,
         drho,
+        dp,
+        p_max,
         v_max,
         moved,
     }
@@ -226,6 +238,7 @@ fn pbf_steps_on_the_gpu_match_the_cpu_solver() {
                 drho,
                 v_max,
                 moved,
+                ..
             } = differences(&s, &cpu, &block, &what);
             assert!(moved > 1e-3, "{what}: the water moves");
             assert!(dx <= 1e-6, "{what}: positions differ by {dx} m");
@@ -279,6 +292,8 @@ fn dfsph_steps_on_the_gpu_match_the_cpu_solver() {
                 dx,
                 dv,
                 drho,
+                dp,
+                p_max,
                 v_max,
                 moved,
             } = differences(&s, &cpu, &block, &what);
@@ -290,15 +305,6 @@ fn dfsph_steps_on_the_gpu_match_the_cpu_solver() {
             );
             assert!(moved > 1e-4, "{what}: the water moves");
             // The pressures read back, (κ^ρ + κ^v) ρ² of the solves, are the CPU's.
-            let p = cpu.particles();
-            let mut cpu_order: Vec<usize> = (0..p.len()).collect();
-            cpu_order.sort_by_key(|&k| p.id[k]);
-            let p_max = p.pressure.iter().copied().fold(0.0, f32::max);
-            let dp = by_id(&s)
-                .iter()
-                .zip(&cpu_order)
-                .map(|(&g, &c)| (s.pressures[g] - p.pressure[c]).abs())
-                .fold(0.0, f32::max);
             assert!(p_max > 1.0, "{what}: the water has pressure ({p_max} Pa)");
             assert!(
                 dp <= 1e-3 * p_max,

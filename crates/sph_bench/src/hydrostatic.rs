@@ -7,7 +7,7 @@
 use crate::report::{HydrostaticFigures, Layer};
 use crate::scenarios::Setup;
 use crate::sim::State;
-use sph_core::{Eos, SphParams};
+use sph_core::SphParams;
 
 /// The hydrostatic issue's largest speed at the end of a tank at rest [m/s].
 pub const TANK_MAX_SPEED: f64 = 0.05;
@@ -50,7 +50,6 @@ impl HydrostaticSampler {
             return;
         }
         let params = &setup.scene.params;
-        let eos = Eos::from_params(params);
         let (lo, hi) = (setup.scene.container.min(), setup.scene.container.max());
         let surface = self.surface;
         let mut error = 0.0;
@@ -70,11 +69,7 @@ impl HydrostaticSampler {
             }
             let s = &mut self.sums[layer];
             s.0 += depth as f64;
-            let pressure = match &state.pressures {
-                Some(p) => p[k],
-                None => eos.pressure(rho),
-            };
-            s.1 += pressure as f64;
+            s.1 += state.pressures[k] as f64;
             s.2 += 1;
         }
         self.density_error_sum += error / state.positions.len() as f64;
@@ -134,7 +129,7 @@ mod tests {
             positions,
             velocities,
             densities: vec![setup.scene.params.rest_density; n],
-            pressures: None,
+            pressures: vec![0.0; n],
         }
     }
 

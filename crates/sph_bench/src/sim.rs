@@ -19,10 +19,9 @@ pub struct State {
     pub velocities: Vec<Vec3>,
     /// Densities [kg/m³].
     pub densities: Vec<f32>,
-    /// Pressures [Pa], as the solver keeps them (both backends; a DFSPH pressure is the solves'
-    /// stiffness times ρ², not a function of the density). `None`: the equation of state of
-    /// the densities.
-    pub pressures: Option<Vec<f32>>,
+    /// Pressures [Pa], as the solver keeps them (a DFSPH pressure is the solves' stiffness times
+    /// ρ², not a function of the density).
+    pub pressures: Vec<f32>,
 }
 
 /// Pressure-solver iterations summed over steps (DFSPH; zeros with WCSPH).
@@ -263,7 +262,7 @@ impl Simulation for CpuSimulation {
             positions: p.position.clone(),
             velocities: p.velocity.clone(),
             densities: p.density.clone(),
-            pressures: Some(p.pressure.clone()),
+            pressures: p.pressure.clone(),
         })
     }
 
@@ -595,7 +594,7 @@ impl Simulation for AppSimulation {
             positions: s.positions,
             velocities: s.velocities,
             densities: s.densities,
-            pressures: Some(s.pressures),
+            pressures: s.pressures,
         })
     }
 
