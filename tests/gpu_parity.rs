@@ -1,5 +1,5 @@
 //! One step on the GPU (lavapipe) from the same state as `sph_core`'s CPU solver: densities,
-//! accelerations (forces) and positions agree within 1e-4 relative, for both neighbour-search
+//! pressures (the free surface's extrapolated ones too), accelerations (forces) and positions agree within 1e-4 relative, for both neighbour-search
 //! modes and all three integrators; three PBF and three DFSPH steps agree with the CPU's (DFSPH
 //! with the CPU's iteration counts).
 
@@ -94,6 +94,26 @@ fn one_gpu_step_matches_the_cpu_solver() {
                 .map(|&k| Vec3::splat(cpu_p.density[k]))
                 .collect();
             assert_close(&format!("{what} density"), &rho_gpu, &rho_cpu, 1.0);
+            // The pressures, the free surface's extrapolated ones included, within 1e-4 of the
+            // largest (the equation of state turns the densities' rounding into pressure).
+            let splat = |p: &[f32], order: &[usize]| -> Vec<Vec3> {
+                order.iter().map(|&k| Vec3::splat(p[k])).collect()
+            };
+            let p_max = cpu_p.pressure.iter().fold(0.0, |m: f32, &p| m.max(p));
+            let surface = cpu_order
+                .iter()
+                .filter(|&&k| cpu_p.pressure[k] > 0.0 && cpu_p.density[k] < params.rest_density)
+                .count();
+            assert!(
+                surface > 0,
+                "{what}: no free-surface particle carries a pressure"
+            );
+            assert_close(
+                &format!("{what} pressure"),
+                &splat(&s.pressures, &gpu_order),
+                &splat(&cpu_p.pressure, &cpu_order),
+                p_max,
+            );
             let a_max = cpu_p
                 .acceleration
                 .iter()

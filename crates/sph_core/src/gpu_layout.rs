@@ -92,7 +92,8 @@ pub struct GpuSphParams {
     /// ([`crate::DfsphSettings::divergence_over_relaxation`]), 0, 0, 0.
     pub dfsph_c: [f32; 4],
     /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m],
-    /// its pressure at r = 0, 2 ρ0 c0² [Pa], 0, 0.
+    /// its pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa]
+    /// ([`crate::free_surface_pressure::max_surface_pressure`]), 0.
     pub boundary_contact: [f32; 4],
 }
 
@@ -342,7 +343,12 @@ impl GpuSphParams {
             dfsph_c: [params.dfsph.divergence_over_relaxation, 0.0, 0.0, 0.0],
             boundary_contact: {
                 let contact = crate::stage::BoundaryContact::of(params);
-                [contact.radius, contact.modulus, 0.0, 0.0]
+                [
+                    contact.radius,
+                    contact.modulus,
+                    crate::free_surface_pressure::max_surface_pressure(params),
+                    0.0,
+                ]
             },
         }
     }

@@ -27,6 +27,9 @@ pub struct StageContext {
     pub pressure_gradient_scale: f32,
     /// The boundary samples' contact (WCSPH's forces).
     pub contact: BoundaryContact,
+    /// The most pressure a free-surface particle takes from the water around it, ρ0 |g| Δx/2 [Pa]
+    /// ([`crate::free_surface_pressure`]).
+    pub max_surface_pressure: f32,
 }
 
 impl StageContext {
@@ -43,6 +46,7 @@ impl StageContext {
             surface_tension: params.surface_tension,
             gravity: params.gravity,
             contact: BoundaryContact::of(params),
+            max_surface_pressure: crate::free_surface_pressure::max_surface_pressure(params),
         }
     }
 
@@ -164,6 +168,9 @@ pub enum CpuStage {
     Sort,
     /// Density and pressure ([`crate::density`]).
     Density,
+    /// WCSPH: the pressure of free-surface particles, extrapolated from the water around them
+    /// ([`crate::free_surface_pressure`]).
+    FreeSurfacePressure,
     /// Akinci 2013 normals ([`crate::surface_tension_akinci2013`]).
     Normals,
     /// Accelerations ([`crate::forces`]).
@@ -206,11 +213,15 @@ pub enum CpuStage {
     DfsphReactions,
 }
 
-/// The stages of one force evaluation for `params`, in order: sort, density, normals (with
-/// surface tension only), forces. The integrator places the time step and its integration
+/// The stages of one force evaluation for `params`, in order: sort, density, the free surface's
+/// pressure, normals (with surface tension only), forces. The integrator places the time step and its integration
 /// phases around the evaluations.
 pub fn evaluation_stages(params: &SphParams) -> Vec<CpuStage> {
-    let mut stages = vec![CpuStage::Sort, CpuStage::Density];
+    let mut stages = vec![
+        CpuStage::Sort,
+        CpuStage::Density,
+        CpuStage::FreeSurfacePressure,
+    ];
     if params.has_surface_tension() {
         stages.push(CpuStage::Normals);
     }

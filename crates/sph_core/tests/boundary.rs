@@ -8,6 +8,7 @@ use sph_core::boundary::{BodyForceSum, Boundary};
 use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 use sph_core::density::density_at;
 use sph_core::forces::{boundary_acceleration_at, compute_accelerations, ForceInputs};
+use sph_core::free_surface_pressure::extrapolate_free_surface_pressure;
 use sph_core::guard::Guard;
 use sph_core::scenario::hydrostatic;
 use sph_core::stage::StageContext;
@@ -261,6 +262,88 @@ fn the_floor_holds_a_column_at_rest_with_its_hydrostatic_pressure() {
         assert!(a.y.abs() < 0.05 * g, "{name}: a = {a} with g = {g}");
         assert!(a.x.abs() + a.z.abs() < 1e-3 * g, "{name}: a = {a}");
     }
+}
+
+/// The rest lattice at p = ρ0 g depth below a free surface half a spacing above its top row,
+/// except the top row at 0, as the clamped equation of state leaves it (its density is short of
+/// the neighbours above it). The free-surface pass gives the top row the pressure of the water
+/// around it (`sph_core::free_surface_pressure`, the SPH interpolant), and the second row is
+/// then nearly held: with the top row at 0, its balance sees the whole of the third row's
+/// pressure and it is pushed up at a quarter of g.
+#[test]
+fn the_top_row_takes_the_pressure_of_the_water_around_it() {
+    let (mut params, _, block) = tank();
+    params.surface_tension = 0.0;
+    let (solver, neighbors, sorted) = rest_lattice_in_tank(params, &block);
+    let ctx = StageContext::new(&params);
+    let dx = params.spacing();
+    let top = 12.0 * dx;
+    let g = params.gravity.length();
+    let n = sorted.len();
+    let eos: Vec<f32> = sorted
+        .iter()
+        .map(|x| {
+            let depth = top - x.y;
+            if depth < dx {
+                0.0
+            } else {
+                params.rest_density * g * depth
+            }
+        })
+        .collect();
+    let density = vec![params.rest_density; n];
+    let mut extrapolated = vec![0.0; n];
+    extrapolate_free_surface_pressure(&ctx, &neighbors, &sorted, &density, &eos, &mut extrapolated);
+    let at = |probe: Vec3| {
+        sorted
+            .iter()
+            .position(|x| (*x - probe * dx).length() < 1e-3 * dx)
+            .unwrap()
+    };
+    let (top_row, second_row) = (at(Vec3::new(5.5, 11.5, 5.5)), at(Vec3::new(5.5, 10.5, 5.5)));
+    // Below the top row nothing changes.
+    assert!(sorted
+        .iter()
+        .zip(eos.iter().zip(&extrapolated))
+        .all(|(x, (e, p))| top - x.y < dx || e == p));
+    // The top row's is a share of the second row's (the Shepard weights of the rows around it),
+    // against ρ0 g Δx/2 due at its depth.
+    let due = params.rest_density * g * 0.5 * dx;
+    let p_top = extrapolated[top_row];
+    assert!(
+        p_top > 0.5 * due && p_top < 1.5 * due,
+        "top row {p_top} Pa against {due} Pa"
+    );
+    let second_layer_acceleration = |pressure: &[f32]| {
+        let at_rest = vec![Vec3::ZERO; n];
+        let input = ForceInputs {
+            position: &sorted,
+            velocity: &at_rest,
+            contact_velocity: &at_rest,
+            density: &density,
+            pressure,
+            normal: &vec![Vec3::ZERO; n],
+            boundary: Some(solver.boundary()),
+            with_pressure: true,
+        };
+        let mut acceleration = vec![Vec3::ZERO; n];
+        compute_accelerations(&ctx, &neighbors, &input, &mut acceleration);
+        acceleration[second_row].y
+    };
+    let (clamped, held) = (
+        second_layer_acceleration(&eos),
+        second_layer_acceleration(&extrapolated),
+    );
+    println!(
+        "second layer: a_y {clamped:.3} m/s² with the top row at 0, {held:.3} with it extrapolated"
+    );
+    assert!(clamped > 0.15 * g, "a_y {clamped} with the top row at 0");
+    // 0.25 g with the top row at 0; 0.11 g with the interpolant, whose top-row pressure is
+    // about 0.6 of the ρ0 g Δx/2 due (the kernel's support is cut at the surface).
+    assert!(
+        held.abs() < 0.5 * clamped,
+        "a_y {held} with the top row extrapolated, {clamped} at 0"
+    );
 }
 
 /// A lone particle thrown at a wall at 1 m/s: its own pressure is clamped to zero and there is no

@@ -96,11 +96,14 @@ pub enum Buf {
     /// DFSPH: the same pairs with their weighted gradient, (m ∇W_ij, j as bits), written with
     /// the factors after each sort and read by every iteration of the solves.
     DfsphPairs,
+    /// WCSPH: the equation of state's pressures, from which the free-surface pass writes
+    /// [`Buf::Pressure`].
+    PressureEos,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 35] = [
+    pub const ALL: [Buf; 36] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -136,6 +139,7 @@ impl Buf {
         Buf::Meshes,
         Buf::PbfNeighbors,
         Buf::DfsphPairs,
+        Buf::PressureEos,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -181,6 +185,7 @@ impl Buf {
             Buf::Meshes => "sph_meshes",
             Buf::PbfNeighbors => "sph_pbf_neighbors",
             Buf::DfsphPairs => "sph_dfsph_pairs",
+            Buf::PressureEos => "sph_pressure_eos",
         }
     }
 }
@@ -308,6 +313,8 @@ fn allocate(
             Buf::PbfNeighbors => 16,
             Buf::DfsphPairs if key.dfsph => 16 * n * PBF_MAX_NEIGHBORS as u64,
             Buf::DfsphPairs => 16,
+            Buf::PressureEos if !key.pbf && !key.dfsph => 4 * n,
+            Buf::PressureEos => 16,
             _ => 16 * n,
         }
     };

@@ -10,6 +10,7 @@ use crate::density::compute_density_pressure;
 use crate::diagnostics::{Diagnostics, DiagnosticsInput};
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::frame_budget::{StepDt, FRAME_DONE};
+use crate::free_surface_pressure::extrapolate_free_surface_pressure;
 use crate::guard::{Corrections, Guard};
 use crate::integrate;
 use crate::neighbor::Neighbors;
@@ -52,6 +53,9 @@ pub struct CpuSolver {
     neighbors: Neighbors,
     particles: ParticleData,
     scratch: Vec<Vec3>,
+    /// The equation of state's pressures of the last evaluation, before the free surface's
+    /// ([`crate::free_surface_pressure`]).
+    eos_pressure: Vec<f32>,
     next_id: u32,
     step_count: u64,
     time: f64,
@@ -162,6 +166,7 @@ impl CpuSolver {
             neighbors,
             particles: ParticleData::default(),
             scratch: Vec::new(),
+            eos_pressure: Vec::new(),
             next_id: 0,
             step_count: 0,
             time: 0.0,
@@ -553,6 +558,7 @@ impl CpuSolver {
     fn evaluate(&mut self, ctx: &StageContext, use_velocity: bool) {
         let (neighbors, p, t) = (&mut self.neighbors, &mut self.particles, &mut self.timings);
         let boundary = &mut self.boundary;
+        let eos_pressure = &mut self.eos_pressure;
         for stage in evaluation_stages(&self.params) {
             match stage {
                 CpuStage::Sort => timed(&mut t.sort, || {
@@ -567,6 +573,18 @@ impl CpuSolver {
                         &p.position,
                         Some(boundary),
                         &mut p.density,
+                        &mut p.pressure,
+                    )
+                }),
+                CpuStage::FreeSurfacePressure => timed(&mut t.density, || {
+                    std::mem::swap(eos_pressure, &mut p.pressure);
+                    p.pressure.resize(eos_pressure.len(), 0.0);
+                    extrapolate_free_surface_pressure(
+                        ctx,
+                        neighbors,
+                        &p.position,
+                        &p.density,
+                        eos_pressure,
                         &mut p.pressure,
                     )
                 }),

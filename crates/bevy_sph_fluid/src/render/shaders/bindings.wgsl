@@ -60,3 +60,6 @@
 // DFSPH: the same pairs with their weighted gradient (m ∇W_ij, j as bits), pair k of particle
 // i at k * capacity + i (written by the dfsph_density pass after each sort).
 @group(0) @binding(35) var<storage, read_write> dfsph_pairs: array<vec4<f32>>;
+// WCSPH: the equation of state's pressures (written by the density pass), from which the
+// free-surface pass writes `pressure`.
+@group(0) @binding(36) var<storage, read_write> pressure_eos: array<f32>;

@@ -6,7 +6,7 @@ use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
 use sph_core::CpuStage;
 
-/// ρ_i = m Σ W_poly6 + ρ0 Σ_b V_b W_poly6 (the boundary samples), p_i = EOS(ρ_i) for every particle (with `NEIGHBOR_COUNT`, the variant
+/// ρ_i = m Σ W_poly6 + ρ0 Σ_b V_b W_poly6 (the boundary samples), p_i = EOS(ρ_i) into the equation of state's pressures (the free-surface pass writes the pressures from them) for every particle (with `NEIGHBOR_COUNT`, the variant
 /// shader def of the debug views, also the neighbours within h).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_density",
@@ -16,7 +16,7 @@ pub const STAGE: GpuStage = GpuStage {
     bindings: &[
         Buf::Position,
         Buf::Density,
-        Buf::Pressure,
+        Buf::PressureEos,
         Buf::NeighborCount,
         Buf::CellStart,
         Buf::BucketStart,

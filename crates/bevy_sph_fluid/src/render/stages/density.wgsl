@@ -1,7 +1,7 @@
 // ρ_i = m Σ_j W_poly6(x_i - x_j) (Müller 2003 eq. 3, self included)
 //     + ρ0 Σ_b V_b W_poly6(x_i - x_b) (Akinci 2012, the walls' and colliders' samples),
-// then p_i from the EOS. Rust twin: sph_core::density. NEIGHBOR_COUNT (debug) also records each particle's neighbours.
-#import sph::bindings::{params, position, density, pressure, neighbor_count, boundary_position}
+// then p_i from the EOS (into pressure_eos; free_surface_pressure.wgsl writes pressure). Rust twin: sph_core::density. NEIGHBOR_COUNT (debug) also records each particle's neighbours.
+#import sph::bindings::{params, position, density, pressure_eos, neighbor_count, boundary_position}
 #import sph::kernels::{poly6, eos_pressure}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range}
 
@@ -40,7 +40,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let rho = params.gravity.w * sum + params.material.x * boundary;
     density[i] = rho;
-    pressure[i] = eos_pressure(rho);
+    pressure_eos[i] = eos_pressure(rho);
 #ifdef NEIGHBOR_COUNT
     // Self excluded.
     neighbor_count[i] = neighbors - 1u;

@@ -12,6 +12,7 @@ pub mod dfsph_predict;
 pub mod dfsph_reactions;
 pub mod dfsph_source;
 pub mod forces;
+pub mod free_surface_pressure;
 pub mod hash_offsets;
 pub mod integrate;
 pub mod normals;
@@ -74,7 +75,7 @@ pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
         ]);
         return list;
     }
-    list.push(&density::STAGE);
+    list.extend([&density::STAGE, &free_surface_pressure::STAGE]);
     if key.surface_tension {
         list.push(&normals::STAGE);
     }
@@ -297,7 +298,7 @@ mod tests {
     #[test]
     fn names_are_unique_except_the_two_places_of_the_time_step() {
         let all = all_stages();
-        assert_eq!(all.len(), 23, "every stage file, the time step twice");
+        assert_eq!(all.len(), 24, "every stage file, the time step twice");
         let mut names: Vec<&str> = all.iter().map(|s| s.name).collect();
         names.sort_unstable();
         names.dedup();

@@ -1,0 +1,37 @@
+// p_i = pressure_eos[i] where positive; at the free surface, where the clamped equation of state
+// gives 0, the SPH interpolant of the pressures around i, Σ_j (m/ρ_j) p_j W_poly6 (Müller 2003
+// eq. 1, i included), at most params.boundary_contact.z = ρ0 |g| Δx/2.
+// Rust twin: sph_core::free_surface_pressure.
+#import sph::bindings::{params, position, density, pressure, pressure_eos}
+#import sph::kernels::poly6
+#import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.particle_count {
+        return;
+    }
+    let own = pressure_eos[i];
+    if own > 0.0 {
+        pressure[i] = own;
+        return;
+    }
+    let x_i = position[i].xyz;
+    let c = home_cell(x_i);
+    let h2 = params.kernel_a.y;
+    var sum = 0.0;
+    for (var q = 0u; q < neighbor_range_count(); q++) {
+        let range = neighbor_range(c, q);
+        for (var j = range.x; j < range.y; j++) {
+            let x_j = position[j].xyz;
+            let r = x_i - x_j;
+            let r2 = dot(r, r);
+            if r2 < h2 && accepts(c, q, x_j) {
+                sum += poly6(r2) * pressure_eos[j] / density[j];
+            }
+        }
+    }
+    // params.gravity.w is the particle mass m.
+    pressure[i] = min(params.gravity.w * sum, params.boundary_contact.z);
+}
