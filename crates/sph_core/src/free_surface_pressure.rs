@@ -1,7 +1,8 @@
 //! The pressure a free-surface particle carries (WCSPH): where the clamped equation of state
 //! gives a particle no pressure, it takes the SPH interpolant of the equation of state's
 //! pressures at its position, p_i = Σ_j (m/ρ_j) p_j W_poly6(x_i − x_j) (Müller 2003 eq. 1,
-//! i included), at most [`max_surface_pressure`].
+//! i included), at most [`StageContext::max_surface_pressure`] (ρ0 |g| Δx/2,
+//! [`crate::stage::max_surface_pressure`]).
 //!
 //! Why: a particle of the top row misses the neighbours above it, so its density reads low and
 //! the clamped equation of state gives it no pressure, where the water at its depth (half a
@@ -21,17 +22,9 @@
 //! jet's leading particle driven into the floor); at ρ0 |g| Δx/2, 15 and 0.
 
 use crate::neighbor::Neighbors;
-use crate::params::SphParams;
 use crate::stage::StageContext;
 use glam::Vec3;
 use rayon::prelude::*;
-
-/// The most pressure the free surface takes from the water around it: ρ0 |g| Δx/2 [Pa], what
-/// the top row holds at rest (half a spacing of water above its centre). Without gravity it is
-/// 0 and the surface keeps its clamped pressure.
-pub fn max_surface_pressure(params: &SphParams) -> f32 {
-    0.5 * params.rest_density * params.gravity.length() * params.spacing()
-}
 
 /// The SPH interpolant of `eos_pressure` at `positions[i]`: Σ_j (m/ρ_j) p_j W_poly6 over the
 /// neighbours within h, i included.

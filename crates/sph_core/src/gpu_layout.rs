@@ -93,7 +93,7 @@ pub struct GpuSphParams {
     pub dfsph_c: [f32; 4],
     /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m],
     /// its pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa]
-    /// ([`crate::free_surface_pressure::max_surface_pressure`]), 0.
+    /// ([`crate::stage::max_surface_pressure`]), 0.
     pub boundary_contact: [f32; 4],
 }
 
@@ -346,7 +346,7 @@ impl GpuSphParams {
                 [
                     contact.radius,
                     contact.modulus,
-                    crate::free_surface_pressure::max_surface_pressure(params),
+                    crate::stage::max_surface_pressure(params),
                     0.0,
                 ]
             },

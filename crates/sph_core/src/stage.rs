@@ -46,7 +46,7 @@ impl StageContext {
             surface_tension: params.surface_tension,
             gravity: params.gravity,
             contact: BoundaryContact::of(params),
-            max_surface_pressure: crate::free_surface_pressure::max_surface_pressure(params),
+            max_surface_pressure: max_surface_pressure(params),
         }
     }
 
@@ -58,6 +58,14 @@ impl StageContext {
         }
         self
     }
+}
+
+/// The most pressure a free-surface particle takes from the water around it
+/// ([`crate::free_surface_pressure`]): ρ0 |g| Δx/2 [Pa], what the top row holds at rest (half a
+/// spacing of water above its centre). Without gravity it is 0 and the surface keeps its clamped
+/// pressure.
+pub fn max_surface_pressure(params: &SphParams) -> f32 {
+    0.5 * params.rest_density * params.gravity.length() * params.spacing()
 }
 
 /// The boundary samples' contact: a sample closer to a particle than the particle spacing Δx
