@@ -43,9 +43,11 @@ pub fn interpolated_pressure(
     sum * ctx.mass
 }
 
-/// Fills `pressure` for every (sorted) particle: its own equation-of-state pressure where that
-/// is positive, else the interpolant of the pressures around it ([`interpolated_pressure`]),
-/// at most [`StageContext::max_surface_pressure`].
+/// Fills `pressure` for every (sorted) particle: its own equation-of-state pressure, or where
+/// that is exactly 0 (the clamp's zero) the interpolant of the pressures around it
+/// ([`interpolated_pressure`]), at most [`StageContext::max_surface_pressure`]. With the clamp
+/// off (`SphParams::clamp_negative_pressure`), a negative pressure is the particle's own and is
+/// kept.
 pub fn extrapolate_free_surface_pressure(
     ctx: &StageContext,
     neighbors: &Neighbors,
@@ -56,7 +58,7 @@ pub fn extrapolate_free_surface_pressure(
 ) {
     pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
         let own = eos_pressure[i];
-        *p = if own > 0.0 {
+        *p = if own != 0.0 {
             own
         } else {
             interpolated_pressure(ctx, neighbors, positions, density, eos_pressure, i)

@@ -314,6 +314,14 @@ fn the_top_row_takes_the_pressure_of_the_water_around_it() {
         p_top > 0.5 * due && p_top < 1.5 * due,
         "top row {p_top} Pa against {due} Pa"
     );
+    // With the clamp off a negative pressure is the particle's own: it is kept.
+    let tension: Vec<f32> = eos
+        .iter()
+        .map(|&p| if p == 0.0 { -50.0 } else { p })
+        .collect();
+    let mut kept = vec![0.0; n];
+    extrapolate_free_surface_pressure(&ctx, &neighbors, &sorted, &density, &tension, &mut kept);
+    assert_eq!(kept, tension);
     let second_layer_acceleration = |pressure: &[f32]| {
         let at_rest = vec![Vec3::ZERO; n];
         let input = ForceInputs {

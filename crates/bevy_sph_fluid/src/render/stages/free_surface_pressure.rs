@@ -7,10 +7,10 @@ use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
 use sph_core::CpuStage;
 
-/// WCSPH: p_i = the equation of state's p_i where positive, else the SPH interpolant of the
-/// equation of state's pressures around i, Σ_j (m/ρ_j) p_j W_ij, at most ρ0 |g| Δx/2 (at the
-/// free surface), for every particle. Reads `PressureEos`, writes `Pressure`, so no particle reads a
-/// pressure another thread is writing.
+/// WCSPH: p_i = the equation of state's p_i where not 0 (the clamp's zero), else the SPH
+/// interpolant of the equation of state's pressures around i, Σ_j (m/ρ_j) p_j W_ij, at most
+/// ρ0 |g| Δx/2 (at the free surface), for every particle. Reads `PressureEos`, writes
+/// `Pressure`, so no particle reads a pressure another thread is writing.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_free_surface_pressure",
     cpu_twin: CpuStage::FreeSurfacePressure,

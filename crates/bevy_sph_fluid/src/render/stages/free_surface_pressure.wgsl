@@ -1,6 +1,7 @@
-// p_i = pressure_eos[i] where positive; at the free surface, where the clamped equation of state
-// gives 0, the SPH interpolant of the pressures around i, Σ_j (m/ρ_j) p_j W_poly6 (Müller 2003
-// eq. 1, i included), at most params.boundary_contact.z = ρ0 |g| Δx/2.
+// p_i = pressure_eos[i] where not 0 (a negative one, with the clamp off, is kept); at the free
+// surface, where the clamped equation of state gives 0, the SPH interpolant of the pressures
+// around i, Σ_j (m/ρ_j) p_j W_poly6 (Müller 2003 eq. 1, i included), at most
+// params.boundary_contact.z = ρ0 |g| Δx/2.
 // Rust twin: sph_core::free_surface_pressure.
 #import sph::bindings::{params, position, density, pressure, pressure_eos}
 #import sph::kernels::poly6
@@ -13,7 +14,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let own = pressure_eos[i];
-    if own > 0.0 {
+    if own != 0.0 {
         pressure[i] = own;
         return;
     }
