@@ -218,6 +218,36 @@ fn a_settling_tank_keeps_every_particle_in_the_box() {
     assert!(lowest > 0.1 * 0.01, "lowest particle at {lowest} m");
 }
 
+/// The accelerations of the rest lattice `sorted` at rest, at density ρ0, under `pressure`.
+fn accelerations_at_rest(
+    params: &SphParams,
+    solver: &CpuSolver,
+    neighbors: &Neighbors,
+    sorted: &[Vec3],
+    pressure: &[f32],
+) -> Vec<Vec3> {
+    let n = sorted.len();
+    let at_rest = vec![Vec3::ZERO; n];
+    let input = ForceInputs {
+        position: sorted,
+        velocity: &at_rest,
+        contact_velocity: &at_rest,
+        density: &vec![params.rest_density; n],
+        pressure,
+        normal: &vec![Vec3::ZERO; n],
+        boundary: Some(solver.boundary()),
+        with_pressure: true,
+    };
+    let mut acceleration = vec![Vec3::ZERO; n];
+    compute_accelerations(
+        &StageContext::new(params),
+        neighbors,
+        &input,
+        &mut acceleration,
+    );
+    acceleration
+}
+
 #[test]
 fn the_floor_holds_a_column_at_rest_with_its_hydrostatic_pressure() {
     // The rest lattice on the floor at p = ρ0 g depth: the pressure gradient must hold every
@@ -227,7 +257,6 @@ fn the_floor_holds_a_column_at_rest_with_its_hydrostatic_pressure() {
     let (mut params, _, block) = tank();
     params.surface_tension = 0.0;
     let (solver, neighbors, sorted) = rest_lattice_in_tank(params, &block);
-    let ctx = StageContext::new(&params);
     let dx = params.spacing();
     let top = 12.0 * dx;
     let g = params.gravity.length();
@@ -235,20 +264,7 @@ fn the_floor_holds_a_column_at_rest_with_its_hydrostatic_pressure() {
         .iter()
         .map(|x| params.rest_density * g * (top - x.y))
         .collect();
-    let n = sorted.len();
-    let at_rest = vec![Vec3::ZERO; n];
-    let input = ForceInputs {
-        position: &sorted,
-        velocity: &at_rest,
-        contact_velocity: &at_rest,
-        density: &vec![params.rest_density; n],
-        pressure: &pressure,
-        normal: &vec![Vec3::ZERO; n],
-        boundary: Some(solver.boundary()),
-        with_pressure: true,
-    };
-    let mut acceleration = vec![Vec3::ZERO; n];
-    compute_accelerations(&ctx, &neighbors, &input, &mut acceleration);
+    let acceleration = accelerations_at_rest(&params, &solver, &neighbors, &sorted, &pressure);
     for (name, probe) in [
         ("first layer", Vec3::new(5.5, 0.5, 5.5) * dx),
         ("second layer", Vec3::new(5.5, 1.5, 5.5) * dx),
@@ -323,20 +339,7 @@ fn the_top_row_takes_the_pressure_of_the_water_around_it() {
     extrapolate_free_surface_pressure(&ctx, &neighbors, &sorted, &density, &tension, &mut kept);
     assert_eq!(kept, tension);
     let second_layer_acceleration = |pressure: &[f32]| {
-        let at_rest = vec![Vec3::ZERO; n];
-        let input = ForceInputs {
-            position: &sorted,
-            velocity: &at_rest,
-            contact_velocity: &at_rest,
-            density: &density,
-            pressure,
-            normal: &vec![Vec3::ZERO; n],
-            boundary: Some(solver.boundary()),
-            with_pressure: true,
-        };
-        let mut acceleration = vec![Vec3::ZERO; n];
-        compute_accelerations(&ctx, &neighbors, &input, &mut acceleration);
-        acceleration[second_row].y
+        accelerations_at_rest(&params, &solver, &neighbors, &sorted, pressure)[second_row].y
     };
     let (clamped, held) = (
         second_layer_acceleration(&eos),
