@@ -1,8 +1,21 @@
 //! The hydrostatic tank: pressure against ρ0 g depth, layer by layer, averaged over the last 40 %
 //! of the run (the column's acoustic oscillation averages out), for every particle (the walls
-//! are Akinci 2012 boundary samples, so the particles next to them count too). Depth is measured from the
-//! water's initial surface (weak compressibility changes the height by the density error, well
-//! under 1 %), so a splashing particle cannot move the reference.
+//! are Akinci 2012 boundary samples, so the particles next to them count too).
+//!
+//! The depth is the weight depth: the weight of the water above a particle per unit floor area,
+//! over ρ0 g. A column at rest carries that (p(y) = g ∫ ρ dy, and mass is conserved), however
+//! much it has settled. Each particle counts as a slab one spacing thick: a particle a spacing or
+//! more above counts whole, the particle itself half, so the lattice's jitter does not split a
+//! row. Layers are binned by weight depth too. The derived particle mass is ρ0 Δx³ / 1.0098
+//! (`SphParams::from_spacing`), so a spacing of water weighs 1 % under ρ0 g Δx.
+//!
+//! Measured from the initial surface with the particle's current height instead (the first
+//! reference, kept as `error_vs_initial_surface_pct`), the top rows read deeper than they are:
+//! the column settles (0.8 mm at the second row of the 0.2 m tank, 5 % of its depth), and the
+//! top row, whose pressure is short, sags 1.8 mm towards the row under it, so some of its
+//! particles were binned with that row. The weight depth is exact for a tank with nothing in
+//! it; with a body in the water (the buoyancy scenario) the layers below the body's top read
+//! shallow by the body's volume over the floor area.
 
 use crate::report::{HydrostaticFigures, Layer};
 use crate::scenarios::Setup;
@@ -17,9 +30,10 @@ pub struct HydrostaticSampler {
     start: f64,
     spacing: f32,
     surface: f32,
-    margin: f32,
-    /// Per layer: Σ depth, Σ pressure, count.
-    sums: Vec<(f64, f64, u64)>,
+    /// A particle's volume over the floor area [m]: the weight depth of one particle.
+    depth_per_particle: f64,
+    /// Per layer: Σ weight depth, Σ pressure, count, Σ depth below the initial surface.
+    sums: Vec<LayerSums>,
     density_error_sum: f64,
     density_samples: u64,
     /// Σ of each sample's largest speed, and the samples above [`TANK_MAX_SPEED`].
@@ -35,7 +49,11 @@ impl HydrostaticSampler {
             start: 0.6 * setup.duration,
             spacing: p.spacing(),
             surface: setup.scene.container.min().y + setup.water_depth.unwrap_or(0.0),
-            margin: 0.0,
+            depth_per_particle: {
+                let (lo, hi) = (setup.scene.container.min(), setup.scene.container.max());
+                let floor_area = ((hi.x - lo.x) * (hi.z - lo.z)) as f64;
+                (p.particle_mass / p.rest_density) as f64 / floor_area
+            },
             sums: Vec::new(),
             density_error_sum: 0.0,
             density_samples: 0,
@@ -50,27 +68,20 @@ impl HydrostaticSampler {
             return;
         }
         let params = &setup.scene.params;
-        let (lo, hi) = (setup.scene.container.min(), setup.scene.container.max());
-        let surface = self.surface;
+        let heights = SortedHeights::new(&state.positions);
         let mut error = 0.0;
         for (k, (x, &rho)) in state.positions.iter().zip(&state.densities).enumerate() {
             error += ((rho / params.rest_density - 1.0).max(0.0) * 100.0) as f64;
-            let interior = x.x - lo.x >= self.margin
-                && hi.x - x.x >= self.margin
-                && x.z - lo.z >= self.margin
-                && hi.z - x.z >= self.margin;
-            if !interior {
-                continue;
-            }
-            let depth = surface - x.y;
-            let layer = (depth / self.spacing).floor().max(0.0) as usize;
+            let depth = heights.particles_above(x.y, self.spacing) * self.depth_per_particle;
+            let layer = (depth / self.spacing as f64).floor().max(0.0) as usize;
             if self.sums.len() <= layer {
-                self.sums.resize(layer + 1, (0.0, 0.0, 0));
+                self.sums.resize(layer + 1, LayerSums::default());
             }
             let s = &mut self.sums[layer];
-            s.0 += depth as f64;
-            s.1 += state.pressures[k] as f64;
-            s.2 += 1;
+            s.depth += depth;
+            s.pressure += state.pressures[k] as f64;
+            s.count += 1;
+            s.depth_below_initial_surface += (self.surface - x.y) as f64;
         }
         self.density_error_sum += error / state.positions.len() as f64;
         self.density_samples += 1;
@@ -85,31 +96,86 @@ impl HydrostaticSampler {
 
     /// The figures.
     pub fn finish(self, params: &SphParams) -> HydrostaticFigures {
+        let rho_g = params.rest_density as f64 * params.gravity.length() as f64;
         let layers: Vec<Layer> = self
             .sums
             .iter()
-            .filter(|s| s.2 > 0)
-            .map(|&(depth, pressure, n)| {
-                let (depth, pressure) = (depth / n as f64, pressure / n as f64);
-                let expected = params.rest_density as f64 * params.gravity.length() as f64 * depth;
+            .filter(|s| s.count > 0)
+            .map(|s| {
+                let n = s.count as f64;
+                let (depth, pressure) = (s.depth / n, s.pressure / n);
+                let depth_below_initial_surface = s.depth_below_initial_surface / n;
+                let expected = rho_g * depth;
+                let at_initial_surface = rho_g * depth_below_initial_surface;
                 Layer {
                     depth,
                     pressure,
                     expected,
                     error_pct: (pressure - expected) / expected * 100.0,
+                    depth_below_initial_surface,
+                    error_vs_initial_surface_pct: (pressure - at_initial_surface)
+                        / at_initial_surface
+                        * 100.0,
                 }
             })
             .collect();
         let below: Vec<f64> = layers.iter().skip(1).map(|l| l.error_pct.abs()).collect();
+        let below_initial_surface = layers
+            .iter()
+            .skip(1)
+            .map(|l| l.error_vs_initial_surface_pct.abs());
         let samples = self.density_samples.max(1) as f64;
         HydrostaticFigures {
             speed_max_window_mean: self.speed_max_sum / samples,
             speed_max_window_over_pct: self.speed_max_over as f64 / samples * 100.0,
             max_error_below_top_pct: below.iter().copied().fold(0.0, f64::max),
             mean_error_below_top_pct: below.iter().sum::<f64>() / below.len().max(1) as f64,
+            max_error_vs_initial_surface_pct: below_initial_surface.fold(0.0, f64::max),
             density_error_mean_pct: self.density_error_sum / samples,
             layers,
         }
+    }
+}
+
+/// One layer's running sums.
+#[derive(Clone, Copy, Default)]
+struct LayerSums {
+    depth: f64,
+    pressure: f64,
+    count: u64,
+    depth_below_initial_surface: f64,
+}
+
+/// The particles' heights, sorted, with their running sums: how much of the water lies above a
+/// height, in O(log n).
+struct SortedHeights {
+    heights: Vec<f64>,
+    /// `prefix[k]` = Σ of the first k heights.
+    prefix: Vec<f64>,
+}
+
+impl SortedHeights {
+    fn new(positions: &[sph_core::glam::Vec3]) -> Self {
+        let mut heights: Vec<f64> = positions.iter().map(|x| x.y as f64).collect();
+        heights.sort_by(f64::total_cmp);
+        let mut prefix = Vec::with_capacity(heights.len() + 1);
+        prefix.push(0.0);
+        for &y in &heights {
+            prefix.push(prefix.last().copied().unwrap_or(0.0) + y);
+        }
+        Self { heights, prefix }
+    }
+
+    /// Σ_j clamp((y_j − y) / s + 1/2, 0, 1): every particle a slab of thickness `s`, counted by
+    /// the share of it above `y` (a particle at `y` counts half).
+    fn particles_above(&self, y: f32, s: f32) -> f64 {
+        let (y, s) = (y as f64, s as f64);
+        let lo = self.heights.partition_point(|&h| h <= y - 0.5 * s);
+        let hi = self.heights.partition_point(|&h| h < y + 0.5 * s);
+        let whole = (self.heights.len() - hi) as f64;
+        let k = (hi - lo) as f64;
+        let partial = (self.prefix[hi] - self.prefix[lo] - k * y) / s + 0.5 * k;
+        whole + partial
     }
 }
 
@@ -131,6 +197,73 @@ mod tests {
             densities: vec![setup.scene.params.rest_density; n],
             pressures: vec![0.0; n],
         }
+    }
+
+    /// The tank's lattice with `rows` rows of `per_row` particles, the row k (from the top)
+    /// `settle(k)` below its place, each at its row's exact hydrostatic pressure.
+    fn lattice(setup: &Setup, settle: impl Fn(usize) -> f32) -> State {
+        let mut state = state(setup, 0.0);
+        let p = &setup.scene.params;
+        let (spacing, top) = (p.spacing(), setup.water_depth.unwrap_or(0.0));
+        for (x, pressure) in state.positions.iter_mut().zip(&mut state.pressures) {
+            let row = ((top - x.y) / spacing).floor() as usize;
+            *pressure = p.rest_density * p.gravity.length() * weight_depth(setup, row) as f32;
+            x.y -= settle(row);
+        }
+        state
+    }
+
+    /// The weight depth of the lattice's row k: k + 1/2 rows of particles of mass m on the
+    /// spacing² each, over ρ0 (m = ρ0 Δx³ / 1.0098, so a spacing of water weighs 1 % under
+    /// ρ0 g Δx).
+    fn weight_depth(setup: &Setup, row: usize) -> f64 {
+        let p = &setup.scene.params;
+        let area = p.spacing() as f64 * p.spacing() as f64;
+        (row as f64 + 0.5) * (p.particle_mass / p.rest_density) as f64 / area
+    }
+
+    #[test]
+    fn a_settled_column_reads_its_weight_not_its_height() {
+        let setup = setup(Scenario::Hydrostatic, 1000, 0.0);
+        let spacing = setup.scene.params.spacing();
+        // At rest on the lattice both depths agree and every layer is exact.
+        let mut sampler = HydrostaticSampler::new(&setup);
+        sampler.record(&setup, setup.duration, &lattice(&setup, |_| 0.0));
+        let exact = sampler.finish(&setup.scene.params);
+        assert_eq!(exact.layers.len(), 10);
+        for (k, layer) in exact.layers.iter().enumerate() {
+            let due = weight_depth(&setup, k);
+            assert!(
+                (layer.depth - due).abs() < 1e-6,
+                "layer {k}: {}",
+                layer.depth
+            );
+            assert!(
+                layer.error_pct.abs() < 1e-3,
+                "layer {k}: {}",
+                layer.error_pct
+            );
+            let at_height = (k as f64 + 0.5) * spacing as f64;
+            assert!((layer.depth_below_initial_surface - at_height).abs() < 1e-6);
+        }
+        // Settled by 1 % of its height (more at the top, none at the floor), with its top row
+        // sagging a further tenth of a spacing: the weight above each particle is unchanged,
+        // its height below the initial surface is not.
+        let rows = exact.layers.len();
+        let settle = |k: usize| {
+            let column = 0.01 * (rows - k) as f32 * spacing * (rows - k) as f32 / rows as f32;
+            column + if k == 0 { 0.1 * spacing } else { 0.0 }
+        };
+        let mut sampler = HydrostaticSampler::new(&setup);
+        sampler.record(&setup, setup.duration, &lattice(&setup, settle));
+        let settled = sampler.finish(&setup.scene.params);
+        assert_eq!(settled.layers.len(), rows);
+        assert!(settled.max_error_below_top_pct < 0.5, "{settled:?}");
+        assert!(
+            settled.layers[1].error_vs_initial_surface_pct < -3.0,
+            "{:?}",
+            settled.layers[1]
+        );
     }
 
     #[test]

@@ -88,11 +88,13 @@ fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
     }
     if let Some(h) = &report.hydrostatic {
         eprintln!(
-            "sph-bench: pressure vs rho g depth below the top layer: max {:.2} %, mean {:.2} %; \
-             density error {:.3} %; largest speed over the last 40 %: {:.4} m/s on average, \
-             above {} m/s in {:.0} % of the samples",
+            "sph-bench: pressure vs rho g depth below the top layer: max {:.2} %, mean {:.2} % \
+             (max {:.2} % against the depth below the initial surface); density error {:.3} %; \
+             largest speed over the last 40 %: {:.4} m/s on average, above {} m/s in {:.0} % of \
+             the samples",
             h.max_error_below_top_pct,
             h.mean_error_below_top_pct,
+            h.max_error_vs_initial_surface_pct,
             h.density_error_mean_pct,
             h.speed_max_window_mean,
             hydrostatic::TANK_MAX_SPEED,
@@ -149,11 +151,12 @@ fn validate_command(args: &ValidateArgs, bars: &Bars) -> Result<(), String> {
     if let Some(h) = &report.hydrostatic.hydrostatic {
         eprintln!(
             "sph-bench: hydrostatic: pressure vs rho g depth below the top layer: max {:.2} %, \
-             mean {:.2} % (target <= 5); mean density error {:.3} % (target <= 1); largest \
-             speed over the last 40 % {:.4} m/s on average, above {} m/s in {:.0} % of the \
-             samples; {}",
+             mean {:.2} % (target <= 5; max {:.2} % against the depth below the initial \
+             surface); mean density error {:.3} % (target <= 1); largest speed over the last \
+             40 % {:.4} m/s on average, above {} m/s in {:.0} % of the samples; {}",
             h.max_error_below_top_pct,
             h.mean_error_below_top_pct,
+            h.max_error_vs_initial_surface_pct,
             h.density_error_mean_pct,
             h.speed_max_window_mean,
             hydrostatic::TANK_MAX_SPEED,

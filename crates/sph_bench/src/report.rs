@@ -26,7 +26,8 @@ pub struct DamBreakFigures {
 /// One lattice layer's pressure.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Layer {
-    /// Mean depth below the free surface [m].
+    /// Mean weight depth [m]: the weight of the water above the particle per unit floor area,
+    /// over ρ0 g (see `crate::hydrostatic`).
     pub depth: f64,
     /// Mean SPH pressure [Pa].
     pub pressure: f64,
@@ -34,6 +35,11 @@ pub struct Layer {
     pub expected: f64,
     /// (pressure - expected) / expected [%].
     pub error_pct: f64,
+    /// Mean depth of the particles' current heights below the water's initial surface [m]:
+    /// deeper than the weight depth by the column's settling.
+    pub depth_below_initial_surface: f64,
+    /// The pressure against ρ0 g `depth_below_initial_surface` [%].
+    pub error_vs_initial_surface_pct: f64,
 }
 
 /// The hydrostatic figures.
@@ -45,6 +51,8 @@ pub struct HydrostaticFigures {
     pub max_error_below_top_pct: f64,
     /// Mean |error| of the layers below the top one [%].
     pub mean_error_below_top_pct: f64,
+    /// Largest |error_vs_initial_surface_pct| of the layers below the top one [%].
+    pub max_error_vs_initial_surface_pct: f64,
     /// Mean compression error over the averaging window [%] (target <= 1).
     pub density_error_mean_pct: f64,
     /// The largest particle speed of each sample in the averaging window, averaged [m/s]: how
