@@ -36,6 +36,8 @@ pub struct HydrostaticSampler {
     sums: Vec<LayerSums>,
     density_error_sum: f64,
     density_samples: u64,
+    /// Σ of each sample's mean speed.
+    speed_mean_sum: f64,
     /// Σ of each sample's largest speed, and the samples above [`TANK_MAX_SPEED`].
     speed_max_sum: f64,
     speed_max_over: u64,
@@ -57,6 +59,7 @@ impl HydrostaticSampler {
             sums: Vec::new(),
             density_error_sum: 0.0,
             density_samples: 0,
+            speed_mean_sum: 0.0,
             speed_max_sum: 0.0,
             speed_max_over: 0,
         }
@@ -90,6 +93,8 @@ impl HydrostaticSampler {
             .iter()
             .map(|v| v.length() as f64)
             .fold(0.0, f64::max);
+        let speed_sum: f64 = state.velocities.iter().map(|v| v.length() as f64).sum();
+        self.speed_mean_sum += speed_sum / state.velocities.len() as f64;
         self.speed_max_sum += speed_max;
         self.speed_max_over += (speed_max > TANK_MAX_SPEED) as u64;
     }
@@ -126,6 +131,7 @@ impl HydrostaticSampler {
             .map(|l| l.error_vs_initial_surface_pct.abs());
         let samples = self.density_samples.max(1) as f64;
         HydrostaticFigures {
+            speed_mean_window_mean: self.speed_mean_sum / samples,
             speed_max_window_mean: self.speed_max_sum / samples,
             speed_max_window_over_pct: self.speed_max_over as f64 / samples * 100.0,
             max_error_below_top_pct: below.iter().copied().fold(0.0, f64::max),
@@ -267,7 +273,7 @@ mod tests {
     }
 
     #[test]
-    fn the_window_reports_the_largest_speed_of_every_sample() {
+    fn the_window_reports_the_mean_and_largest_speed_of_every_sample() {
         let setup = setup(Scenario::Hydrostatic, 1000, 0.0);
         let mut sampler = HydrostaticSampler::new(&setup);
         let late = setup.duration;
@@ -277,6 +283,9 @@ mod tests {
         sampler.record(&setup, late, &state(&setup, 0.02));
         let figures = sampler.finish(&setup.scene.params);
         assert!((figures.speed_max_window_mean - 0.06).abs() < 1e-6);
+        let n = setup.scene.positions().len() as f64;
+        let mean = (0.1 + 0.02) / n / 2.0;
+        assert!((figures.speed_mean_window_mean - mean).abs() < 1e-9 * mean.max(1.0));
         assert_eq!(figures.speed_max_window_over_pct, 50.0);
     }
 }

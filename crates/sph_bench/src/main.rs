@@ -90,12 +90,13 @@ fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
         eprintln!(
             "sph-bench: pressure vs rho g depth below the top layer: max {:.2} %, mean {:.2} % \
              (max {:.2} % against the depth below the initial surface); density error {:.3} %; \
-             largest speed over the last 40 %: {:.4} m/s on average, above {} m/s in {:.0} % of \
-             the samples",
+             over the last 40 %: mean speed {:.4} m/s, largest speed {:.4} m/s on average, above \
+             {} m/s in {:.0} % of the samples",
             h.max_error_below_top_pct,
             h.mean_error_below_top_pct,
             h.max_error_vs_initial_surface_pct,
             h.density_error_mean_pct,
+            h.speed_mean_window_mean,
             h.speed_max_window_mean,
             hydrostatic::TANK_MAX_SPEED,
             h.speed_max_window_over_pct
@@ -152,12 +153,14 @@ fn validate_command(args: &ValidateArgs, bars: &Bars) -> Result<(), String> {
         eprintln!(
             "sph-bench: hydrostatic: pressure vs rho g depth below the top layer: max {:.2} %, \
              mean {:.2} % (target <= 5; max {:.2} % against the depth below the initial \
-             surface); mean density error {:.3} % (target <= 1); largest speed over the last \
-             40 % {:.4} m/s on average, above {} m/s in {:.0} % of the samples; {}",
+             surface); mean density error {:.3} % (target <= 1); over the last 40 %: mean \
+             speed {:.4} m/s, largest speed {:.4} m/s on average, above {} m/s in {:.0} % of the \
+             samples; {}",
             h.max_error_below_top_pct,
             h.mean_error_below_top_pct,
             h.max_error_vs_initial_surface_pct,
             h.density_error_mean_pct,
+            h.speed_mean_window_mean,
             h.speed_max_window_mean,
             hydrostatic::TANK_MAX_SPEED,
             h.speed_max_window_over_pct,

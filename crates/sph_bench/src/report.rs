@@ -55,6 +55,10 @@ pub struct HydrostaticFigures {
     pub max_error_vs_initial_surface_pct: f64,
     /// Mean compression error over the averaging window [%] (target <= 1).
     pub density_error_mean_pct: f64,
+    /// The mean particle speed of each sample in the averaging window, averaged [m/s]: how still
+    /// the tank is on average, where `speed_mean_end` is one instant (DFSPH's tank cycles every
+    /// few steps, docs/dfsph.md).
+    pub speed_mean_window_mean: f64,
     /// The largest particle speed of each sample in the averaging window, averaged [m/s]: how
     /// still the tank is, where `speed_max_end` is one particle at one instant.
     pub speed_max_window_mean: f64,
