@@ -205,8 +205,8 @@ mod tests {
         }
     }
 
-    /// The tank's lattice with `rows` rows of `per_row` particles, the row k (from the top)
-    /// `settle(k)` below its place, each at its row's exact hydrostatic pressure.
+    /// The tank's lattice at rest, the row k (from the top) `settle(k)` below its place, each
+    /// particle at its row's exact hydrostatic pressure (the weight above it).
     fn lattice(setup: &Setup, settle: impl Fn(usize) -> f32) -> State {
         let mut state = state(setup, 0.0);
         let p = &setup.scene.params;
