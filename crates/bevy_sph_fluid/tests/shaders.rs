@@ -8,7 +8,7 @@ use naga_oil::compose::{
 };
 use std::collections::HashMap;
 
-const LIBRARY: [(&str, &str); 12] = [
+const LIBRARY: [(&str, &str); 13] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -48,6 +48,10 @@ const LIBRARY: [(&str, &str); 12] = [
     (
         "body_reactions.wgsl",
         include_str!("../src/render/shaders/body_reactions.wgsl"),
+    ),
+    (
+        "speculative_contact.wgsl",
+        include_str!("../src/render/shaders/speculative_contact.wgsl"),
     ),
     ("pbf.wgsl", include_str!("../src/render/shaders/pbf.wgsl")),
     (

@@ -194,6 +194,11 @@ impl Boundary {
         self.walls.as_ref().map(|(_, slip)| *slip)
     }
 
+    /// The container's box when its walls are sampled, else `None`.
+    pub fn sampled_walls(&self) -> Option<&BoxContainer> {
+        self.walls.as_ref().map(|_| &self.container)
+    }
+
     /// The spacing the shapes were sampled at [m].
     pub fn spacing(&self) -> f32 {
         self.spacing

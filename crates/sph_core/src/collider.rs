@@ -342,6 +342,16 @@ impl ColliderShape {
         }
     }
 
+    /// The signed distance of the local point `p` [m] and the outward unit normal there
+    /// ([`Self::signed_distance`], [`Self::normal`] with step `eps`; a mesh answers both with
+    /// one closest-point query).
+    pub fn distance_and_normal(&self, p: Vec3, eps: f32) -> (f32, Vec3) {
+        if let Self::TriMesh(mesh) = self {
+            return mesh.distance_and_normal(p);
+        }
+        (self.signed_distance(p), self.normal(p, eps))
+    }
+
     /// The outward unit normal at the local point `p`, from the signed distance's central
     /// differences (step `eps` [m]); +y where the gradient vanishes.
     pub fn normal(&self, p: Vec3, eps: f32) -> Vec3 {

@@ -6,6 +6,7 @@
 
 use crate::boundary::{BodyForceSum, Boundary};
 use crate::neighbor::Neighbors;
+use crate::speculative_contact::{speculative_contact_at, NextDrift, SURFACE_MARGIN};
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::surface_tension_pair;
 use glam::Vec3;
@@ -36,7 +37,8 @@ pub struct ForceInputs<'a> {
 }
 
 /// The fluid's acceleration of particle i:
-/// a_i = -Σ_j m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky (Monaghan 1992, the symmetric form)
+/// a_i = -Σ_j m (p_i/ρ̂_i² + p_j/ρ̂_j²) ∇W_spiky (Monaghan 1992, the symmetric form, with
+///       ρ̂ = max(ρ, ρ0), [`pressure_density_squared`])
 ///       + (μ/ρ_i) Σ_j m (v_j - v_i) / ρ_j ∇²W_visc (Müller 2003 eq. 14) + Σ_j F_ij^st / m + g.
 /// The pairwise forces m_i a_ij are antisymmetric, so internal forces conserve momentum.
 #[inline]
@@ -49,7 +51,7 @@ pub fn acceleration_at(
     let x_i = input.position[i];
     let v_i = input.velocity[i];
     let rho_i = input.density[i];
-    let p_i = input.pressure[i] / (rho_i * rho_i);
+    let p_i = input.pressure[i] / pressure_density_squared(ctx, rho_i);
     let n_i = input.normal.get(i).copied().unwrap_or(Vec3::ZERO);
     let with_viscosity = ctx.viscosity > 0.0;
     let with_surface_tension = ctx.surface_tension > 0.0;
@@ -64,8 +66,8 @@ pub fn acceleration_at(
         let rho_j = input.density[j];
         if input.with_pressure {
             // Monaghan 1992, the symmetric form: a_i^p = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky(r_ij).
-            pressure -=
-                ctx.kernels.spiky_grad(r, r_len) * (p_i + input.pressure[j] / (rho_j * rho_j));
+            pressure -= ctx.kernels.spiky_grad(r, r_len)
+                * (p_i + input.pressure[j] / pressure_density_squared(ctx, rho_j));
         }
         if with_viscosity {
             // Design eq. 10: f_i^v = μ Σ m (v_j - v_i) / ρ_j ∇²W_visc(r_ij).
@@ -81,6 +83,18 @@ pub fn acceleration_at(
         + viscosity * (ctx.viscosity * ctx.mass / rho_i)
         + surface_tension
         + ctx.gravity
+}
+
+/// max(ρ, ρ0)², the density the pressure terms divide by. A particle whose SPH density is
+/// under ρ0 and that still carries pressure is a free-surface one given the pressure of the
+/// water around it ([`crate::free_surface_pressure`]): its density is short only by the air's
+/// share of its kernel, and with ρ² its pressure pushed like p (ρ0/ρ)², about 1.56 times too
+/// hard in the tank's top row (docs/boundary.md). Everywhere else ρ ≥ ρ0 or p = 0 (the clamp),
+/// and nothing changes; with the clamp off, a negative pressure at ρ < ρ0 pulls with p/ρ0².
+#[inline]
+pub fn pressure_density_squared(ctx: &StageContext, rho: f32) -> f32 {
+    let rho = rho.max(ctx.rest_density);
+    rho * rho
 }
 
 /// p̄_i = Σ_j V_j p_j W_ij / Σ_j V_j W_ij (V_j = m/ρ_j, i included): the Shepard average of the
@@ -180,7 +194,7 @@ pub fn boundary_acceleration_at(
                         Some(around) if p_i <= 0.0 => around(),
                         _ => p_i,
                     };
-                    (p_w, p_w / (rho_i * rho_i))
+                    (p_w, p_w / pressure_density_squared(ctx, rho_i))
                 });
                 // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
                 let p_b = (p_w - rho0 * ctx.gravity.dot(r)).max(0.0);
@@ -247,7 +261,9 @@ fn contact_shares(
 }
 
 /// Fills `acceleration` for every (sorted) particle; returns the fluid's force and torque on
-/// every boundary body (indexed like [`Boundary::friction`]; empty without a boundary).
+/// every boundary body. With the pressure terms (WCSPH), each particle's acceleration ends with
+/// the solids' speculative contact ([`crate::speculative_contact`]), which keeps its next drift
+/// a tenth of a spacing from every surface (indexed like [`Boundary::friction`]; empty without a boundary).
 pub fn compute_accelerations(
     ctx: &StageContext,
     neighbors: &Neighbors,
@@ -270,16 +286,28 @@ pub fn compute_accelerations(
             |mut sums, (i, a)| {
                 let around = || pressure_around(ctx, neighbors, input, i);
                 let fluid = acceleration_at(ctx, neighbors, input, i);
-                let wall = boundary_acceleration_at(
-                    ctx,
-                    boundary,
-                    input,
-                    i,
-                    fluid,
-                    around,
-                    |body, f, at| sums[body as usize].add(f, at, boundary.origin[body as usize]),
-                );
+                let mut react = |body: u32, f: Vec3, at: Vec3| {
+                    sums[body as usize].add(f, at, boundary.origin[body as usize])
+                };
+                let wall =
+                    boundary_acceleration_at(ctx, boundary, input, i, fluid, around, &mut react);
                 *a = fluid + wall;
+                if input.with_pressure {
+                    let drift = NextDrift {
+                        dt: ctx.contact.time_step,
+                        kick: ctx.contact.drift_kick,
+                        margin: SURFACE_MARGIN * ctx.contact.radius,
+                    };
+                    *a += speculative_contact_at(
+                        boundary,
+                        input.position[i],
+                        input.contact_velocity[i],
+                        *a,
+                        drift,
+                        ctx.mass,
+                        react,
+                    );
+                }
                 sums
             },
         )

@@ -93,7 +93,8 @@ pub struct GpuSphParams {
     pub dfsph_c: [f32; 4],
     /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m],
     /// its pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa]
-    /// ([`crate::stage::max_surface_pressure`]), 0.
+    /// ([`crate::stage::max_surface_pressure`]); the speculative contact's margin from the
+    /// solids' surfaces [m] ([`crate::speculative_contact::SURFACE_MARGIN`] Δx).
     pub boundary_contact: [f32; 4],
 }
 
@@ -347,7 +348,7 @@ impl GpuSphParams {
                     contact.radius,
                     contact.modulus,
                     crate::stage::max_surface_pressure(params),
-                    0.0,
+                    crate::speculative_contact::SURFACE_MARGIN * contact.radius,
                 ]
             },
         }
@@ -431,16 +432,17 @@ pub struct GpuCollider {
     /// half_length, 0); mesh: (first node word, first triangle word, both bit-cast u32, half
     /// thickness or -1 when closed); w = bounding radius.
     pub size: [f32; 4],
-    /// Linear velocity [m/s] (zero for static colliders).
+    /// Linear velocity [m/s] (zero for static colliders); w = the collider's body index in
+    /// the reactions (slot + 1, [`crate::boundary::WALLS_BODY`] being 0), as u32 bits.
     pub linear_velocity: [f32; 4],
     /// Angular velocity [rad/s].
     pub angular_velocity: [f32; 4],
 }
 
 impl GpuCollider {
-    /// The GPU form of `c`; a mesh's words start at `mesh_offset` in
-    /// [`GpuBoundarySamples::meshes`].
-    pub fn of(c: &crate::collider::Collider, mesh_offset: u32) -> Self {
+    /// The GPU form of `c`, body `body` in the reactions; a mesh's words start at `mesh_offset`
+    /// in [`GpuBoundarySamples::meshes`].
+    pub fn of(c: &crate::collider::Collider, mesh_offset: u32, body: u32) -> Self {
         use crate::collider::{ColliderMotion, ColliderShape};
         let (kind, size) = match c.shape {
             ColliderShape::Cuboid { half_extents } => (0.0, half_extents),
@@ -475,7 +477,10 @@ impl GpuCollider {
             translation: [t.x, t.y, t.z, kind],
             rotation: [q.x, q.y, q.z, q.w],
             size: [size.x, size.y, size.z, c.bounding_radius()],
-            linear_velocity: v(c.linear_velocity),
+            linear_velocity: {
+                let [x, y, z, _] = v(c.linear_velocity);
+                [x, y, z, f32::from_bits(body)]
+            },
             angular_velocity: v(c.angular_velocity),
         }
     }
@@ -522,12 +527,12 @@ impl GpuBoundarySamples {
         let mut meshes = Vec::new();
         let colliders = boundary
             .colliders()
-            .map(|(_, c)| {
+            .map(|(id, c)| {
                 let offset = meshes.len() as u32;
                 if let crate::collider::ColliderShape::TriMesh(mesh) = &c.shape {
                     meshes.extend(mesh.gpu_words());
                 }
-                GpuCollider::of(c, offset)
+                GpuCollider::of(c, offset, id.0 + 1)
             })
             .collect();
         Self {
@@ -551,7 +556,8 @@ pub const GPU_BODY_COMPONENTS: usize = 6;
 
 /// The fluid's force on each body summed on the device over one frame's force evaluations
 /// (WGSL `SphBodyForces`): per body and component a 64-bit two's-complement fixed-point sum in
-/// units of [`body_force_unit`], as (low, high) words, then the evaluations. Workgroups sum
+/// units of [`body_force_unit`] (the force) and [`body_moment_unit`] (the moment), as (low,
+/// high) words, then the evaluations. Workgroups sum
 /// their particles in 32-bit fixed point first; each adds its total with two 32-bit atomics and
 /// the carry, so the sum is exact whatever the order.
 #[repr(C)]
@@ -581,6 +587,16 @@ pub fn body_force_unit(mass: f32) -> f32 {
     (mass * 9.81e-3).max(f32::MIN_POSITIVE)
 }
 
+/// The fixed-point unit of the body moments Σ x_b × f [N m]: [`body_force_unit`] / 16. Each
+/// thread's moment about the world origin is rounded to it before the sums, and the torque about
+/// a body's origin is the small difference of two such moments: with the force's unit, a few
+/// hundred particles next to a body left the GPU's torque 3e-4 to 6e-4 N m from the CPU's in
+/// `tests/colliders.rs` (a tenth of a particle's weight times 1 m is 8e-4 N m there), as large as
+/// the torques compared. A workgroup's 32-bit sum still holds 125,000 particle weights times 1 m.
+pub fn body_moment_unit(mass: f32) -> f32 {
+    body_force_unit(mass) / 16.0
+}
+
 impl GpuBodyForces {
     /// Byte offset of [`Self::frame`].
     pub const FRAME_OFFSET: u64 = std::mem::offset_of!(GpuBodyForces, frame) as u64;
@@ -598,15 +614,15 @@ impl GpuBodyForces {
         if body >= GPU_BODY_SLOTS || self.evaluations == 0 {
             return None;
         }
-        let scale = body_force_unit(mass) as f64 / self.evaluations as f64;
-        let v = |k: usize| {
+        let per_evaluation = 1.0 / self.evaluations as f64;
+        let v = |k: usize, unit: f32| {
             glam::DVec3::new(
                 self.value(body, k) as f64,
                 self.value(body, k + 1) as f64,
                 self.value(body, k + 2) as f64,
-            ) * scale
+            ) * (unit as f64 * per_evaluation)
         };
-        let (force, moment) = (v(0), v(3));
+        let (force, moment) = (v(0, body_force_unit(mass)), v(3, body_moment_unit(mass)));
         // Σ (x_b - o) × f = Σ x_b × f - o × Σ f.
         let torque = moment - origin.as_dvec3().cross(force);
         Some(crate::BodyForce {
@@ -635,11 +651,15 @@ mod body_force_tests {
         let mut sums = GpuBodyForces::default();
         // Body 1: 3 evaluations of a force (0, -2000, 0) units at x = (1, 0, 0) [m], added in
         // pieces of both signs that cross the 32-bit range of the low word many times.
+        let moment_units = (body_force_unit(1.0) / body_moment_unit(1.0)).round() as usize;
+        assert_eq!(moment_units, 16);
         for _ in 0..3 {
             for piece in [-1_000_000_000, 999_998_000, -1_000, -1_000] {
                 add(&mut sums, GPU_BODY_COMPONENTS + 1, piece);
-                // Σ x × f with x = (1, 0, 0): z component = x f_y.
-                add(&mut sums, GPU_BODY_COMPONENTS + 5, piece);
+                // Σ x × f with x = (1, 0, 0): z component = x f_y, in 16 times finer units.
+                for _ in 0..moment_units {
+                    add(&mut sums, GPU_BODY_COMPONENTS + 5, piece);
+                }
             }
         }
         sums.evaluations = 3;

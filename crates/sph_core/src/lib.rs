@@ -56,6 +56,7 @@ pub mod sink;
 pub mod solver;
 pub mod solvers;
 pub mod spawn;
+pub mod speculative_contact;
 pub mod stability;
 pub mod stage;
 pub mod surface_tension_akinci2013;

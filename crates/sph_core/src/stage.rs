@@ -50,6 +50,13 @@ impl StageContext {
         }
     }
 
+    /// The same constants for an evaluation whose next drift starts from v + a dt/2
+    /// ([`BoundaryContact::drift_kick`]).
+    pub fn with_half_kick_drift(mut self) -> Self {
+        self.contact.drift_kick = 0.5;
+        self
+    }
+
     /// The same constants with the contact's stopping time step `dt`
     /// ([`BoundaryContact::time_step`]; non-positive or non-finite values keep dt_max).
     pub fn with_step_dt(mut self, dt: f32) -> Self {
@@ -99,6 +106,12 @@ pub struct BoundaryContact {
     /// evaluation of kick-drift-kick and the leapfrog ([`StageContext::with_step_dt`]). Never the
     /// previous step's: the state alone decides the step.
     pub time_step: f32,
+    /// The share of this evaluation's acceleration that the velocity of the next drift takes
+    /// (the solids' speculative contact, [`crate::speculative_contact`]): 1 where the drift
+    /// starts from v + a dt (kick-drift-kick's closing evaluation, symplectic Euler), 1/2 where
+    /// it starts from v + a dt/2 (the leapfrog's first evaluation, kick-drift-kick's first when
+    /// its forces were stale; [`StageContext::with_half_kick_drift`]).
+    pub drift_kick: f32,
 }
 
 impl BoundaryContact {
@@ -108,6 +121,7 @@ impl BoundaryContact {
             radius: params.spacing(),
             modulus: 2.0 * params.rest_density * params.speed_of_sound().powi(2),
             time_step: params.time_step,
+            drift_kick: 1.0,
         }
     }
 

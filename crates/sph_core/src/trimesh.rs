@@ -299,6 +299,15 @@ impl TriMesh {
             .is_none_or(|root| root.distance_squared(p) > half * half)
     }
 
+    /// Whether the local point `p` lies farther than `reach` [m] outside the mesh's root box
+    /// (and the shell around it): no surface point is then within `reach` of it.
+    pub fn beyond(&self, p: Vec3, reach: f32) -> bool {
+        let far = 0.5 * self.thickness.unwrap_or(0.0) + reach.max(0.0);
+        self.nodes()
+            .first()
+            .is_none_or(|root| root.distance_squared(p) > far * far)
+    }
+
     /// The closest surface point to the local point `p`, its triangle and feature.
     pub fn closest(&self, p: Vec3) -> Option<(Vec3, usize, Feature)> {
         self.bvh.closest(p, &self.triangles)

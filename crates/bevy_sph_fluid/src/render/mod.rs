@@ -30,6 +30,7 @@ pub(crate) fn build(app: &mut App) {
     load_shader_library!(app, "shaders/pumps.wgsl");
     load_shader_library!(app, "shaders/probes.wgsl");
     load_shader_library!(app, "shaders/body_reactions.wgsl");
+    load_shader_library!(app, "shaders/speculative_contact.wgsl");
     load_shader_library!(app, "shaders/pbf.wgsl");
     load_shader_library!(app, "shaders/dfsph.wgsl");
     let mut embedded = Vec::new();

@@ -752,7 +752,7 @@ impl CpuSolver {
             Integrator::KickDriftKick => {
                 if self.forces_stale {
                     // The closing kick of the previous step left no valid acceleration.
-                    self.evaluate(&ctx, true);
+                    self.evaluate(&ctx.with_half_kick_drift(), true);
                 }
                 dt = step_dt.of(self.next_time_step());
                 let p = &mut self.particles;
@@ -779,7 +779,7 @@ impl CpuSolver {
                 });
             }
             Integrator::Leapfrog => {
-                self.evaluate(&ctx, true);
+                self.evaluate(&ctx.with_half_kick_drift(), true);
                 dt = step_dt.of(self.next_time_step());
                 let p = &mut self.particles;
                 corrections += timed(&mut self.timings.integrate, || {

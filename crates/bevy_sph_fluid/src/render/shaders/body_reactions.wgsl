@@ -11,7 +11,8 @@
 const BODY_SLOTS: u32 = 32u;
 const NO_BODY: u32 = 0xffffffffu;
 
-// The workgroup's sums per body: Σ f and Σ x_b × f, in units of body_force_unit (zeroed by the
+// The workgroup's sums per body: Σ f and Σ x_b × f, in units of body_force_unit and
+// body_moment_unit (zeroed by the
 // workgroup itself: Bevy's pipelines do not ask wgpu to zero workgroup memory).
 var<workgroup> body_sums: array<atomic<i32>, 192>;
 
@@ -25,20 +26,27 @@ fn body_force_unit() -> f32 {
     return max(params.gravity.w * 9.81e-3, 1.0e-30);
 }
 
-fn to_units(v: f32) -> i32 {
-    return i32(clamp(round(v / body_force_unit()), -2.0e9, 2.0e9));
+// sph_core::gpu_layout::body_moment_unit: the moments' unit, 16 times finer [N m].
+fn body_moment_unit() -> f32 {
+    return body_force_unit() / 16.0;
+}
+
+fn to_units(v: f32, unit: f32) -> i32 {
+    return i32(clamp(round(v / unit), -2.0e9, 2.0e9));
 }
 
 fn flush_reaction() {
     let body = reaction_body;
     if body < BODY_SLOTS {
         let base = body * 6u;
-        atomicAdd(&body_sums[base], to_units(reaction_force.x));
-        atomicAdd(&body_sums[base + 1u], to_units(reaction_force.y));
-        atomicAdd(&body_sums[base + 2u], to_units(reaction_force.z));
-        atomicAdd(&body_sums[base + 3u], to_units(reaction_moment.x));
-        atomicAdd(&body_sums[base + 4u], to_units(reaction_moment.y));
-        atomicAdd(&body_sums[base + 5u], to_units(reaction_moment.z));
+        let f = body_force_unit();
+        let m = body_moment_unit();
+        atomicAdd(&body_sums[base], to_units(reaction_force.x, f));
+        atomicAdd(&body_sums[base + 1u], to_units(reaction_force.y, f));
+        atomicAdd(&body_sums[base + 2u], to_units(reaction_force.z, f));
+        atomicAdd(&body_sums[base + 3u], to_units(reaction_moment.x, m));
+        atomicAdd(&body_sums[base + 4u], to_units(reaction_moment.y, m));
+        atomicAdd(&body_sums[base + 5u], to_units(reaction_moment.z, m));
     }
     reaction_body = NO_BODY;
     reaction_force = vec3<f32>(0.0);

@@ -153,7 +153,8 @@ struct GpuCollider {
 
 // The fluid's force on each body over a frame (Rust twin: sph_core::gpu_layout::GpuBodyForces):
 // per body (32 slots: the walls, then collider slot k at k + 1) six 64-bit fixed-point sums,
-// Σ f and Σ x_b × f in units of sph_core::gpu_layout::body_force_unit, as (low, high) words,
+// Σ f and Σ x_b × f in units of sph_core::gpu_layout::body_force_unit and body_moment_unit, as
+// (low, high) words,
 // then the number of force evaluations summed.
 struct SphBodyForces {
     sums: array<atomic<u32>, 384>,

@@ -9,8 +9,10 @@ use sph_core::gpu_layout::WORKGROUP_SIZE;
 use sph_core::CpuStage;
 
 /// Pressure, viscosity, surface tension, the boundary samples' pressure and friction, and gravity
-/// for every particle, and the reaction on each boundary body summed over the frame. Roles: plain,
-/// kick-drift-kick closing kick, leapfrog first evaluation (keep a0), leapfrog second (kick).
+/// for every particle, and the reaction on each boundary body summed over the frame. Roles: plain
+/// (symplectic Euler, DFSPH's non-pressure accelerations), kick-drift-kick closing kick,
+/// leapfrog first evaluation (keep a0), leapfrog second (kick), kick-drift-kick's first
+/// evaluation with stale forces.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_forces",
     cpu_twin: CpuStage::Forces,
@@ -36,6 +38,8 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BoundaryCellStart,
         Buf::BoundaryBody,
         Buf::BodyForces,
+        Buf::Colliders,
+        Buf::Meshes,
         Buf::Pumps,
         Buf::Probes,
     ],
@@ -43,8 +47,10 @@ pub const STAGE: GpuStage = GpuStage {
     roles: &[
         &[],
         &["USE_PREDICTED_VELOCITY", "POST_KDK"],
-        &["POST_LEAPFROG_SAVE"],
+        &["POST_LEAPFROG_SAVE", "HALF_KICK_DRIFT"],
         &["USE_PREDICTED_VELOCITY", "POST_LEAPFROG_KICK"],
+        // Kick-drift-kick's first evaluation with stale forces: its drift starts from v + a dt/2.
+        &["HALF_KICK_DRIFT"],
     ],
     role: |plan: &EvaluationPlan| {
         // DFSPH: the non-pressure accelerations, once per step.
@@ -52,7 +58,8 @@ pub const STAGE: GpuStage = GpuStage {
             return matches!(plan.dfsph, DfsphPhase::Predict { .. }).then_some(0);
         }
         Some(match plan.forces {
-            ForcesRole::Plain => 0,
+            ForcesRole::Plain if plan.euler => 0,
+            ForcesRole::Plain => 4,
             ForcesRole::KickClose => 1,
             ForcesRole::LeapfrogFirst => 2,
             ForcesRole::LeapfrogSecond => 3,

@@ -1,7 +1,8 @@
-// a_i = -Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇W_spiky                (Monaghan 1992, the symmetric form)
+// a_i = -Σ m (p_i/ρ̂_i² + p_j/ρ̂_j²) ∇W_spiky              (Monaghan 1992, the symmetric form;
+//       ρ̂ = max(ρ, ρ0), pressure_density_squared)
 //     + (μ/ρ_i) Σ m (v_j - v_i)/ρ_j ∇²W_visc             (design eq. 10, VISCOSITY)
 //     - γ Σ K_ij (m C(r) r/|r| + n_i - n_j)               (Akinci 2013, SURFACE_TENSION)
-//     - Σ_b ρ0 V_b (p_w/ρ_i² + p_b/ρ0²) ∇W_spiky          (Akinci 2012, pressure mirrored:
+//     - Σ_b ρ0 V_b (p_w/ρ̂_i² + p_b/ρ0²) ∇W_spiky          (Akinci 2012, pressure mirrored:
 //       p_w = p_i, or where p_i = 0 the pressure of the water around i,
 //       Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j; the sample's p_b = max(p_w + ρ0 g·(x_b - x_i), 0)
 //       adds the hydrostatic rise to it, Adami et al. 2012)
@@ -12,12 +13,16 @@
 //       approach of v½ (POST_KDK) or v_i within the step (contact_dt) without reversing it;
 //       not in SOLVER_DFSPH:
 //       sph_core::stage::BoundaryContact)
+//     + a_s                                               (the solids' speculative contact:
+//       the next drift kept a tenth of a spacing from every collider's and the box's surface;
+//       not in SOLVER_DFSPH: shaders/speculative_contact.wgsl)
 // The spiky constant of the uniforms carries the rest-lattice gradient correction.
 // and the integrator's closing phase on the particle's own velocity (neighbours read only
 // positions and predicted velocities, so this is race-free):
 // POST_KDK            v = v½ + a dt/2, wall response, pumps, probes (sph_core::integrate::kick)
 // POST_LEAPFROG_SAVE  a0 = a                                   (first of two evaluations)
 // POST_LEAPFROG_KICK  v += (a0 + a) dt/2, wall response, pumps, probes (design eqs. 20-21)
+// HALF_KICK_DRIFT     the next drift starts from v + a dt/2 (the speculative contact's κ = 1/2)
 // |a| is recorded for the time-step pass (except by the leapfrog's second evaluation, whose
 // acceleration the next step does not start from), |v| by the closing kicks; nothing is
 // integrated or recorded while the clock is frozen.
@@ -35,6 +40,14 @@
 #import sph::probes::record_probes
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
+#import sph::speculative_contact::speculative_contact
+
+// max(ρ, ρ0)², the density the pressure terms divide by: a free-surface particle's SPH density
+// is short by the air's share of its kernel (sph_core::forces::pressure_density_squared).
+fn pressure_density_squared(rho: f32) -> f32 {
+    let r = max(rho, params.material.x);
+    return r * r;
+}
 
 fn viscosity_velocity(j: u32) -> vec3<f32> {
 #ifdef USE_PREDICTED_VELOCITY
@@ -98,6 +111,18 @@ fn contact_dt() -> f32 {
 #endif
 }
 
+// The share κ of this evaluation's acceleration that the next drift's velocity takes: 1/2 where
+// the drift starts from v + a dt/2 (the leapfrog's first evaluation, kick-drift-kick's first
+// when its forces were stale: HALF_KICK_DRIFT), else 1 (sph_core::stage::BoundaryContact::
+// drift_kick).
+fn drift_kick() -> f32 {
+#ifdef HALF_KICK_DRIFT
+    return 0.5;
+#else
+    return 1.0;
+#endif
+}
+
 // The share s in [0, 1] of the summed push that stops the approach within dt without reversing
 // it: s |push| dt <= -(v_rel + a_other dt)·push/|push| (BoundaryContact::stopping_scale).
 fn contact_stopping_scale(push: vec3<f32>, v_rel: vec3<f32>, a_other: vec3<f32>) -> f32 {
@@ -153,7 +178,7 @@ fn main(
 fn particle(i: u32) {
     let x_i = position[i].xyz;
     let rho_i = density[i];
-    let p_i = pressure[i] / (rho_i * rho_i);
+    let p_i = pressure[i] / pressure_density_squared(rho_i);
     let m = params.gravity.w;
     let h2 = params.kernel_a.y;
     let v_i = viscosity_velocity(i);
@@ -194,7 +219,7 @@ fn particle(i: u32) {
             let rho_j = density[j];
             let r_len = sqrt(r2);
 #ifndef SOLVER_DFSPH
-            pressure_sum -= spiky_grad(r, r_len) * (p_i + pressure[j] / (rho_j * rho_j));
+            pressure_sum -= spiky_grad(r, r_len) * (p_i + pressure[j] / pressure_density_squared(rho_j));
 #endif
 #ifdef VISCOSITY
             viscosity_sum += (viscosity_velocity(j) - v_i) * (viscosity_laplacian(r_len) / rho_j);
@@ -253,7 +278,7 @@ fn particle(i: u32) {
                 if p_wall <= 0.0 {
                     p_wall = pressure_around(x_i, c);
                 }
-                own = p_wall / (rho_i * rho_i);
+                own = p_wall / pressure_density_squared(rho_i);
             }
             // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
             let p_b = max(p_wall - rho0 * dot(params.gravity.xyz, r), 0.0);
@@ -274,15 +299,15 @@ fn particle(i: u32) {
 #ifdef SURFACE_TENSION
     a += surface;
 #endif
-    if push_weight > 0.0 {
-        // The velocity the next drift starts from before a: kick-drift-kick's v½ (the closing
-        // kick and the next step's first half-kick add a dt), else v_i
-        // (sph_core::forces::ForceInputs::contact_velocity).
+    // The velocity the next drift starts from before a: kick-drift-kick's v½ (the closing kick
+    // and the next step's first half-kick add a dt), else v_i
+    // (sph_core::forces::ForceInputs::contact_velocity).
 #ifdef POST_KDK
-        let v_contact = velocity[i].xyz;
+    let v_contact = velocity[i].xyz;
 #else
-        let v_contact = v_i;
+    let v_contact = v_i;
 #endif
+    if push_weight > 0.0 {
         let scale = contact_stopping_scale(push_sum, v_contact - push_velocity / push_weight, a);
         if scale > 0.0 {
             // The reaction -m s Σ push goes to the samples that push along n = Σ push/|Σ push|,
@@ -295,6 +320,10 @@ fn particle(i: u32) {
             a += push_sum * scale;
         }
     }
+#ifndef SOLVER_DFSPH
+    // The solids' speculative contact (sph_core::speculative_contact), after every other term.
+    a += speculative_contact(x_i, v_contact, a, contact_dt(), drift_kick(), !drained(position[i].w));
+#endif
     acceleration[i] = vec4<f32>(a, 0.0);
     let dt = step_dt();
     if frozen() {

@@ -1,7 +1,7 @@
 // p_i = pressure_eos[i] where not 0 (a negative one, with the clamp off, is kept); at the free
-// surface, where the clamped equation of state gives 0, the SPH interpolant of the pressures
-// around i, Σ_j (m/ρ_j) p_j W_poly6 (Müller 2003 eq. 1, i included), at most
-// params.boundary_contact.z = ρ0 |g| Δx/2.
+// surface, where the clamped equation of state gives 0, the average of the pressures around i
+// over the neighbours that have one, Σ_j V_j p_j W_poly6 / Σ_{p_j > 0} V_j W_poly6 (V_j = m/ρ_j;
+// 0 without such a neighbour), at most params.boundary_contact.z = ρ0 |g| Δx/2.
 // Rust twin: sph_core::free_surface_pressure.
 #import sph::bindings::{params, position, density, pressure, pressure_eos}
 #import sph::kernels::poly6
@@ -21,18 +21,25 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let x_i = position[i].xyz;
     let c = home_cell(x_i);
     let h2 = params.kernel_a.y;
-    var sum = 0.0;
+    var weighted = 0.0;
+    var weights = 0.0;
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
         for (var j = range.x; j < range.y; j++) {
             let x_j = position[j].xyz;
             let r = x_i - x_j;
             let r2 = dot(r, r);
-            if r2 < h2 && accepts(c, q, x_j) {
-                sum += poly6(r2) * pressure_eos[j] / density[j];
+            let p_j = pressure_eos[j];
+            if r2 < h2 && p_j > 0.0 && accepts(c, q, x_j) {
+                let w = poly6(r2) / density[j];
+                weighted += w * p_j;
+                weights += w;
             }
         }
     }
-    // params.gravity.w is the particle mass m.
-    pressure[i] = min(params.gravity.w * sum, params.boundary_contact.z);
+    var average = 0.0;
+    if weights > 0.0 {
+        average = weighted / weights;
+    }
+    pressure[i] = min(average, params.boundary_contact.z);
 }

@@ -1,0 +1,105 @@
+// The solids' speculative contact (Rust twin: sph_core::speculative_contact): the next drift may
+// bring a particle no closer than the margin (params.boundary_contact.w, a tenth of a spacing) to
+// the exact surface of a collider or of the box. For each surface within reach, taken one after
+// another, the velocity the drift starts from, v' = v_c + (a + a_s) dt, may approach it at most
+// at (φ - margin)/dt relative to the solid there: (v' - v_s)·n >= -max(φ - margin, 0)/dt. The
+// excess approach is taken away along n (never a push away), and its reaction -m n Δv/dt goes to
+// the surface's body at the particle.
+#define_import_path sph::speculative_contact
+
+#import sph::bindings::{params, colliders}
+#import sph::guard::{rotate, shape_distance, mesh_distance, node_distance2}
+#import sph::body_reactions::add_reaction
+
+// The acceleration that takes away the approach of v_next to a surface at distance phi with
+// outward normal n beyond (phi - margin)/dt, relative to the solid's velocity v_solid; the
+// drift's velocity takes it times step = κ dt.
+fn stopping(phi: f32, n: vec3<f32>, v_solid: vec3<f32>, v_next: vec3<f32>, dt: f32, step: f32) -> vec3<f32> {
+    let approach = dot(v_next - v_solid, n);
+    let allowed = -max(phi - params.boundary_contact.w, 0.0) / dt;
+    if approach < allowed {
+        return n * ((allowed - approach) / step);
+    }
+    return vec3<f32>(0.0);
+}
+
+// The contact's acceleration a_s of a particle at x: v_c the velocity the next drift starts from
+// before this evaluation's acceleration a, dt the drift's step, kick the share κ of the
+// acceleration the drift's velocity takes (v_c + κ a dt; sph_core::stage::BoundaryContact::
+// drift_kick); the reactions go to the bodies when `react` (not for a drained particle).
+fn speculative_contact(x: vec3<f32>, v_c: vec3<f32>, a: vec3<f32>, dt: f32, kick: f32, react: bool) -> vec3<f32> {
+    let step = kick * dt;
+    if !(step > 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let m = params.gravity.w;
+    // Farther surfaces cannot be reached by the next drift (twice the reach covers a wedge).
+    let reach = params.boundary_contact.w + 2.0 * length(v_c + a * step) * dt;
+    var extra = vec3<f32>(0.0);
+    // The box's six faces (body 0, the walls).
+    let lo = x - params.box_min.xyz;
+    let hi = params.box_max.xyz - x;
+    let phis = array<f32, 6>(lo.x, hi.x, lo.y, hi.y, lo.z, hi.z);
+    let normals = array<vec3<f32>, 6>(
+        vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(-1.0, 0.0, 0.0),
+        vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, -1.0, 0.0),
+        vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0, 0.0, -1.0),
+    );
+    for (var f = 0u; f < 6u; f++) {
+        if phis[f] < reach {
+            let s = stopping(phis[f], normals[f], vec3<f32>(0.0), v_c + (a + extra) * step, dt, step);
+            extra += s;
+            // Only a stop adds a reaction (each change of body flushes the thread's sum).
+            if react && any(s != vec3<f32>(0.0)) {
+                add_reaction(0u, s * -m, x);
+            }
+        }
+    }
+    for (var k = 0u; k < params.flags.w; k++) {
+        let c = colliders[k];
+        let inverse = vec4<f32>(-c.rotation.xyz, c.rotation.w);
+        let local = rotate(inverse, x - c.translation.xyz);
+        let bound = c.size.w + reach;
+        if dot(local, local) > bound * bound {
+            continue;
+        }
+        let kind = u32(c.translation.w);
+        var phi: f32;
+        var n_local = vec3<f32>(0.0, 1.0, 0.0);
+        if kind == 4u {
+            let far = max(c.size.z, 0.0) + reach;
+            if node_distance2(bitcast<u32>(c.size.x), 0u, local) > far * far {
+                continue;
+            }
+            let d = mesh_distance(bitcast<u32>(c.size.x), bitcast<u32>(c.size.y), c.size.z, local);
+            phi = d.w;
+            n_local = d.xyz;
+        } else {
+            phi = shape_distance(kind, c.size.xyz, local);
+            if phi >= reach {
+                continue;
+            }
+            // The normal as the guard takes it (central differences of the exact distance).
+            let e = 1e-4 * max(c.size.w, 1e-3);
+            let g = vec3<f32>(
+                shape_distance(kind, c.size.xyz, local + vec3<f32>(e, 0.0, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(e, 0.0, 0.0)),
+                shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, e, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, e, 0.0)),
+                shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, 0.0, e)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, 0.0, e)),
+            );
+            if dot(g, g) > 0.0 {
+                n_local = normalize(g);
+            }
+        }
+        if phi >= reach {
+            continue;
+        }
+        let n = rotate(c.rotation, n_local);
+        let solid = c.linear_velocity.xyz + cross(c.angular_velocity.xyz, x - c.translation.xyz);
+        let s = stopping(phi, n, solid, v_c + (a + extra) * step, dt, step);
+        extra += s;
+        if react && any(s != vec3<f32>(0.0)) {
+            add_reaction(bitcast<u32>(c.linear_velocity.w), s * -m, x);
+        }
+    }
+    return extra;
+}
