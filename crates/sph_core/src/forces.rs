@@ -261,9 +261,10 @@ fn contact_shares(
 }
 
 /// Fills `acceleration` for every (sorted) particle; returns the fluid's force and torque on
-/// every boundary body. With the pressure terms (WCSPH), each particle's acceleration ends with
-/// the solids' speculative contact ([`crate::speculative_contact`]), which keeps its next drift
-/// a tenth of a spacing from every surface (indexed like [`Boundary::friction`]; empty without a boundary).
+/// every boundary body (indexed like [`Boundary::friction`]; empty without a boundary). With the
+/// pressure terms (WCSPH), each particle's acceleration ends with the solids' speculative contact
+/// ([`crate::speculative_contact`]), which keeps its next drift a tenth of a spacing from every
+/// surface.
 pub fn compute_accelerations(
     ctx: &StageContext,
     neighbors: &Neighbors,

@@ -592,7 +592,7 @@ pub fn body_force_unit(mass: f32) -> f32 {
 /// a body's origin is the small difference of two such moments: with the force's unit, a few
 /// hundred particles next to a body left the GPU's torque 3e-4 to 6e-4 N m from the CPU's in
 /// `tests/colliders.rs` (a tenth of a particle's weight times 1 m is 8e-4 N m there), as large as
-/// the torques compared. A workgroup's 32-bit sum still holds 125,000 particle weights times 1 m.
+/// the torques compared. A workgroup's 32-bit sum still holds over 100,000 particle weights times 1 m.
 pub fn body_moment_unit(mass: f32) -> f32 {
     body_force_unit(mass) / 16.0
 }

@@ -3,19 +3,20 @@
 //! boundary samples' pressure and contact ([`crate::forces::boundary_acceleration_at`]) act
 //! through the kernel, so their push varies along a surface: a particle aimed between the
 //! samples meets the surface where the nearest one is 0.87 Δx away, and there the samples'
-//! contact is a tenth of what it is over a sample. A splash then reached the floor in
+//! contact is several hundred times weaker than over a sample. A splash then reached the floor in
 //! `sph-bench run --scenario obstacles` (docs/boundary.md). This contact reads the distance from
 //! the surface itself (the signed distance φ and outward normal n the guard uses).
 //!
 //! For each surface within reach of the next drift, the velocity the drift starts from,
-//! v' = v_c + (a + a_s) dt (v_c the contact velocity of [`crate::forces::ForceInputs`], a the
-//! particle's other accelerations, a_s this contact's so far), may approach the surface at
-//! most at (φ - margin)/dt relative to the solid's velocity v_s there:
+//! v' = v_c + κ (a + a_s) dt (v_c the contact velocity of [`crate::forces::ForceInputs`], a the
+//! particle's other accelerations, a_s this contact's so far, κ the share of this evaluation's
+//! acceleration the drift takes, [`NextDrift::kick`]), may approach the surface at most at
+//! (φ - margin)/dt relative to the solid's velocity v_s there:
 //! (v' - v_s)·n ≥ -max(φ - margin, 0)/dt;
-//! where it would approach faster, a_s gains n Δv/dt with Δv the excess. The contact only stops
+//! where it would approach faster, a_s gains n Δv/(κ dt) with Δv the excess. The contact only stops
 //! an approach (perfectly inelastic); it never pushes a particle away, so a particle at rest at
 //! its lattice distance Δx/2 from a wall feels nothing. The surfaces are taken one after
-//! another, so in a wedge the later one sees the earlier one's stop. The reaction -m n Δv/dt
+//! another, so in a wedge the later one sees the earlier one's stop. The reaction -m n Δv/(κ dt)
 //! goes to the surface's body at the particle (Akinci 2012's two-way coupling). This is the
 //! speculative contact of rigid-body engines (Catto, Box2D) applied to the particles; the guard
 //! ([`crate::guard`]) still counts any particle that ends up inside.
