@@ -19,11 +19,14 @@
 //! another, so in a wedge the later one sees the earlier one's stop. The reaction -m n Δv/(κ dt)
 //! goes to the surface's body at the particle (Akinci 2012's two-way coupling). This is the
 //! speculative contact of rigid-body engines (Catto, Box2D) applied to the particles; the guard
-//! ([`crate::guard`]) still counts any particle that ends up inside.
+//! ([`crate::guard`]) still counts any particle that ends up inside. WCSPH applies it at the end
+//! of each force evaluation ([`crate::forces::compute_accelerations`]), DFSPH to the velocity
+//! its move takes ([`stop_before_drift`]); PBF does not use it.
 
-use crate::boundary::{Boundary, WALLS_BODY};
+use crate::boundary::{BodyForceSum, Boundary, WALLS_BODY};
 use crate::collider::ColliderShape;
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// The margin the next drift keeps from a solid's surface, in particle spacings. Well below the
 /// rest lattice's Δx/2: the settled `sph-bench` tank never meets it. With a quarter spacing it
@@ -114,4 +117,47 @@ pub fn speculative_contact_at(
         }
     }
     extra
+}
+
+/// DFSPH's speculative contact, after the constant-density solve and before the drift
+/// x += v dt: every particle's final velocity is bounded as in [`speculative_contact_at`] with no
+/// other acceleration and κ = 1 (v += a_s dt). Returns each body's reaction (indexed like
+/// [`Boundary::friction`]). DFSPH's solves answer for the boundary through the samples; without
+/// this, water driven at a solid between its samples still crossed it (`sph-bench`'s Martin &
+/// Moyce dam break with `--solver dfsph`: 333 guard corrections; `obstacles`: 10,931).
+pub fn stop_before_drift(
+    boundary: &Boundary,
+    position: &[Vec3],
+    velocity: &mut [Vec3],
+    dt: f32,
+    margin: f32,
+    mass: f32,
+) -> Vec<BodyForceSum> {
+    let bodies = boundary.body_count();
+    let drift = NextDrift {
+        dt,
+        kick: 1.0,
+        margin,
+    };
+    velocity
+        .par_iter_mut()
+        .zip(position.par_iter())
+        .fold(
+            || vec![BodyForceSum::default(); bodies],
+            |mut sums, (v, &x)| {
+                let a_s =
+                    speculative_contact_at(boundary, x, *v, Vec3::ZERO, drift, mass, |b, f, at| {
+                        sums[b as usize].add(f, at, boundary.origin[b as usize])
+                    });
+                *v += a_s * dt;
+                sums
+            },
+        )
+        .reduce(
+            || vec![BodyForceSum::default(); bodies],
+            |mut a, b| {
+                a.iter_mut().zip(&b).for_each(|(a, b)| a.merge(b));
+                a
+            },
+        )
 }

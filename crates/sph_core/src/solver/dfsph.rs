@@ -6,7 +6,8 @@
 //! 2. dt from the flow speed ([`dfsph_time_step`]);
 //! 3. predicted velocities v* = v + dt a_np;
 //! 4. the constant-density solve corrects v* until the predicted density error is small;
-//! 5. x += dt v*, the guard;
+//! 5. the solids' speculative contact bounds v* so that the drift ends a tenth of a spacing from
+//!    every surface ([`crate::speculative_contact::stop_before_drift`]), x += dt v*, the guard;
 //! 6. neighbour sort, densities, lists and factors at the new positions;
 //! 7. the divergence-free solve corrects v until Dρ/Dt is small.
 //!
@@ -30,6 +31,7 @@ use crate::kernel::CubicSpline;
 use crate::neighbor_lists::{ListSource, NeighborLists};
 use crate::params::SphParams;
 use crate::solvers::SolverStats;
+use crate::speculative_contact::{stop_before_drift, SURFACE_MARGIN};
 use crate::stability::largest_magnitude;
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::compute_normals;
@@ -273,8 +275,22 @@ impl DfsphStep<'_> {
             .for_each(|(v, &a)| *v += a * dt);
         // 4. Constant density.
         let density = self.solve(Solve::Density, dt);
-        // 5. Move.
+        // 5. Move, no closer than the margin to a solid (the speculative contact).
         let p = &mut *self.parts.particles;
+        let contact = timed(&mut self.parts.timings.integrate, || {
+            stop_before_drift(
+                self.parts.boundary,
+                &p.position,
+                &mut p.velocity,
+                dt,
+                SURFACE_MARGIN * ctx.contact.radius,
+                ctx.mass,
+            )
+        });
+        forces
+            .iter_mut()
+            .zip(&contact)
+            .for_each(|(sum, r)| sum.merge(r));
         let corrections: Corrections = timed(&mut self.parts.timings.integrate, || {
             p.position
                 .par_iter_mut()

@@ -10,7 +10,8 @@ use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
 use sph_core::CpuStage;
 
-/// m κ_i g_ib on every boundary pair's body, once per solve. Roles: the constant-density solve
+/// m κ_i g_ib on every boundary pair's body, once per solve; after the constant-density solve the
+/// solids' speculative contact on the velocity the move takes. Roles: the constant-density solve
 /// (before the move), the divergence-free solve (the step's last pass).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_dfsph_reactions",
@@ -29,6 +30,8 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BoundaryCellStart,
         Buf::BoundaryBody,
         Buf::BodyForces,
+        Buf::Colliders,
+        Buf::Meshes,
         Buf::Pumps,
         Buf::Probes,
     ],

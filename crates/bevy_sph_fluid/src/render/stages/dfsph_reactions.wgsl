@@ -6,6 +6,9 @@
 //   error (the sum its last source wrote: a after an even count, b after an odd one).
 //   A solve still open whose decision would go on ran out of the passes the CPU encoded (its
 //   iteration budget, src/dfsph_budget.rs): it is counted as cut short.
+// - After the constant-density solve (before the move): the solids' speculative contact bounds
+//   v so that the drift x += v dt ends a tenth of a spacing from every surface, its reaction to
+//   the body (shaders/speculative_contact.wgsl; sph_core::speculative_contact::stop_before_drift).
 // - DIVERGENCE_SOLVE: p_i = (κ_i + κ_i^v) ρ_i², the pumps, the probes.
 // Nothing is summed while the clock is frozen or a state is being restored.
 // Rust twins: sph_core::dfsph_bender2017::boundary_reactions, the end of
@@ -20,6 +23,7 @@
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
 #import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, goes_on}
+#import sph::speculative_contact::speculative_contact
 
 fn particle(i: u32) {
     let x_i = position[i].xyz;
@@ -45,6 +49,12 @@ fn particle(i: u32) {
             }
         }
     }
+#ifndef DIVERGENCE_SOLVE
+    let dt = step_dt();
+    let u = velocity[i];
+    let a_s = speculative_contact(x_i, u.xyz, vec3<f32>(0.0), dt, 1.0, !drained(position[i].w));
+    velocity[i] = vec4<f32>(u.xyz + a_s * dt, u.w);
+#endif
 #ifdef DIVERGENCE_SOLVE
     let rho = density[i];
     let sums = velocity_predicted[i];
