@@ -156,49 +156,68 @@ fn mesh_distance(nodes: u32, tris: u32, half_thickness: f32, p: vec3<f32>) -> ve
     return vec4<f32>(n, d - half_thickness);
 }
 
+// Collider k's surface seen from the world point x when it is closer than `reach`: (outward
+// normal in the world, signed distance, negative inside); beyond, (0, 1, 0, 3.4e38), found
+// without a distance where the bounding sphere or a mesh's root box is farther. The normal: a
+// mesh's exact gradient, central differences of a primitive's exact distance. Used by the guard
+// (reach: minus its tolerance) and the speculative contact (shaders/speculative_contact.wgsl).
+fn collider_surface(k: u32, x: vec3<f32>, reach: f32) -> vec4<f32> {
+    let far = vec4<f32>(0.0, 1.0, 0.0, 3.4e38);
+    let c = colliders[k];
+    let inverse = vec4<f32>(-c.rotation.xyz, c.rotation.w);
+    let local = rotate(inverse, x - c.translation.xyz);
+    let bound = max(c.size.w + reach, 0.0);
+    if dot(local, local) > bound * bound {
+        return far;
+    }
+    let kind = u32(c.translation.w);
+    var phi: f32;
+    var n_local = vec3<f32>(0.0, 1.0, 0.0);
+    if kind == 4u {
+        // Beyond the root box by more than the reach (and an open shell's half thickness).
+        let box_reach = max(max(c.size.z, 0.0) + reach, 0.0);
+        if node_distance2(bitcast<u32>(c.size.x), 0u, local) > box_reach * box_reach {
+            return far;
+        }
+        let m = mesh_distance(bitcast<u32>(c.size.x), bitcast<u32>(c.size.y), c.size.z, local);
+        phi = m.w;
+        n_local = m.xyz;
+    } else {
+        phi = shape_distance(kind, c.size.xyz, local);
+        if phi >= reach {
+            return far;
+        }
+        let e = 1e-4 * max(c.size.w, 1e-3);
+        let g = vec3<f32>(
+            shape_distance(kind, c.size.xyz, local + vec3<f32>(e, 0.0, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(e, 0.0, 0.0)),
+            shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, e, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, e, 0.0)),
+            shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, 0.0, e)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, 0.0, e)),
+        );
+        if dot(g, g) > 0.0 {
+            n_local = normalize(g);
+        }
+    }
+    if phi >= reach {
+        return far;
+    }
+    return vec4<f32>(rotate(c.rotation, n_local), phi);
+}
+
 // The guard after a drift to x with velocity v.
 fn guard(x_in: vec3<f32>, v_in: vec3<f32>) -> PositionVelocity {
     var x = x_in;
     var v = v_in;
     var corrected = false;
+    // A thousandth of the spacing (h / 2) deep before it counts (sph_core::guard::tolerance).
+    let tolerance = 5e-4 * params.kernel_a.x;
     for (var k = 0u; k < params.flags.w; k++) {
+        let surface = collider_surface(k, x, -tolerance);
+        if surface.w >= -tolerance {
+            continue;
+        }
         let c = colliders[k];
-        let inverse = vec4<f32>(-c.rotation.xyz, c.rotation.w);
-        let local = rotate(inverse, x - c.translation.xyz);
-        if dot(local, local) > c.size.w * c.size.w {
-            continue;
-        }
-        let kind = u32(c.translation.w);
-        var phi: f32;
-        var n_local = vec3<f32>(0.0, 1.0, 0.0);
-        if kind == 4u {
-            // Beyond the root box (by more than the half thickness of an open shell): outside.
-            let half = max(c.size.z, 0.0);
-            if node_distance2(bitcast<u32>(c.size.x), 0u, local) > half * half {
-                continue;
-            }
-            let m = mesh_distance(bitcast<u32>(c.size.x), bitcast<u32>(c.size.y), c.size.z, local);
-            phi = m.w;
-            n_local = m.xyz;
-        } else {
-            phi = shape_distance(kind, c.size.xyz, local);
-        }
-        // A thousandth of the spacing (h / 2) deep before it counts (sph_core::guard::tolerance).
-        if phi >= -5e-4 * params.kernel_a.x {
-            continue;
-        }
-        if kind != 4u {
-            let e = 1e-4 * max(c.size.w, 1e-3);
-            let g = vec3<f32>(
-                shape_distance(kind, c.size.xyz, local + vec3<f32>(e, 0.0, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(e, 0.0, 0.0)),
-                shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, e, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, e, 0.0)),
-                shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, 0.0, e)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, 0.0, e)),
-            );
-            if dot(g, g) > 0.0 {
-                n_local = normalize(g);
-            }
-        }
-        let n = rotate(c.rotation, n_local);
+        let n = surface.xyz;
+        let phi = surface.w;
         x += n * -phi;
         let solid = c.linear_velocity.xyz + cross(c.angular_velocity.xyz, x - c.translation.xyz);
         let into = dot(v - solid, n);

@@ -8,7 +8,7 @@
 #define_import_path sph::speculative_contact
 
 #import sph::bindings::{params, colliders}
-#import sph::guard::{rotate, shape_distance, mesh_distance, node_distance2}
+#import sph::guard::collider_surface
 #import sph::body_reactions::add_reaction
 
 // The acceleration that takes away the approach of v_next to a surface at distance phi with
@@ -56,44 +56,13 @@ fn speculative_contact(x: vec3<f32>, v_c: vec3<f32>, a: vec3<f32>, dt: f32, kick
         }
     }
     for (var k = 0u; k < params.flags.w; k++) {
+        let surface = collider_surface(k, x, reach);
+        if surface.w >= reach {
+            continue;
+        }
         let c = colliders[k];
-        let inverse = vec4<f32>(-c.rotation.xyz, c.rotation.w);
-        let local = rotate(inverse, x - c.translation.xyz);
-        let bound = c.size.w + reach;
-        if dot(local, local) > bound * bound {
-            continue;
-        }
-        let kind = u32(c.translation.w);
-        var phi: f32;
-        var n_local = vec3<f32>(0.0, 1.0, 0.0);
-        if kind == 4u {
-            let far = max(c.size.z, 0.0) + reach;
-            if node_distance2(bitcast<u32>(c.size.x), 0u, local) > far * far {
-                continue;
-            }
-            let d = mesh_distance(bitcast<u32>(c.size.x), bitcast<u32>(c.size.y), c.size.z, local);
-            phi = d.w;
-            n_local = d.xyz;
-        } else {
-            phi = shape_distance(kind, c.size.xyz, local);
-            if phi >= reach {
-                continue;
-            }
-            // The normal as the guard takes it (central differences of the exact distance).
-            let e = 1e-4 * max(c.size.w, 1e-3);
-            let g = vec3<f32>(
-                shape_distance(kind, c.size.xyz, local + vec3<f32>(e, 0.0, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(e, 0.0, 0.0)),
-                shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, e, 0.0)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, e, 0.0)),
-                shape_distance(kind, c.size.xyz, local + vec3<f32>(0.0, 0.0, e)) - shape_distance(kind, c.size.xyz, local - vec3<f32>(0.0, 0.0, e)),
-            );
-            if dot(g, g) > 0.0 {
-                n_local = normalize(g);
-            }
-        }
-        if phi >= reach {
-            continue;
-        }
-        let n = rotate(c.rotation, n_local);
+        let phi = surface.w;
+        let n = surface.xyz;
         let solid = c.linear_velocity.xyz + cross(c.angular_velocity.xyz, x - c.translation.xyz);
         let s = stopping(phi, n, solid, v_c + (a + extra) * step, dt, step);
         extra += s;
