@@ -310,6 +310,37 @@ impl Collider {
         self.shape.signed_distance(self.pose.to_local(x))
     }
 
+    /// The signed distance [m] (negative inside) and the outward normal in the world of the
+    /// surface seen from the world point `x`, when it is closer than `reach` [m]; `None` beyond,
+    /// found without a distance where the bounding sphere or a mesh's root box is farther. The
+    /// guard (reach: minus its tolerance, [`crate::guard`]) and the speculative contact
+    /// ([`crate::speculative_contact`]) share it; WGSL twin `collider_surface` in guard.wgsl.
+    pub fn surface_within(&self, x: Vec3, reach: f32) -> Option<(f32, Vec3)> {
+        let local = self.pose.to_local(x);
+        let bound = (self.bounding_radius() + reach).max(0.0);
+        if local.length_squared() > bound * bound {
+            return None;
+        }
+        let eps = 1e-4 * self.bounding_radius().max(1e-3);
+        let (phi, n) = match &self.shape {
+            ColliderShape::TriMesh(mesh) => {
+                if mesh.beyond(local, reach) {
+                    return None;
+                }
+                mesh.distance_and_normal(local)
+            }
+            shape => {
+                // The normal only where the surface is within reach.
+                let phi = shape.signed_distance(local);
+                if phi >= reach {
+                    return None;
+                }
+                (phi, shape.normal(local, eps))
+            }
+        };
+        (phi < reach).then(|| (phi, self.pose.rotation * n))
+    }
+
     /// The velocity of the solid at the world point `x`: v + ω × (x − x_c) (zero when static).
     pub fn point_velocity(&self, x: Vec3) -> Vec3 {
         match self.motion {
@@ -340,16 +371,6 @@ impl ColliderShape {
             } => (radius * radius + half_length * half_length).sqrt(),
             Self::TriMesh(ref mesh) => mesh.bounding_radius(),
         }
-    }
-
-    /// The signed distance of the local point `p` [m] and the outward unit normal there
-    /// ([`Self::signed_distance`], [`Self::normal`] with step `eps`; a mesh answers both with
-    /// one closest-point query).
-    pub fn distance_and_normal(&self, p: Vec3, eps: f32) -> (f32, Vec3) {
-        if let Self::TriMesh(mesh) = self {
-            return mesh.distance_and_normal(p);
-        }
-        (self.signed_distance(p), self.normal(p, eps))
     }
 
     /// The outward unit normal at the local point `p`, from the signed distance's central

@@ -76,21 +76,9 @@ impl<'a> Guard<'a> {
     pub fn apply(&self, x: &mut Vec3, v: &mut Vec3) -> Corrections {
         let mut corrected = false;
         for c in self.colliders {
-            let local = c.pose.to_local(*x);
-            if local.length_squared() > c.bounding_radius() * c.bounding_radius() {
+            let Some((phi, n)) = c.surface_within(*x, -self.tolerance) else {
                 continue;
-            }
-            if let crate::collider::ColliderShape::TriMesh(mesh) = &c.shape {
-                if mesh.surely_outside(local) {
-                    continue;
-                }
-            }
-            let phi = c.shape.signed_distance(local);
-            if phi >= -self.tolerance {
-                continue;
-            }
-            let eps = 1e-4 * c.bounding_radius().max(1e-3);
-            let n = c.pose.rotation * c.shape.normal(local, eps);
+            };
             *x += n * -phi;
             let into = (*v - c.point_velocity(*x)).dot(n);
             if into < 0.0 {

@@ -24,7 +24,6 @@
 //! its move takes ([`stop_before_drift`]); PBF does not use it.
 
 use crate::boundary::{BodyForceSum, Boundary, WALLS_BODY};
-use crate::collider::ColliderShape;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -95,25 +94,8 @@ pub fn speculative_contact_at(
         }
     }
     for (id, c) in boundary.colliders() {
-        let local = c.pose.to_local(x);
-        let bound = c.bounding_radius() + reach;
-        if local.length_squared() > bound * bound {
-            continue;
-        }
-        if let ColliderShape::TriMesh(mesh) = &c.shape {
-            if mesh.beyond(local, reach) {
-                continue;
-            }
-        }
-        let eps = 1e-4 * c.bounding_radius().max(1e-3);
-        let (phi, n_local) = c.shape.distance_and_normal(local, eps);
-        if phi < reach {
-            stop(
-                phi,
-                c.pose.rotation * n_local,
-                c.point_velocity(x),
-                id.0 + 1,
-            );
+        if let Some((phi, n)) = c.surface_within(x, reach) {
+            stop(phi, n, c.point_velocity(x), id.0 + 1);
         }
     }
     extra

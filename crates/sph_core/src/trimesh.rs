@@ -289,18 +289,10 @@ impl TriMesh {
         self.bounding_radius + self.thickness.unwrap_or(0.0) * 0.5
     }
 
-    /// Whether the local point `p` is certainly outside the solid: beyond the hierarchy's root
-    /// box (farther than half the shell's thickness from it, for an open mesh). The guard's
-    /// early out before a closest-point query.
-    pub fn surely_outside(&self, p: Vec3) -> bool {
-        let half = 0.5 * self.thickness.unwrap_or(0.0);
-        self.nodes()
-            .first()
-            .is_none_or(|root| root.distance_squared(p) > half * half)
-    }
-
-    /// Whether the local point `p` lies farther than `reach` [m] outside the mesh's root box
-    /// (and the shell around it): no surface point is then within `reach` of it.
+    /// Whether the local point `p` lies farther than `reach` [m] (at least 0) outside the mesh's
+    /// root box and the shell around it: no surface point is then within `reach` of it, and with
+    /// a reach of 0 the point is certainly outside the solid (the guard's early out before a
+    /// closest-point query).
     pub fn beyond(&self, p: Vec3, reach: f32) -> bool {
         let far = 0.5 * self.thickness.unwrap_or(0.0) + reach.max(0.0);
         self.nodes()
