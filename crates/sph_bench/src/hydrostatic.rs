@@ -45,11 +45,12 @@ pub struct HydrostaticSampler {
 }
 
 impl HydrostaticSampler {
-    /// A sampler for the tank of `setup`.
-    pub fn new(setup: &Setup) -> Self {
+    /// A sampler for the tank of `setup` in a run that ends at `end` [s] (`setup.duration`, or
+    /// the command line's `--time`): the window is the run's last 40 %.
+    pub fn new(setup: &Setup, end: f64) -> Self {
         let p = &setup.scene.params;
         Self {
-            start: 0.6 * setup.duration,
+            start: 0.6 * end,
             spacing: p.spacing(),
             surface: setup.scene.container.min().y + setup.water_depth.unwrap_or(0.0),
             depth_per_particle: {
@@ -234,7 +235,7 @@ mod tests {
         let setup = setup(Scenario::Hydrostatic, 1000, 0.0);
         let spacing = setup.scene.params.spacing();
         // At rest on the lattice both depths agree and every layer is exact.
-        let mut sampler = HydrostaticSampler::new(&setup);
+        let mut sampler = HydrostaticSampler::new(&setup, setup.duration);
         sampler.record(&setup, setup.duration, &lattice(&setup, |_| 0.0));
         let exact = sampler.finish(&setup.scene.params);
         assert_eq!(exact.layers.len(), 10);
@@ -261,7 +262,7 @@ mod tests {
             let column = 0.01 * (rows - k) as f32 * spacing * (rows - k) as f32 / rows as f32;
             column + if k == 0 { 0.1 * spacing } else { 0.0 }
         };
-        let mut sampler = HydrostaticSampler::new(&setup);
+        let mut sampler = HydrostaticSampler::new(&setup, setup.duration);
         sampler.record(&setup, setup.duration, &lattice(&setup, settle));
         let settled = sampler.finish(&setup.scene.params);
         assert_eq!(settled.layers.len(), rows);
@@ -276,7 +277,7 @@ mod tests {
     #[test]
     fn the_window_reports_the_mean_and_largest_speed_of_every_sample() {
         let setup = setup(Scenario::Hydrostatic, 1000, 0.0);
-        let mut sampler = HydrostaticSampler::new(&setup);
+        let mut sampler = HydrostaticSampler::new(&setup, setup.duration);
         let late = setup.duration;
         // Before the window: ignored.
         sampler.record(&setup, 0.0, &state(&setup, 1.0));

@@ -124,7 +124,8 @@ struct Samples {
 }
 
 impl Samples {
-    fn for_setup(setup: &Setup, backend: Backend) -> Self {
+    /// The samplers of `setup` for a run that ends at `end` [s].
+    fn for_setup(setup: &Setup, backend: Backend, end: f64) -> Self {
         Self {
             track_density: backend == Backend::Cpu,
             density_error_sum: 0.0,
@@ -133,7 +134,9 @@ impl Samples {
                 column_width_a: a,
                 ..Default::default()
             }),
-            hydrostatic: setup.water_depth.map(|_| HydrostaticSampler::new(setup)),
+            hydrostatic: setup
+                .water_depth
+                .map(|_| HydrostaticSampler::new(setup, end)),
             density_error_peak: 0.0,
         }
     }
@@ -231,14 +234,14 @@ pub fn run_setup(
 ) -> Result<Report, String> {
     let mut sim = simulation(setup, backend, substeps, bars)?;
     let params = setup.scene.params;
-    let mut samples = Samples::for_setup(setup, backend);
-    let mut times = Vec::new();
-    let mut next_sample = 0.0;
-    let mut progress = bars.run(setup.scenario.name(), progress_units(duration, 0, 0.0).1);
     let end = match duration {
         Duration::Time(t) => t,
         Duration::Steps(n) => n as f64 * params.time_step as f64,
     };
+    let mut samples = Samples::for_setup(setup, backend, end);
+    let mut times = Vec::new();
+    let mut next_sample = 0.0;
+    let mut progress = bars.run(setup.scenario.name(), progress_units(duration, 0, 0.0).1);
     let mut forces = ForceWindow::new(0.6 * end, setup.colliders.len());
     let finished = |sim: &dyn Simulation| match duration {
         Duration::Steps(n) => sim.steps() >= n,
@@ -527,7 +530,7 @@ pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenarios::Bodies;
+    use crate::scenarios::{Bodies, Scenario};
     use sph_core::glam::Vec3;
 
     /// A small dam break at several times its derived dt (0.003 s), for 0.2 s.
@@ -555,6 +558,23 @@ mod tests {
             &Bars::new(true),
         )
         .unwrap()
+    }
+
+    #[test]
+    fn the_tanks_window_is_the_last_forty_percent_of_the_run_the_command_line_asks_for() {
+        // The tank's own length is several seconds; `--time` shortens the run, and the window
+        // must shrink with it (it stayed at the scenario's length, and came out empty).
+        let args = RunArgs {
+            scenario: Scenario::Hydrostatic,
+            particles: 1000,
+            time: Some(0.05),
+            ..Default::default()
+        };
+        assert!(configured_setup(&args).duration > 1.0);
+        let report = run(&args, &Bars::new(true)).unwrap();
+        let tank = report.hydrostatic.expect("the tank's figures");
+        assert!(!tank.layers.is_empty(), "{tank:?}");
+        assert!(tank.speed_mean_window_mean > 0.0, "{tank:?}");
     }
 
     #[test]

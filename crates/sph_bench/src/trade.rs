@@ -563,6 +563,8 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
             "tank at rest, 1 s".into(),
             RunArgs {
                 scenario: Scenario::Hydrostatic,
+                // The study's tank stays at 1 s, as in its earlier tables (`validate`'s runs 5 s).
+                time: Some(1.0),
                 ..at_largest.clone()
             },
         ));
@@ -600,6 +602,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                 "tank at rest, 1 s, DFSPH".into(),
                 RunArgs {
                     scenario: Scenario::Hydrostatic,
+                    time: Some(1.0),
                     particles: largest,
                     ..dfsph.clone()
                 },
