@@ -22,6 +22,15 @@ fn tank() -> (SphParams, BoxContainer, BlockSpawn) {
     (params, container, block)
 }
 
+/// The tank's parameters and box with gravity and surface tension off: lone particles thrown at
+/// a surface feel only the boundary.
+fn weightless_tank() -> (SphParams, BoxContainer) {
+    let (mut params, container, _) = tank();
+    params.gravity = Vec3::ZERO;
+    params.surface_tension = 0.0;
+    (params, container)
+}
+
 /// The tank's block on the rest lattice, sorted by a copy of the solver's neighbour search (the
 /// solver, after one step, holds the sorted walls): the solver, the search and the positions.
 fn rest_lattice_in_tank(
@@ -364,9 +373,7 @@ fn the_top_row_takes_the_pressure_of_the_water_around_it() {
 /// and the guard clamped it.
 #[test]
 fn a_particle_without_pressure_is_stopped_before_the_wall() {
-    let (mut params, container, _) = tank();
-    params.gravity = Vec3::ZERO;
-    params.surface_tension = 0.0;
+    let (params, container) = weightless_tank();
     let dx = params.spacing();
     let contact = sph_core::stage::BoundaryContact::of(&params);
     assert_eq!(
@@ -414,9 +421,7 @@ fn a_particle_without_pressure_is_stopped_before_the_wall() {
 /// particle at 4 m/s, beyond this scene's design speed of 3 m/s, still reaches the wall.)
 #[test]
 fn fast_particles_are_stopped_before_the_wall() {
-    let (mut params, container, _) = tank();
-    params.gravity = Vec3::ZERO;
-    params.surface_tension = 0.0;
+    let (params, container) = weightless_tank();
     assert_eq!(params.integrator, sph_core::Integrator::KickDriftKick);
     let dx = params.spacing();
     for speed in [1.0f32, 4.0, 8.0, 16.0] {
@@ -450,9 +455,7 @@ fn fast_particles_are_stopped_before_the_wall() {
 /// rotated box stopped the particle at 16 m/s 0.02 Δx from its face.
 #[test]
 fn particles_aimed_between_the_samples_stop_short_of_the_surface() {
-    let (mut params, container, _) = tank();
-    params.gravity = Vec3::ZERO;
-    params.surface_tension = 0.0;
+    let (params, container) = weightless_tank();
     let dx = params.spacing();
     let sphere = Collider::new(
         ColliderShape::Sphere { radius: 3.0 * dx },
