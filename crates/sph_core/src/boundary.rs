@@ -65,6 +65,11 @@ struct SampleSet {
 struct Body {
     collider: Collider,
     samples: SampleSet,
+    /// A dynamic collider's mass [kg] when the engine that moves it told (see
+    /// [`Boundary::set_mass`]).
+    mass: Option<f32>,
+    /// How often [`Boundary::set_motion`] placed it.
+    placements: u64,
 }
 
 /// The samples of the walls and the colliders, sorted by cell, and what they came from.
@@ -227,6 +232,8 @@ impl Boundary {
         let body = Body {
             collider,
             samples: SampleSet { local, volume },
+            mass: None,
+            placements: 0,
         };
         let slot = match self.slots.iter().position(Option::is_none) {
             Some(free) => {
@@ -296,8 +303,53 @@ impl Boundary {
         }
         moved.validate()?;
         body.collider = moved;
+        body.placements += 1;
         self.sorted = false;
         Ok(())
+    }
+
+    /// Tells the boundary the mass of the body behind a dynamic collider (`None`: unknown, the
+    /// default), so that DFSPH's solves let the body give way to the water's pressure within a
+    /// frame (`crate::free_bodies`). Refused unless finite and positive; nothing changes on
+    /// error. A static or kinematic collider keeps the mass but ignores it.
+    pub fn set_mass(&mut self, id: ColliderId, mass: Option<f32>) -> Result<(), ColliderError> {
+        if let Some(m) = mass {
+            if !m.is_finite() || m <= 0.0 {
+                return Err(ColliderError {
+                    field: "mass",
+                    value: m.to_string(),
+                    allowed: "finite and > 0 kg",
+                });
+            }
+        }
+        let Some(body) = self.slots.get_mut(id.0 as usize).and_then(Option::as_mut) else {
+            return Err(ColliderError {
+                field: "id",
+                value: id.0.to_string(),
+                allowed: "a collider of this solver",
+            });
+        };
+        body.mass = mass;
+        Ok(())
+    }
+
+    /// The mass of body `body` (a body index, as in [`Self::body`]) when it is a dynamic
+    /// collider with a known mass ([`Self::set_mass`]), else `None` (the walls, static and
+    /// kinematic colliders, and dynamic ones whose mass was not given).
+    pub fn free_mass(&self, body: usize) -> Option<f32> {
+        let slot = self.slots.get(body.checked_sub(1)?)?.as_ref()?;
+        (slot.collider.motion == ColliderMotion::Dynamic)
+            .then_some(slot.mass)
+            .flatten()
+    }
+
+    /// How often body `body` (a body index) was placed by [`Self::set_motion`] (0 for the walls
+    /// and unknown bodies): a new placement carries the engine's new velocity.
+    pub fn placements(&self, body: usize) -> u64 {
+        body.checked_sub(1)
+            .and_then(|k| self.slots.get(k))
+            .and_then(Option::as_ref)
+            .map_or(0, |b| b.placements)
     }
 
     /// Whether a particle may be spawned at `x`: at least 0.45 Δx outside every collider (closer

@@ -30,6 +30,7 @@ pub mod diagnostics;
 pub mod eos;
 pub mod forces;
 pub mod frame_budget;
+pub mod free_bodies;
 pub mod free_surface_pressure;
 pub mod front;
 pub mod gpu_layout;

@@ -25,6 +25,7 @@ use crate::dfsph_bender2017::{
 };
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::frame_budget::StepDt;
+use crate::free_bodies::{FreeBodies, GivingSolve};
 use crate::guard::Corrections;
 use crate::guard::Guard;
 use crate::kernel::CubicSpline;
@@ -49,6 +50,8 @@ pub(super) struct DfsphScratch {
     kernel: CubicSpline,
     /// D_i of the rest lattice for `kernel`.
     rest_factor: f32,
+    /// The dynamic bodies' give across the frame's steps ([`crate::free_bodies`]).
+    pub(super) free_bodies: FreeBodies,
 }
 
 impl Default for DfsphScratch {
@@ -60,6 +63,7 @@ impl Default for DfsphScratch {
             stiffness: Vec::new(),
             kernel: CubicSpline::new(1.0, 0.5),
             rest_factor: 0.0,
+            free_bodies: FreeBodies::default(),
         }
     }
 }
@@ -143,12 +147,15 @@ impl DfsphStep<'_> {
     }
 
     /// One of the two solves on the current velocities (Bender & Koschier 2017: the
-    /// constant-density solve on v*, the divergence-free solve on v).
-    fn solve(&mut self, solve: Solve, dt: f32) -> SolveOutcome {
+    /// constant-density solve on v*, the divergence-free solve on v). `base`: the step's forces
+    /// on each body before the solve, for the bodies that give way ([`crate::free_bodies`]).
+    fn solve(&mut self, solve: Solve, dt: f32, base: &[BodyForceSum]) -> SolveOutcome {
         let start = std::time::Instant::now();
         let settings = self.parts.params.dfsph;
         let rho0 = self.parts.params.rest_density;
+        let mass = self.parts.params.particle_mass;
         let (p, s) = (&mut *self.parts.particles, &mut *self.scratch);
+        let mut giving = GivingSolve::new(&s.free_bodies, self.parts.boundary, &s.lists, base);
         let n = p.len();
         let (total, scale, min, max, eta) = match solve {
             Solve::Density => (
@@ -194,6 +201,9 @@ impl DfsphStep<'_> {
         } else {
             total.fill(0.0);
         }
+        if let Some(g) = &mut giving {
+            g.update(total, mass, dt, &mut s.factors);
+        }
         let mut error = mean_error(s, &p.velocity, &p.density);
         let mut iterations = 0;
         while (iterations < min || error > eta) && iterations < max {
@@ -213,15 +223,16 @@ impl DfsphStep<'_> {
                 total,
             );
             apply_stiffness(&s.lists, &s.stiffness, &s.factors, dt, &mut p.velocity);
+            if let Some(g) = &mut giving {
+                g.update(total, mass, dt, &mut s.factors);
+            }
             error = mean_error(s, &p.velocity, &p.density);
             iterations += 1;
         }
-        let reactions = boundary_reactions(
-            &s.lists,
-            self.parts.boundary,
-            total,
-            self.parts.params.particle_mass,
-        );
+        if let Some(g) = giving {
+            g.restore(&mut s.factors);
+        }
+        let reactions = boundary_reactions(&s.lists, self.parts.boundary, total, mass);
         self.parts.timings.pressure_solve += start.elapsed();
         SolveOutcome {
             iterations,
@@ -238,6 +249,7 @@ impl DfsphStep<'_> {
         if stale || boundary_moved {
             self.neighborhood(&ctx);
         }
+        self.scratch.free_bodies.sync(self.parts.boundary);
         // 1. Non-pressure accelerations at the step's start.
         let (neighbors, p, t) = (
             &*self.parts.neighbors,
@@ -274,7 +286,7 @@ impl DfsphStep<'_> {
             .zip(p.acceleration.par_iter())
             .for_each(|(v, &a)| *v += a * dt);
         // 4. Constant density.
-        let density = self.solve(Solve::Density, dt);
+        let density = self.solve(Solve::Density, dt, &forces);
         // 5. Move, no closer than the margin to a solid (the speculative contact).
         let p = &mut *self.parts.particles;
         let contact = timed(&mut self.parts.timings.integrate, || {
@@ -287,10 +299,12 @@ impl DfsphStep<'_> {
                 ctx.mass,
             )
         });
-        forces
-            .iter_mut()
-            .zip(&contact)
-            .for_each(|(sum, r)| sum.merge(r));
+        for reactions in [&contact, &density.reactions] {
+            forces
+                .iter_mut()
+                .zip(reactions)
+                .for_each(|(sum, r)| sum.merge(r));
+        }
         let corrections: Corrections = timed(&mut self.parts.timings.integrate, || {
             p.position
                 .par_iter_mut()
@@ -303,7 +317,7 @@ impl DfsphStep<'_> {
         });
         // 6.-7. The new neighbourhood, divergence-free velocities.
         self.neighborhood(&ctx);
-        let divergence = self.solve(Solve::Divergence, dt);
+        let divergence = self.solve(Solve::Divergence, dt, &forces);
         let p = &mut *self.parts.particles;
         p.pressure
             .par_iter_mut()
@@ -312,12 +326,13 @@ impl DfsphStep<'_> {
                 let rho = p.density[i];
                 *pressure = (p.stiffness_density[i] + p.stiffness_divergence[i]) * rho * rho;
             });
-        for reactions in [&density.reactions, &divergence.reactions] {
-            forces
-                .iter_mut()
-                .zip(reactions)
-                .for_each(|(sum, r)| sum.merge(r));
-        }
+        forces
+            .iter_mut()
+            .zip(&divergence.reactions)
+            .for_each(|(sum, r)| sum.merge(r));
+        self.scratch
+            .free_bodies
+            .end_step(self.parts.boundary, &forces, dt);
         DfsphOutcome {
             dt,
             corrections,

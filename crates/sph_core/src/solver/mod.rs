@@ -301,6 +301,17 @@ impl CpuSolver {
             .set_motion(id, pose, linear_velocity, angular_velocity)
     }
 
+    /// Tells the solver the mass of the body behind dynamic collider `id` (`None`: unknown), so
+    /// that DFSPH's solves let the body give way within a frame ([`crate::free_bodies`]); see
+    /// [`Boundary::set_mass`]. Refused unless finite and positive; nothing changes on error.
+    pub fn set_collider_mass(
+        &mut self,
+        id: ColliderId,
+        mass: Option<f32>,
+    ) -> Result<(), ColliderError> {
+        self.boundary.set_mass(id, mass)
+    }
+
     /// The colliders with their handles.
     pub fn colliders(&self) -> impl Iterator<Item = (ColliderId, &Collider)> {
         self.boundary.colliders()
@@ -331,11 +342,18 @@ impl CpuSolver {
     }
 
     /// Every collider's averaged force (see [`Self::collider_force`]); starts a new average.
+    /// The forces taken are what the engine that moves the dynamic bodies receives: DFSPH's
+    /// solves measure a body's give against them ([`crate::free_bodies`]).
     pub fn take_collider_forces(&mut self) -> Vec<(ColliderId, BodyForce)> {
-        let forces = self
+        let forces: Vec<(ColliderId, BodyForce)> = self
             .colliders()
             .filter_map(|(id, _)| self.collider_force(id).map(|f| (id, f)))
             .collect();
+        if self.body_force_sums.1 > 0 {
+            self.dfsph
+                .free_bodies
+                .set_references(forces.iter().map(|(id, f)| (id.0 as usize + 1, f.force)));
+        }
         self.body_force_sums = (Vec::new(), 0);
         forces
     }
