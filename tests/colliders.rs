@@ -361,3 +361,71 @@ fn a_bad_collider_is_refused_by_entity_and_field_and_the_rest_runs() {
         assert_eq!(snapshot(&mut app).positions.len(), n);
     }
 }
+
+/// Moves the marked collider to a new height every frame, in `Update` before the plugin's systems
+/// (as a physics engine's fixed schedule does before `Update`).
+#[derive(Component)]
+struct MovedEarly;
+
+fn move_early(mut moved: Query<&mut Transform, With<MovedEarly>>, mut frame: Local<u32>) {
+    *frame += 1;
+    for mut t in &mut moved {
+        t.translation.y = 0.1 + 0.01 * *frame as f32;
+    }
+}
+
+/// The water sees a root entity's collider where its `Transform` puts it in the same frame, not
+/// where `GlobalTransform` said a frame earlier (it follows only in `PostUpdate`); and a dynamic
+/// collider's `SphColliderMass` reaches the boundary, refused by field when not positive.
+#[test]
+fn colliders_are_where_this_frames_transform_puts_them_and_carry_their_mass() {
+    let (params, container, _) = scene_for(Solver::Dfsph);
+    let mut app = headless_app(1_000, SphBackend::Cpu);
+    app.insert_resource(SphParams(params));
+    app.world_mut().spawn(SphContainer(container));
+    app.add_systems(Update, move_early.before(SphSystems::Prepare));
+    let body = app
+        .world_mut()
+        .spawn((
+            SphCollider::new(ColliderShape::Sphere { radius: 0.03 })
+                .with_motion(ColliderMotion::Dynamic),
+            SphColliderMass(2.0),
+            Transform::from_xyz(0.2, 0.1, 0.2),
+            MovedEarly,
+        ))
+        .id();
+    let boundary_state = |app: &App| {
+        let sim = app
+            .world()
+            .resource::<bevy_sph_fluid::shared::SphSimulation>();
+        let boundary = sim.cpu.as_ref().expect("the CPU solver").boundary();
+        let (id, c) = boundary.colliders().next().expect("the collider");
+        (c.pose.translation.y, boundary.free_mass(id.0 as usize + 1))
+    };
+    for frame in 1..=3 {
+        app.update();
+        let (y, mass) = boundary_state(&app);
+        let expected = app.world().get::<Transform>(body).unwrap().translation.y;
+        assert!(
+            (y - expected).abs() < 1e-6,
+            "frame {frame}: {y} against {expected}"
+        );
+        assert_eq!(mass, Some(2.0));
+    }
+    app.world_mut()
+        .entity_mut(body)
+        .insert(SphColliderMass(-1.0));
+    app.update();
+    let stats = app.world().resource::<SphStats>();
+    assert_eq!(
+        stats.collider_errors.len(),
+        1,
+        "{:?}",
+        stats.collider_errors
+    );
+    let e = &stats.collider_errors[0];
+    assert_eq!((e.entity, e.field.as_str()), (body, "mass"));
+    assert_eq!(e.value, "-1");
+    // The previous mass stays.
+    assert_eq!(boundary_state(&app).1, Some(2.0));
+}

@@ -104,6 +104,9 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
             sph_avian_scene_bodies
                 .in_set(SphSystems::Prepare)
                 .run_if(resource_exists::<Gravity>),
+            sph_avian_body_masses
+                .in_set(SphSystems::Prepare)
+                .before(crate::colliders::sph_sync_colliders),
             sph_drive_avian_bodies
                 .in_set(SphSystems::Writeback)
                 .after(crate::colliders::sph_write_collider_forces),
@@ -249,6 +252,45 @@ fn sph_avian_scene_bodies(
                 // A child of the container: a reload despawns it with the container.
                 ChildOf(entity),
             ));
+        }
+    }
+}
+
+/// A dynamic collider's avian mass, what stops it from giving way, and its [`SphColliderMass`].
+type AvianMass<'a> = (
+    Entity,
+    &'a SphCollider,
+    &'a ComputedMass,
+    Option<&'a LockedAxes>,
+    Option<&'a SphHinge>,
+    Option<&'a mut SphColliderMass>,
+);
+
+/// Every free dynamic avian body's [`SphColliderMass`] follows avian's mass, so that DFSPH's
+/// solves let it give way within a frame. A body on a scene's hinge, or with a locked
+/// translation axis, gets none (the water would expect it to give way where avian holds it).
+fn sph_avian_body_masses(mut commands: Commands, mut bodies: Query<AvianMass, With<RigidBody>>) {
+    for (entity, collider, computed, locked, hinge, current) in &mut bodies {
+        let held = hinge.is_some()
+            || locked.is_some_and(|l| {
+                l.is_translation_x_locked()
+                    || l.is_translation_y_locked()
+                    || l.is_translation_z_locked()
+            });
+        let mass = computed.value();
+        let free = collider.motion == sph_core::ColliderMotion::Dynamic
+            && !held
+            && mass.is_finite()
+            && mass > 0.0;
+        match (free, current) {
+            (true, Some(mut m)) if m.0 != mass => m.0 = mass,
+            (true, None) => {
+                commands.entity(entity).insert(SphColliderMass(mass));
+            }
+            (false, Some(_)) => {
+                commands.entity(entity).remove::<SphColliderMass>();
+            }
+            _ => {}
         }
     }
 }

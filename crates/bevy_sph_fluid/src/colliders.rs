@@ -22,6 +22,8 @@ pub struct TrackedCollider {
     pub sampled: (SphCollider, Vec3),
     /// The pose it was last placed at.
     pub pose: Pose,
+    /// The mass the boundary was last told ([`SphColliderMass`]).
+    pub mass: Option<f32>,
 }
 
 /// The entities' colliders in the backend's boundary.
@@ -90,9 +92,20 @@ fn refuse(entity: Entity, e: ColliderError, stats: &mut SphStats) {
     stats.collider_errors.push(error);
 }
 
-/// Adds, resamples, moves and removes the entities' colliders.
+/// An entity's collider, transforms, parent and body mass.
+type SyncedCollider<'a> = (
+    Entity,
+    &'a SphCollider,
+    &'a GlobalTransform,
+    &'a Transform,
+    Option<&'a ChildOf>,
+    Option<&'a SphColliderMass>,
+);
+
+/// Adds, resamples, moves and removes the entities' colliders, and tells the boundary their
+/// bodies' masses.
 pub(crate) fn sph_sync_colliders(
-    colliders: Query<(Entity, &SphCollider, &GlobalTransform)>,
+    colliders: Query<SyncedCollider>,
     mut removed: RemovedComponents<SphCollider>,
     params: Res<SphParams>,
     mut map: ResMut<SphColliderMap>,
@@ -117,9 +130,17 @@ pub(crate) fn sph_sync_colliders(
         }
     }
     let mut seen = Vec::new();
-    for (entity, collider, transform) in &colliders {
+    for (entity, collider, global, local, parent, mass) in &colliders {
         seen.push(entity);
-        let (scale, rotation, translation) = transform.to_scale_rotation_translation();
+        let mass = mass.map(|m| m.0);
+        // A root entity's `Transform` is its global one, and fresher: a physics engine that
+        // moved the body earlier in the frame (avian in the fixed schedule) wrote `Transform`,
+        // and `GlobalTransform` follows only in `PostUpdate`. Read from it, the water would see
+        // the body a frame late, and a heavy body resting on water bobbed higher each time.
+        let (scale, rotation, translation) = match parent {
+            None => (local.scale, local.rotation, local.translation),
+            Some(_) => global.to_scale_rotation_translation(),
+        };
         let pose = Pose {
             translation,
             rotation,
@@ -129,7 +150,7 @@ pub(crate) fn sph_sync_colliders(
             .as_ref()
             .is_none_or(|t| t.sampled.0 != *collider || t.sampled.1 != scale);
         if resample {
-            if let Some(t) = tracked {
+            if let Some(t) = &tracked {
                 boundary.remove(t.id);
                 map.tracked.remove(&entity);
             }
@@ -151,11 +172,23 @@ pub(crate) fn sph_sync_colliders(
                             id,
                             sampled: (collider.clone(), scale),
                             pose,
+                            mass: None,
                         },
                     );
                 }
                 Err(e) => refuse(entity, e, &mut stats),
             }
+        }
+        let Some(t) = map.tracked.get_mut(&entity) else {
+            continue;
+        };
+        if t.mass != mass {
+            match boundary.set_mass(t.id, mass) {
+                Ok(()) => t.mass = mass,
+                Err(e) => refuse(entity, e, &mut stats),
+            }
+        }
+        if resample {
             continue;
         }
         let Some(t) = tracked else { continue };
