@@ -11,6 +11,11 @@
 //! longer step is shortened to it). The forces arrive three frames late on lavapipe: at PBF's
 //! 1/120 s a frame a boat of 400 kg/m³ bobbed higher each time until it left the water.
 //!
+//! Mass: a free dynamic body (not on a scene's hinge, no locked translation axis) carries
+//! [`SphColliderMass`], kept equal to avian's mass, so that DFSPH's solves on the CPU let it give
+//! way to the water within a frame (`sph_core::free_bodies`): a heavy box resting on water no
+//! longer rattles between frames.
+//!
 //! Time: by default avian steps in its fixed schedule by the game's time, the water by its own
 //! frame plan; they agree only when the water runs in real-time mode ([`SphControl::real_time`])
 //! and keeps up (real-time factor 1). Add avian with `PhysicsPlugins::new(SphWaterTime)`
