@@ -52,18 +52,21 @@ pub struct FreeBodies {
 }
 
 impl FreeBodies {
-    /// Records the frame-mean force the engine receives for each body (body index, force).
+    /// Records the frame-mean force the engine receives for each body (body index, force). The
+    /// frame's gain ends with it: the engine moves the body with that force, and its next
+    /// velocity has the gain in it.
     pub fn set_references(&mut self, forces: impl IntoIterator<Item = (usize, Vec3)>) {
         for (body, force) in forces {
             if self.bodies.len() <= body {
                 self.bodies.resize(body + 1, FreeBody::default());
             }
             self.bodies[body].reference = Some(force);
+            self.bodies[body].gained = Vec3::ZERO;
         }
     }
 
     /// Follows the boundary: one entry per body, and no gain for a body the engine placed since
-    /// (its new velocity has the gain in it).
+    /// (its new velocity has the gain in it), also when it was placed without taking the forces.
     pub fn sync(&mut self, boundary: &Boundary) {
         self.bodies
             .resize(boundary.body_count(), FreeBody::default());
