@@ -86,11 +86,6 @@ impl FreeBodies {
         Some((boundary.free_mass(k)?, reference))
     }
 
-    /// Whether any body gives way.
-    pub fn any(&self, boundary: &Boundary) -> bool {
-        (0..self.bodies.len()).any(|k| self.giving(boundary, k).is_some())
-    }
-
     /// After a step of length `dt` whose force on each body was `forces`: the gain grows by
     /// dt (F_B − F_ref)/M.
     pub fn end_step(&mut self, boundary: &Boundary, forces: &[BodyForceSum], dt: f32) {
