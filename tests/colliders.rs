@@ -38,8 +38,12 @@ fn colliders() -> Vec<(SphCollider, Transform)> {
             }),
             Transform::from_xyz(0.1, 0.08, 0.12).with_rotation(Quat::from_rotation_y(0.6)),
         ),
+        // Dynamic: its samples neither mirror DFSPH's stiffness nor hold the rise, and carry
+        // the GPU's dynamic bit (sph_core::gpu_layout::DYNAMIC_BODY_BIT) through every pass's
+        // reactions.
         (
-            SphCollider::new(ColliderShape::Sphere { radius: 0.05 }),
+            SphCollider::new(ColliderShape::Sphere { radius: 0.05 })
+                .with_motion(ColliderMotion::Dynamic),
             Transform::from_xyz(0.22, 0.12, 0.2),
         ),
         (
@@ -95,8 +99,10 @@ fn app_with_colliders_moving(
     let (params, container, block) = scene_for(solver);
     let mut app = headless_app(block.count() as u32, backend);
     app.insert_resource(SphParams(params));
+    // No frame-time limit for the dynamic sphere's sake: the steps are the CPU's.
     app.insert_resource(SphControl {
         running: false,
+        max_body_frame_time: None,
         ..default()
     });
     app.world_mut().spawn(SphContainer(container));

@@ -14,16 +14,23 @@
 //!   boundary samples (Akinci 2012);
 //! - the stiffness κ_i [m⁵/(kg s²)] is a pressure over density squared, p_i/ρ_i², so it does not
 //!   depend on dt and warm-starts across steps whose dt differ;
-//! - the pressure acceleration is a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib (the symmetric
-//!   form, the boundary answering with the particle's own stiffness);
+//! - the pressure acceleration is a_i = -Σ_j (κ_i + κ_j) g_ij - 2 κ_i Σ_b g_ib: the symmetric
+//!   form with the particle's stiffness mirrored onto the samples (κ_b = κ_i, as WCSPH's walls
+//!   mirror p_i, `crate::forces`). With κ_b = 0 instead (the boundary answering with κ_i once,
+//!   until the seventh session of 2026-11-26), a wall row needs twice its pressure to hold: the
+//!   tank's bottom layer read +85 % and the rows next to the side walls too (mean 10.1 %);
+//! - the samples hold the hydrostatic rise between particle and sample besides (as WCSPH's
+//!   walls do, Adami et al. 2012's g term): [`BoundaryRise`], a step's constant, applied with
+//!   the non-pressure accelerations. Mirroring alone (κ_b = κ_i) under-states a floor's pressure
+//!   and over-states a ceiling's, so a box held under water read +28 % (docs/dfsph.md);
 //! - the rate of density change is Dρ_i/Dt = Σ_j (v_i - v_j)·g_ij + Σ_b (v_i - v_b)·g_ib.
 //!
 //! With the neighbours' stiffness held (a Jacobi step), κ_i alone changes Dρ_i/Dt by exactly
 //! -dt κ_i D_i, through i's own velocity and its neighbours', with
-//! D_i = |Σ_j g_ij + Σ_b g_ib|² + Σ_j |g_ij|² (the DFSPH factor is α_i = ρ_i / D_i in the
-//! paper's κ; ours is 1 / D_i). Hence the stiffness that removes a predicted density excess
-//! s_i = ρ*_i - ρ0 in one step is κ_i = s_i / (dt² D_i), and the one that removes a compression
-//! rate d_i = Dρ_i/Dt is κ_i = d_i / (dt D_i).
+//! D_i = (Σ_j g_ij + 2 Σ_b g_ib)·(Σ_j g_ij + Σ_b g_ib) + Σ_j |g_ij|² (the DFSPH factor is
+//! α_i = ρ_i / D_i in the paper's κ; ours is 1 / D_i). Hence the stiffness that removes a
+//! predicted density excess s_i = ρ*_i - ρ0 in one step is κ_i = s_i / (dt² D_i), and the one
+//! that removes a compression rate d_i = Dρ_i/Dt is κ_i = d_i / (dt D_i).
 
 use crate::boundary::{BodyForceSum, Boundary};
 use crate::kernel::CubicSpline;
@@ -45,8 +52,16 @@ pub struct ParticleFactor {
     pub inverse_factor: f32,
     /// Σ_b g_ib, the boundary's share of the pressure acceleration per unit κ_i.
     pub boundary_grad: Vec3,
+    /// Σ_b' g_ib' over the samples b' that mirror κ_i: those of the bodies that are not
+    /// dynamic, unless the particle is pinched (then none, and this is 0).
+    pub mirrored_grad: Vec3,
+    /// Whether the samples b' mirror κ_i (the particle is not pinched).
+    pub mirrors: bool,
     /// Σ_b v_b·g_ib, the moving boundary's share of Dρ_i/Dt.
     pub boundary_flux: f32,
+    /// max(p_i, 0) of the pressure p_i = (κ_i^ρ + κ_i^v) ρ0² that the solves' totals held when
+    /// the factors were found, the floor of [`BoundaryRise`] [Pa].
+    pub rise_floor: f32,
     /// Fluid and boundary neighbours.
     pub neighbor_count: u32,
 }
@@ -57,9 +72,56 @@ pub const FACTOR_EPSILON: f32 = 1.0e-6;
 /// The fraction of the previous step's stiffness the constant-density solve starts from, where
 /// the fluid is compressed before it (Bender & Koschier 2017 warm-start from the previous
 /// stiffness; SPlisHSPlasH does it only where the predicted density exceeds ρ0, and so do we).
-/// The whole of it: measured on the 8,000-particle dam break (docs/dfsph.md), 2.4 iterations
-/// per step against 26 with half of each solve's stiffness.
-pub const DENSITY_WARM_START: f32 = 1.0;
+/// Half of it: with the whole, the tank's rows next to the mirrored walls keep the stiffness of
+/// the steps before and the tank never comes to rest (0.011 m/s against 0.0012 m/s with half;
+/// docs/dfsph.md, "The mirrored boundary, with the give").
+pub const DENSITY_WARM_START: f32 = 0.5;
+
+/// The free surface's stiffness in the constant-density solve, at most ρ0 |g| Δx/2 over ρ0²
+/// (WCSPH's free-surface pressure, [`crate::forces`], moved into the solve): a top-row particle
+/// (under-dense, no source) is otherwise pushed by the row beneath and by nothing above, and
+/// stands half a spacing higher than WCSPH's, its row beneath over-pressed (+8 % in the tank).
+#[derive(Clone, Copy, Debug)]
+pub struct TopRowStiffness<'a> {
+    /// The solve's sources s_i of the iteration.
+    pub source: &'a [f32],
+    /// ρ_i.
+    pub density: &'a [f32],
+    /// ρ0 [kg/m³].
+    pub rest_density: f32,
+    /// The cap, |g| Δx / (2 ρ0) [m⁵/(kg s²)].
+    pub cap: f32,
+}
+
+/// Below this fraction of ρ0 a particle without a source is on the free surface.
+pub const TOP_ROW_DENSITY: f32 = 0.95;
+
+impl TopRowStiffness<'_> {
+    /// The stiffness sum each top-row particle reaches this iteration (NaN elsewhere): the
+    /// |g_ij|-weighted mean of its neighbours' positive sums `total` (before the iteration's
+    /// Jacobi stiffness joins them), at most the cap.
+    pub fn targets(&self, lists: &NeighborLists, total: &[f32], targets: &mut Vec<f32>) {
+        targets.resize(total.len(), f32::NAN);
+        lists.update(targets, |i, pairs, t| {
+            *t = f32::NAN;
+            if self.source[i] > 0.0 || self.density[i] >= TOP_ROW_DENSITY * self.rest_density {
+                return;
+            }
+            let (mut sum, mut weights) = (0.0, 0.0);
+            for p in pairs.fluid {
+                let k = total[p.index as usize];
+                if k > 0.0 {
+                    let w = p.grad.length();
+                    sum += w * k;
+                    weights += w;
+                }
+            }
+            if weights > 0.0 {
+                *t = (sum / weights).min(self.cap);
+            }
+        });
+    }
+}
 
 /// The same for the divergence-free solve, where the fluid is being compressed. Half of it: with
 /// the whole, a tank at rest keeps moving (mean speed 0.029 m/s against 0.005) because the
@@ -84,15 +146,106 @@ pub fn rest_lattice_factor(params: &SphParams) -> f32 {
     sum * params.particle_mass * params.particle_mass
 }
 
-/// Fills `factors` from the lists: 1/D_i, Σ_b g_ib, Σ_b v_b·g_ib, neighbour counts.
-/// `reference` is a typical D (the rest lattice's) that scales the cut-off for isolated particles.
+/// The pressure the boundary samples hold beyond the mirrored p_i: the hydrostatic rise between
+/// the particle and each sample (Adami et al. 2012's g term, as WCSPH's walls,
+/// `crate::forces::boundary_acceleration_at`), p_b^rise = max(ρ0 g·(x_b - x_i), -p̂_i), p̂_i the
+/// particle's [`ParticleFactor::rise_floor`] (a sample above a free-surface particle does not
+/// pull on it). It does not depend on the stiffness, so it acts once a step, with the
+/// non-pressure accelerations (v* = v + dt (a_np + a_rise)), and its reactions join the bodies'
+/// forces once.
+#[derive(Clone, Copy, Debug)]
+pub struct BoundaryRise<'a> {
+    /// Particle positions (the factors').
+    pub positions: &'a [Vec3],
+    /// The factors, for the floors.
+    pub factors: &'a [ParticleFactor],
+    /// g [m/s²].
+    pub gravity: Vec3,
+    /// ρ0 [kg/m³].
+    pub rest_density: f32,
+}
+
+impl BoundaryRise<'_> {
+    /// p_b^rise / ρ0² of particle i and a sample at `x_b`.
+    #[inline]
+    fn over_rho0_squared(&self, i: usize, x_b: Vec3) -> f32 {
+        let rho0 = self.rest_density;
+        let rise =
+            (rho0 * self.gravity.dot(x_b - self.positions[i])).max(-self.factors[i].rise_floor);
+        rise / (rho0 * rho0)
+    }
+
+    /// The rise's acceleration of particle i, a_i^rise = -Σ_b (p_b^rise/ρ0²) g_ib.
+    pub fn acceleration(&self, i: usize, pairs: PairsOf, boundary: &Boundary) -> Vec3 {
+        pairs.boundary.iter().fold(Vec3::ZERO, |a, pair| {
+            let b = pair.index as usize;
+            if !boundary.mirrored[boundary.body[b] as usize] {
+                return a;
+            }
+            a - pair.grad * self.over_rho0_squared(i, boundary.position[b])
+        })
+    }
+
+    /// v_i += dt (a_i + a_i^rise): the predicted velocities of the non-pressure accelerations
+    /// `acceleration` and the rise.
+    pub fn predict(
+        &self,
+        lists: &NeighborLists,
+        boundary: &Boundary,
+        acceleration: &[Vec3],
+        dt: f32,
+        v: &mut [Vec3],
+    ) {
+        lists.update(v, |i, pairs, v_i| {
+            *v_i += (acceleration[i] + self.acceleration(i, pairs, boundary)) * dt;
+        });
+    }
+
+    /// The fluid's force on each boundary body from the rise: m (p_b^rise/ρ0²) g_ib per pair,
+    /// at the sample, with its torque (indexed like [`Boundary::friction`]).
+    pub fn reactions(
+        &self,
+        lists: &NeighborLists,
+        boundary: &Boundary,
+        mass: f32,
+    ) -> Vec<BodyForceSum> {
+        let bodies = boundary.body_count();
+        lists.fold(
+            || vec![BodyForceSum::default(); bodies],
+            |mut sums, i, pairs| {
+                for p in pairs.boundary {
+                    let b = p.index as usize;
+                    let body = boundary.body[b] as usize;
+                    if !boundary.mirrored[body] {
+                        continue;
+                    }
+                    let x_b = boundary.position[b];
+                    let force = p.grad * (mass * self.over_rho0_squared(i, x_b));
+                    sums[body].add(force, x_b, boundary.origin[body]);
+                }
+                sums
+            },
+            |mut a, b| {
+                a.iter_mut().zip(&b).for_each(|(a, b)| a.merge(b));
+                a
+            },
+        )
+    }
+}
+
+/// Fills `factors` from the lists: 1/D_i, Σ_b g_ib, Σ_b v_b·g_ib, neighbour counts, and the
+/// rise's floor from `totals`, the solves' summed stiffness (κ^ρ, κ^v) of each particle (none:
+/// 0). `reference` is a typical D (the rest lattice's) that scales the cut-off for isolated
+/// particles.
 pub fn compute_factors(
     lists: &NeighborLists,
     boundary: Option<&Boundary>,
+    totals: Option<(&[f32], &[f32])>,
+    rest_density: f32,
     reference: f32,
     factors: &mut [ParticleFactor],
 ) {
-    lists.update(factors, |_, pairs, out| {
+    lists.update(factors, |i, pairs, out| {
         let mut sum = Vec3::ZERO;
         let mut squares = 0.0;
         for pair in pairs.fluid {
@@ -100,14 +253,28 @@ pub fn compute_factors(
             squares += pair.grad.length_squared();
         }
         let mut boundary_grad = Vec3::ZERO;
+        let mut mirrored_grad = Vec3::ZERO;
         let mut boundary_flux = 0.0;
         if let Some(b) = boundary {
             for pair in pairs.boundary {
                 boundary_grad += pair.grad;
+                if b.mirrored[b.body[pair.index as usize] as usize] {
+                    mirrored_grad += pair.grad;
+                }
                 boundary_flux += b.velocity[pair.index as usize].dot(pair.grad);
             }
         }
-        let d = (sum + boundary_grad).length_squared() + squares;
+        let rise_floor = totals.map_or(0.0, |(density, divergence)| {
+            ((density[i] + divergence[i]) * rest_density * rest_density).max(0.0)
+        });
+        // The boundary mirrors κ_i (see the module).
+        let once = (sum + boundary_grad).length_squared() + squares;
+        let mirrored = once + mirrored_grad.dot(sum + boundary_grad);
+        let mirrors = mirrored >= 0.5 * once;
+        if !mirrors {
+            mirrored_grad = Vec3::ZERO;
+        }
+        let d = if mirrors { mirrored } else { once };
         *out = ParticleFactor {
             inverse_factor: if d > FACTOR_EPSILON * reference {
                 1.0 / d
@@ -115,7 +282,10 @@ pub fn compute_factors(
                 0.0
             },
             boundary_grad,
+            mirrored_grad,
+            mirrors,
             boundary_flux,
+            rise_floor,
             neighbor_count: (pairs.fluid.len() + pairs.boundary.len()) as u32,
         };
     });
@@ -200,11 +370,14 @@ pub struct OverRelaxation {
 /// read +60.6 % over ρ0 g V instead of −5.1 % (docs/dfsph.md). The threshold is the solve's own
 /// tolerance rather than 0, so that the rule does not flip on rounding: a source that converges
 /// to 0 sits at 0 within rounding, where the CPU and the GPU would disagree.
+/// `top_row`: [`TopRowStiffness::targets`] of the iteration, the sums the top row's particles
+/// rise to (the constant-density solve's iterations).
 pub fn stiffness_from_source(
     source: &[f32],
     factors: &[ParticleFactor],
     scale: f32,
     over_relaxation: Option<OverRelaxation>,
+    top_row: Option<&[f32]>,
     stiffness: &mut [f32],
     total: &mut [f32],
 ) {
@@ -221,10 +394,16 @@ pub fn stiffness_from_source(
                 _ => jacobi,
             };
             *sum += *k;
+            // A top-row particle's sum rises to its target (NaN: none).
+            let target = top_row.map_or(f32::NAN, |t| t[i]);
+            if target > *sum {
+                *k += target - *sum;
+                *sum = target;
+            }
         });
 }
 
-/// v_i += dt a_i with the pressure acceleration a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib.
+/// v_i += dt a_i with the pressure acceleration a_i = -Σ_j (κ_i + κ_j) g_ij - 2 κ_i Σ_b g_ib.
 pub fn apply_stiffness(
     lists: &NeighborLists,
     stiffness: &[f32],
@@ -234,7 +413,8 @@ pub fn apply_stiffness(
 ) {
     lists.update(v, |i, pairs, v_i| {
         let k_i = stiffness[i];
-        let mut a = -k_i * factors[i].boundary_grad;
+        let f = &factors[i];
+        let mut a = -k_i * (f.boundary_grad + f.mirrored_grad);
         for p in pairs.fluid {
             a -= (k_i + stiffness[p.index as usize]) * p.grad;
         }
@@ -243,11 +423,12 @@ pub fn apply_stiffness(
 }
 
 /// The fluid's force on each boundary body from the stiffness `total` of a solve: the reaction
-/// -m a_ib = m κ_i g_ib of every pair, at the sample, with its torque about the body's origin
+/// -m a_ib = 2 m κ_i g_ib of every pair (the boundary mirrors κ_i), at the sample, with its torque about the body's origin
 /// (Akinci 2012's two-way coupling). Indexed like [`Boundary::friction`].
 pub fn boundary_reactions(
     lists: &NeighborLists,
     boundary: &Boundary,
+    factors: &[ParticleFactor],
     total: &[f32],
     mass: f32,
 ) -> Vec<BodyForceSum> {
@@ -260,6 +441,11 @@ pub fn boundary_reactions(
                 for p in pairs.boundary {
                     let b = p.index as usize;
                     let body = boundary.body[b] as usize;
+                    let k = if !boundary.mirrored[body] || !factors[i].mirrors {
+                        k
+                    } else {
+                        2.0 * k
+                    };
                     sums[body].add(p.grad * k, boundary.position[b], boundary.origin[body]);
                 }
             }

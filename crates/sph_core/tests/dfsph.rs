@@ -62,7 +62,7 @@ fn block(jitter: f32) -> Block {
         &mut density,
     );
     let mut factors = vec![ParticleFactor::default(); positions.len()];
-    compute_factors(&lists, None, 1.0, &mut factors);
+    compute_factors(&lists, None, None, 1000.0, 1.0, &mut factors);
     Block {
         params,
         positions,

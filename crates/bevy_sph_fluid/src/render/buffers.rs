@@ -99,11 +99,14 @@ pub enum Buf {
     /// WCSPH: the equation of state's pressures, from which the free-surface pass writes
     /// [`Buf::Pressure`].
     PressureEos,
+    /// DFSPH: the boundary's mirrored share of each particle's factor, (Σ_b g_ib over the
+    /// samples that mirror κ_i, 1 when they do), written with the factors after each sort.
+    DfsphMirror,
 }
 
 impl Buf {
     /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 36] = [
+    pub const ALL: [Buf; 37] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -140,6 +143,7 @@ impl Buf {
         Buf::PbfNeighbors,
         Buf::DfsphPairs,
         Buf::PressureEos,
+        Buf::DfsphMirror,
     ];
 
     /// The WGSL binding in group 0 (the uniform block is binding 0).
@@ -186,6 +190,7 @@ impl Buf {
             Buf::PbfNeighbors => "sph_pbf_neighbors",
             Buf::DfsphPairs => "sph_dfsph_pairs",
             Buf::PressureEos => "sph_pressure_eos",
+            Buf::DfsphMirror => "sph_dfsph_mirror",
         }
     }
 }
@@ -315,6 +320,8 @@ fn allocate(
             Buf::DfsphPairs => 16,
             Buf::PressureEos if !key.pbf && !key.dfsph => 4 * n,
             Buf::PressureEos => 16,
+            Buf::DfsphMirror if key.dfsph => 16 * n,
+            Buf::DfsphMirror => 16,
             _ => 16 * n,
         }
     };

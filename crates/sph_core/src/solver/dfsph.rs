@@ -4,7 +4,8 @@
 //! 1. non-pressure accelerations a_np (viscosity, surface tension, gravity, boundary friction)
 //!    at the step's start, where densities, factors and lists are already known;
 //! 2. dt from the flow speed ([`dfsph_time_step`]);
-//! 3. predicted velocities v* = v + dt a_np;
+//! 3. predicted velocities v* = v + dt (a_np + a_rise), with the boundary's hydrostatic rise
+//!    ([`crate::dfsph_bender2017::BoundaryRise`]);
 //! 4. the constant-density solve corrects v* until the predicted density error is small;
 //! 5. the solids' speculative contact bounds v* so that the drift ends a tenth of a spacing from
 //!    every surface ([`crate::speculative_contact::stop_before_drift`]), x += dt v*, the guard;
@@ -20,8 +21,8 @@ use crate::boundary::BodyForceSum;
 use crate::boundary::Boundary;
 use crate::dfsph_bender2017::{
     apply_stiffness, boundary_reactions, compute_factors, density_source, dfsph_time_step,
-    divergence_source, rest_lattice_factor, stiffness_from_source, OverRelaxation, ParticleFactor,
-    DENSITY_WARM_START, DIVERGENCE_WARM_START,
+    divergence_source, rest_lattice_factor, stiffness_from_source, BoundaryRise, OverRelaxation,
+    ParticleFactor, TopRowStiffness, DENSITY_WARM_START, DIVERGENCE_WARM_START,
 };
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::frame_budget::StepDt;
@@ -46,6 +47,8 @@ pub(super) struct DfsphScratch {
     factors: Vec<ParticleFactor>,
     source: Vec<f32>,
     stiffness: Vec<f32>,
+    /// The top row's targets of the iteration ([`TopRowStiffness::targets`]).
+    top_row: Vec<f32>,
     /// The kernel of DFSPH's densities and gradients.
     kernel: CubicSpline,
     /// D_i of the rest lattice for `kernel`.
@@ -61,6 +64,7 @@ impl Default for DfsphScratch {
             factors: Vec::new(),
             source: Vec::new(),
             stiffness: Vec::new(),
+            top_row: Vec::new(),
             kernel: CubicSpline::new(1.0, 0.5),
             rest_factor: 0.0,
             free_bodies: FreeBodies::default(),
@@ -142,7 +146,16 @@ impl DfsphStep<'_> {
                 &kernel,
                 &mut p.density,
             );
-            compute_factors(&s.lists, Some(boundary), s.rest_factor, &mut s.factors);
+            p.stiffness_density.resize(n, 0.0);
+            p.stiffness_divergence.resize(n, 0.0);
+            compute_factors(
+                &s.lists,
+                Some(boundary),
+                Some((&p.stiffness_density, &p.stiffness_divergence)),
+                ctx.rest_density,
+                s.rest_factor,
+                &mut s.factors,
+            );
         });
     }
 
@@ -154,6 +167,8 @@ impl DfsphStep<'_> {
         let settings = self.parts.params.dfsph;
         let rho0 = self.parts.params.rest_density;
         let mass = self.parts.params.particle_mass;
+        let top_row_cap =
+            self.parts.params.gravity.length() * self.parts.params.spacing() / (2.0 * rho0);
         let (p, s) = (&mut *self.parts.particles, &mut *self.scratch);
         let mut giving = GivingSolve::new(&s.free_bodies, self.parts.boundary, &s.lists, base);
         let n = p.len();
@@ -214,11 +229,24 @@ impl DfsphStep<'_> {
                     omega: settings.divergence_over_relaxation,
                     converged_source: eta * rho0,
                 });
+            // The top row's stiffness (the constant-density solve's; the divergence-free solve
+            // leaves the free surface alone, INTERIOR_NEIGHBORS).
+            let top_row = matches!(solve, Solve::Density).then(|| {
+                TopRowStiffness {
+                    source: &s.source,
+                    density: &p.density,
+                    rest_density: rho0,
+                    cap: top_row_cap,
+                }
+                .targets(&s.lists, total, &mut s.top_row);
+                &s.top_row[..]
+            });
             stiffness_from_source(
                 &s.source,
                 &s.factors,
                 scale,
                 relaxation,
+                top_row,
                 &mut s.stiffness,
                 total,
             );
@@ -232,7 +260,7 @@ impl DfsphStep<'_> {
         if let Some(g) = giving {
             g.restore(&mut s.factors);
         }
-        let reactions = boundary_reactions(&s.lists, self.parts.boundary, total, mass);
+        let reactions = boundary_reactions(&s.lists, self.parts.boundary, &s.factors, total, mass);
         self.parts.timings.pressure_solve += start.elapsed();
         SolveOutcome {
             iterations,
@@ -280,11 +308,29 @@ impl DfsphStep<'_> {
             self.parts.particles,
             self.parts.boundary,
         ));
-        let p = &mut *self.parts.particles;
-        p.velocity
-            .par_iter_mut()
-            .zip(p.acceleration.par_iter())
-            .for_each(|(v, &a)| *v += a * dt);
+        let (p, s) = (&mut *self.parts.particles, &*self.scratch);
+        let rise = BoundaryRise {
+            positions: &p.position,
+            factors: &s.factors,
+            gravity: ctx.gravity,
+            rest_density: ctx.rest_density,
+        };
+        let rise_reactions = rise.reactions(
+            &s.lists,
+            self.parts.boundary,
+            self.parts.params.particle_mass,
+        );
+        rise.predict(
+            &s.lists,
+            self.parts.boundary,
+            &p.acceleration,
+            dt,
+            &mut p.velocity,
+        );
+        forces
+            .iter_mut()
+            .zip(&rise_reactions)
+            .for_each(|(sum, r)| sum.merge(r));
         // 4. Constant density.
         let density = self.solve(Solve::Density, dt, &forces);
         // 5. Move, no closer than the margin to a solid (the speculative contact).

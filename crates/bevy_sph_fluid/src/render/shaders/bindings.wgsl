@@ -63,3 +63,6 @@
 // WCSPH: the equation of state's pressures (written by the density pass), from which the
 // free-surface pass writes `pressure`.
 @group(0) @binding(36) var<storage, read_write> pressure_eos: array<f32>;
+// DFSPH: the boundary's mirrored share of each particle's factor, (Σ_b g_ib over the samples
+// that mirror κ_i, 1 when they do, else 0) (written by the dfsph_density pass after each sort).
+@group(0) @binding(37) var<storage, read_write> dfsph_mirror: array<vec4<f32>>;

@@ -4,13 +4,18 @@
 //
 // Notation as in the Rust twin: g_ij = m ∇W(x_i - x_j) (W the cubic spline normalised on the
 // rest lattice), g_ib = Ψ_b ∇W(x_i - x_b) with Ψ_b = ρ0 V_b; the stiffness κ_i = p_i/ρ_i²;
-// a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib; Dρ_i/Dt = Σ_j (v_i - v_j)·g_ij + Σ_b (v_i - v_b)·g_ib.
+// a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib - κ_i Σ_b' g_ib', b' the samples that mirror κ_i
+// (those of the walls and of static and kinematic colliders, unless the particle is pinched;
+// see dfsph_density.wgsl), and once a step the hydrostatic rise at the same samples,
+// a_i^rise = -Σ_b' (p_b'^rise/ρ0²) g_ib', p_b'^rise = max(ρ0 g·(x_b' - x_i), -p̂_i);
+// Dρ_i/Dt = Σ_j (v_i - v_j)·g_ij + Σ_b (v_i - v_b)·g_ib.
 //
 // The arrays a DFSPH step borrows (none of them is used otherwise by its stage list):
 // - `density`: ρ_i, the cubic-spline density of the lists;
 // - `acceleration_start`: (Σ_b g_ib, 1/D_i), the factor (0 for an isolated particle);
 // - `sorted_acceleration_start`: (Σ_b v_b·g_ib, fluid and boundary neighbours, boundary
-//   neighbours, 0) (the sort's scratch, free after the scatter);
+//   neighbours, p̂_i the rise's floor) (the sort's scratch, free after the scatter);
+// - `dfsph_mirror`: (Σ_b' g_ib', 1 if the samples b' mirror κ_i else 0), its own;
 // - `pressure`: κ_i of the iteration, during the solves (the last pass writes the pressures);
 // - `velocity_predicted`: (κ summed by the constant-density solve, κ summed by the
 //   divergence-free solve, 0, 0), carried by the sort: the next step's warm starts;
@@ -20,7 +25,7 @@
 // converged flag, two error sums, and the indirect dispatch arguments of its passes.
 #define_import_path sph::dfsph
 
-#import sph::bindings::{params, clock, pressure, acceleration_start, sorted_acceleration_start, velocity_predicted, dfsph_pairs}
+#import sph::bindings::{params, clock, pressure, acceleration_start, sorted_acceleration_start, velocity_predicted, dfsph_pairs, dfsph_mirror, boundary_body}
 
 // Isolated particles: fewer neighbours than this is a free surface, left out of the
 // divergence-free solve (sph_core::dfsph_bender2017::INTERIOR_NEIGHBORS).
@@ -60,6 +65,36 @@ fn factor(i: u32) -> Factor {
 // The boundary samples within h of particle i when the factors pass ran (0: no boundary pair).
 fn boundary_neighbors(i: u32) -> f32 {
     return sorted_acceleration_start[i].z;
+}
+
+// Σ_b' g_ib' over the samples that mirror κ_i (0 when the particle is pinched).
+fn mirrored_grad(i: u32) -> vec3<f32> {
+    return dfsph_mirror[i].xyz;
+}
+
+// Whether the samples of static bodies mirror κ_i (the particle is not pinched).
+fn mirrors(i: u32) -> bool {
+    return dfsph_mirror[i].w != 0.0;
+}
+
+// Whether boundary sample b belongs to a dynamic collider (sph_core::gpu_layout::DYNAMIC_BODY_BIT),
+// whose samples neither mirror κ_i nor hold the rise.
+fn dynamic_sample(b: u32) -> bool {
+    return (boundary_body[b] & 0x80000000u) != 0u;
+}
+
+// p̂_i = max((κ_i^ρ + κ_i^v) ρ0², 0) of the solves' totals when the factors pass ran: the
+// lowest the boundary's hydrostatic rise goes below the particle's pressure.
+fn rise_floor(i: u32) -> f32 {
+    return sorted_acceleration_start[i].w;
+}
+
+// p_b^rise/ρ0² of a particle at x_i with floor p̂ and a sample at x_b: the hydrostatic rise
+// ρ0 g·(x_b - x_i), no lower than -p̂ (Rust twin: sph_core::dfsph_bender2017::BoundaryRise).
+fn rise_over_rho0_squared(x_i: vec3<f32>, x_b: vec3<f32>, p_floor: f32) -> f32 {
+    let rho0 = rest_density();
+    let rise = max(rho0 * dot(params.gravity.xyz, x_b - x_i), -p_floor);
+    return rise / (rho0 * rho0);
 }
 
 // κ_j of the iteration (in `pressure`, free during the solves: the step's last pass writes

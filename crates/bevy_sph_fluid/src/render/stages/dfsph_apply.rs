@@ -21,6 +21,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::VelocityPredicted,
         Buf::AccelerationStart,
         Buf::SortedAccelerationStart,
+        Buf::DfsphMirror,
         Buf::NeighborCount,
         Buf::DfsphPairs,
         Buf::Pressure,

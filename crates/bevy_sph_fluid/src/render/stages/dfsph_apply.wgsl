@@ -1,5 +1,6 @@
 // The first pass of a DFSPH Jacobi iteration (Bender & Koschier 2017, Algorithms 2 and 3):
-// first the decision, then v_i += dt a_i with a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i Σ_b g_ib (see
+// first the decision, then v_i += dt a_i with
+// a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i (Σ_b g_ib + Σ_b' g_ib') (the samples b' mirror κ_i; see
 // shaders/dfsph.wgsl), and the stiffness joins the solve's sum.
 // The decision (every thread takes the same): with `applied` iterations done and the last
 // source's mean error e (sum a, or FROM_B sum b), the solve goes on while
@@ -13,7 +14,7 @@
 #import sph::bindings::{params, clock, velocity, neighbor_count}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
-#import sph::dfsph::{factor, pair, stiffness, total, set_total, mean_error, clear_error, close_solve, goes_on}
+#import sph::dfsph::{factor, mirrored_grad, pair, stiffness, total, set_total, mean_error, clear_error, close_solve, goes_on}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -51,7 +52,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let k_i = stiffness(i);
-    var a = -k_i * factor(i).boundary_grad;
+    var a = -k_i * (factor(i).boundary_grad + mirrored_grad(i));
     let fluid = neighbor_count[i];
     for (var k = 0u; k < fluid; k++) {
         let p = pair(i, k);

@@ -9,7 +9,8 @@ use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
 use sph_core::CpuStage;
 
-/// ρ_i, 1/D_i, Σ_b g_ib, Σ_b v_b·g_ib and the neighbour count of every particle, in each DFSPH
+/// ρ_i, 1/D_i, Σ_b g_ib, the mirrored share, Σ_b v_b·g_ib, the rise's floor and the neighbour
+/// count of every particle, in each DFSPH
 /// neighbourhood (the first and after the move); opens the next solve.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_dfsph_density",
@@ -29,6 +30,8 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BoundaryPosition,
         Buf::BoundaryVelocity,
         Buf::BoundaryCellStart,
+        Buf::BoundaryBody,
+        Buf::DfsphMirror,
         Buf::Clock,
     ],
     workgroup_size: WORKGROUP_SIZE,

@@ -1,16 +1,20 @@
 // DFSPH's densities and factors after each sort (Bender & Koschier 2017, eq. 9 with our κ):
 // over the lists' pairs and the boundary samples within h,
 // ρ_i = m Σ_j W_ij (self included) + Σ_b Ψ_b W_ib,
-// D_i = |Σ_j g_ij + Σ_b g_ib|² + Σ_j |g_ij|²  ->  1/D_i (0 below the cut-off params.dfsph.z),
-// and Σ_b g_ib, Σ_b v_b·g_ib, the neighbour count and each pair's g_ij for the solves
+// D_i = (Σ_j g_ij + Σ_b g_ib + Σ_b' g_ib')·(Σ_j g_ij + Σ_b g_ib) + Σ_j |g_ij|²  ->  1/D_i (0
+// below the cut-off params.dfsph.z), b' the samples of the bodies that are not dynamic, which
+// mirror κ_i; unless that D is below half of D without them (a particle pinched between a
+// mirrored wall and a body, whose factor the mirror would halve): then none mirrors.
+// Besides: Σ_b g_ib, Σ_b' g_ib', Σ_b v_b·g_ib, the neighbour count, the rise's floor
+// p̂_i = max((κ_i^ρ + κ_i^v) ρ0², 0) of the solves' totals, and each pair's g_ij for the solves
 // (shaders/dfsph.wgsl).
 // Thread 0 opens the next solve (the divergence-free one after the move).
 // Rust twins: sph_core::neighbor_lists::NeighborLists::rebuild (the densities) and
 // sph_core::dfsph_bender2017::compute_factors.
-#import sph::bindings::{params, position, density, neighbor_count, pbf_neighbors, acceleration_start, sorted_acceleration_start, boundary_position, boundary_velocity}
+#import sph::bindings::{params, position, density, velocity_predicted, neighbor_count, pbf_neighbors, acceleration_start, sorted_acceleration_start, dfsph_mirror, boundary_position, boundary_velocity}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range}
-#import sph::dfsph::{mass, rest_density, set_pair, open_solve}
+#import sph::dfsph::{mass, rest_density, set_pair, open_solve, dynamic_sample}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -40,6 +44,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         squares += dot(g, g);
     }
     var boundary_grad = vec3<f32>(0.0);
+    var mirrored_grad = vec3<f32>(0.0);
     var boundary_flux = 0.0;
     var solid = 0u;
     let cell = grid_cell(x_i);
@@ -57,13 +62,22 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             rho += psi * cubic(r_len);
             let g = cubic_grad(r, r_len) * psi;
             boundary_grad += g;
+            if !dynamic_sample(b) {
+                mirrored_grad += g;
+            }
             boundary_flux += dot(boundary_velocity[b].xyz, g);
             solid += 1u;
         }
     }
-    let d = dot(sum + boundary_grad, sum + boundary_grad) + squares;
+    let once = dot(sum + boundary_grad, sum + boundary_grad) + squares;
+    let mirrored = once + dot(mirrored_grad, sum + boundary_grad);
+    let mirror = mirrored >= 0.5 * once;
+    let d = select(once, mirrored, mirror);
     let inverse = select(0.0, 1.0 / d, d > params.dfsph.z);
+    let totals = velocity_predicted[i];
+    let p_floor = max((totals.x + totals.y) * rho0 * rho0, 0.0);
     density[i] = rho;
     acceleration_start[i] = vec4<f32>(boundary_grad, inverse);
-    sorted_acceleration_start[i] = vec4<f32>(boundary_flux, f32(fluid + solid), f32(solid), 0.0);
+    sorted_acceleration_start[i] = vec4<f32>(boundary_flux, f32(fluid + solid), f32(solid), p_floor);
+    dfsph_mirror[i] = select(vec4<f32>(0.0), vec4<f32>(mirrored_grad, 1.0), mirror);
 }

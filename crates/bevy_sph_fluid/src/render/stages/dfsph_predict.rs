@@ -1,5 +1,6 @@
-//! DFSPH's predicted velocities v* = v + dt a_np after the time step, with the rollback
-//! checkpoint (`dfsph_predict.wgsl`; CPU twin: step 3 of `sph_core::solver::dfsph`).
+//! DFSPH's predicted velocities v* = v + dt (a_np + a_rise) after the time step, with the
+//! rollback checkpoint (`dfsph_predict.wgsl`; CPU twins: step 3 of `sph_core::solver::dfsph`,
+//! `sph_core::dfsph_bender2017::BoundaryRise::predict`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{DfsphPhase, EvaluationPlan};
@@ -8,7 +9,7 @@ use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
 use sph_core::CpuStage;
 
-/// The checkpoint, then v += dt a for every particle, once per DFSPH step; opens the
+/// The checkpoint, then v += dt (a + a_rise) for every particle, once per DFSPH step; opens the
 /// constant-density solve.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_dfsph_predict",
@@ -20,6 +21,10 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Velocity,
         Buf::Acceleration,
         Buf::AccelerationStart,
+        Buf::SortedAccelerationStart,
+        Buf::BoundaryPosition,
+        Buf::BoundaryCellStart,
+        Buf::BoundaryBody,
         Buf::Clock,
         Buf::Checkpoint,
     ],

@@ -25,6 +25,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Density,
         Buf::Pressure,
         Buf::SortedAccelerationStart,
+        Buf::DfsphMirror,
         Buf::Clock,
         Buf::BoundaryPosition,
         Buf::BoundaryCellStart,

@@ -1,7 +1,10 @@
 // The end of a DFSPH solve: the bodies' reactions, the solve's statistics, and after the
 // divergence-free solve the step's close.
 // - Reactions (Akinci 2012's two-way coupling): each boundary pair's -m a_ib = m κ_i g_ib with
-//   the stiffness the solve summed, at the sample (summed by shaders/body_reactions.wgsl).
+//   the stiffness the solve summed, twice that at a sample that mirrors κ_i, at the sample
+//   (summed by shaders/body_reactions.wgsl); the constant-density solve's pass adds the step's
+//   hydrostatic rise at the mirroring samples, m (p_b'^rise/ρ0²) g_ib', at the positions the
+//   predict pass used (shaders/dfsph.wgsl).
 // - Thread 0 adds the solve's applied iterations to the clock's sums and keeps its last mean
 //   error (the sum its last source wrote: a after an even count, b after an odd one).
 //   A solve still open whose decision would go on ran out of the passes the CPU encoded (its
@@ -11,7 +14,7 @@
 //   the body (shaders/speculative_contact.wgsl; sph_core::speculative_contact::stop_before_drift).
 // - DIVERGENCE_SOLVE: p_i = (κ_i + κ_i^v) ρ_i², the pumps, the probes.
 // Nothing is summed while the clock is frozen or a state is being restored.
-// Rust twins: sph_core::dfsph_bender2017::boundary_reactions, the end of
+// Rust twins: sph_core::dfsph_bender2017::boundary_reactions and BoundaryRise::reactions, the end of
 // sph_core::solver::dfsph::DfsphStep::advance, sph_core::pump::apply_pumps (CpuSolver::step).
 #import sph::bindings::{params, clock, position, velocity, velocity_predicted, density, pressure, boundary_position, boundary_body}
 #import sph::kernels::cubic_grad
@@ -22,14 +25,21 @@
 #import sph::probes::record_probes
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
-#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, goes_on}
+#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, goes_on, mirrors, dynamic_sample, rise_floor, rise_over_rho0_squared}
 #import sph::speculative_contact::speculative_contact
 
 fn particle(i: u32) {
     let x_i = position[i].xyz;
     let k = total(i) * mass();
+    let mirrored = select(k, 2.0 * k, mirrors(i));
+#ifdef DIVERGENCE_SOLVE
+    let rises = false;
+#else
+    let rises = true;
+#endif
+    let p_floor = rise_floor(i);
     // The factors pass counted the samples within h at these positions: none, no reaction.
-    if k != 0.0 && boundary_neighbors(i) > 0.0 {
+    if (k != 0.0 || rises) && boundary_neighbors(i) > 0.0 {
         let h2 = params.kernel_a.y;
         let rho0 = rest_density();
         let cell = grid_cell(x_i);
@@ -43,8 +53,15 @@ fn particle(i: u32) {
                     continue;
                 }
                 let g = cubic_grad(r, sqrt(r2)) * (rho0 * sample.w);
+                var f = k;
+                if !dynamic_sample(b) {
+                    f = mirrored;
+                    if rises {
+                        f += mass() * rise_over_rho0_squared(x_i, sample.xyz, p_floor);
+                    }
+                }
                 if !drained(position[i].w) {
-                    add_reaction(boundary_body[b], g * k, sample.xyz);
+                    add_reaction(boundary_body[b], g * f, sample.xyz);
                 }
             }
         }

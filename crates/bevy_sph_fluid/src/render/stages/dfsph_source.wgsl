@@ -1,7 +1,10 @@
 // A DFSPH solve's source and next stiffness (Bender & Koschier 2017, Algorithms 2 and 3, with
 // κ = p/ρ²; see shaders/dfsph.wgsl), at the current velocities:
 // constant density (default):  s_i = clamp(ρ_i + dt Dρ_i/Dt - ρ0, 0, MAX_CORRECTION ρ0),
-//                              κ_i = s_i / (dt² D_i);
+//                              κ_i = s_i / (dt² D_i), and on the top row (s_i = 0,
+//                              ρ_i < TOP_ROW_DENSITY ρ0) as much more as lifts the particle's
+//                              sum to its neighbours' |g_ij|-weighted mean sum (the positive
+//                              ones, before this iteration's), at most |g| Δx / (2 ρ0);
 // divergence-free (DIVERGENCE_SOLVE): s_i = max(Dρ_i/Dt, 0) for particles with at least
 //                              INTERIOR_NEIGHBORS neighbours, else 0; κ_i = s_i / (dt D_i).
 // DFSPH_WARM: the warm start instead: κ_i = fraction × the stiffness the solve summed last
@@ -12,11 +15,11 @@
 // sources after it count the iteration the pass before applied.
 // Dispatched indirectly: no workgroup runs once the solve converged.
 // Rust twins: sph_core::dfsph_bender2017::{density_source, divergence_source,
-// stiffness_from_source} and the warm start of sph_core::solver::dfsph.
+// stiffness_from_source, TopRowStiffness} and the warm start of sph_core::solver::dfsph.
 #import sph::bindings::{params, clock, velocity, density, neighbor_count}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
-#import sph::dfsph::{INTERIOR_NEIGHBORS, rest_density, factor, pair, stiffness, set_stiffness, over_relaxed, total, set_total, add_error}
+#import sph::dfsph::{INTERIOR_NEIGHBORS, spacing, rest_density, factor, pair, stiffness, set_stiffness, over_relaxed, total, set_total, add_error}
 
 var<workgroup> partial: array<f32, #{WORKGROUP_SIZE}>;
 
@@ -39,6 +42,37 @@ fn source(i: u32) -> f32 {
     let rho0 = rest_density();
     return clamp(density[i] + step_dt() * rate - rho0, 0.0, params.dfsph_b.w * rho0);
 #endif
+}
+
+// Below this fraction of ρ0 a particle without a source is on the free surface
+// (sph_core::dfsph_bender2017::TOP_ROW_DENSITY).
+const TOP_ROW_DENSITY: f32 = 0.95;
+
+// The sum particle i's stiffness rises to on the top row, or -1 (see above; Rust twin:
+// sph_core::dfsph_bender2017::TopRowStiffness::targets). Reads the neighbours' sums, which no
+// thread of this pass writes.
+fn top_row_target(i: u32, s: f32) -> f32 {
+    let rho0 = rest_density();
+    if s > 0.0 || density[i] >= TOP_ROW_DENSITY * rho0 {
+        return -1.0;
+    }
+    var sum = 0.0;
+    var weights = 0.0;
+    let fluid = neighbor_count[i];
+    for (var k = 0u; k < fluid; k++) {
+        let p = pair(i, k);
+        let k_j = total(p.j);
+        if k_j > 0.0 {
+            let w = length(p.grad);
+            sum += w * k_j;
+            weights += w;
+        }
+    }
+    if weights <= 0.0 {
+        return -1.0;
+    }
+    let cap = length(params.gravity.xyz) * spacing() / (2.0 * rho0);
+    return min(sum / weights, cap);
 }
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
@@ -68,16 +102,33 @@ fn main(
 #endif
         let jacobi = scale * s * factor(i).inverse;
 #ifdef DFSPH_FIRST
-        set_stiffness(i, jacobi);
+        let k = jacobi;
 #else
 #ifdef DIVERGENCE_SOLVE
         // Plain Jacobi where the particle is within the solve's tolerance (params.dfsph.y ρ0):
         // no momentum on a particle whose compression is gone (see stiffness_from_source).
         let converged = s <= params.dfsph.y * rest_density();
-        set_stiffness(i, select(over_relaxed(jacobi, stiffness(i)), jacobi, converged));
+        let k = select(over_relaxed(jacobi, stiffness(i)), jacobi, converged);
 #else
-        set_stiffness(i, jacobi);
+        let k = jacobi;
 #endif
+#endif
+#ifdef DIVERGENCE_SOLVE
+        set_stiffness(i, k);
+#else
+        // Without the warm start the first iteration's sums start at 0 (none of the
+        // neighbours' is positive: no target); the apply pass adds k to the sum.
+        var fresh = false;
+#ifdef DFSPH_FIRST
+        fresh = params.dfsph.w == 0.0;
+#endif
+        var before = 0.0;
+        var lift_to = -1.0;
+        if !fresh {
+            before = total(i);
+            lift_to = top_row_target(i, s);
+        }
+        set_stiffness(i, k + max(lift_to - (before + k), 0.0));
 #endif
 #ifdef DFSPH_FIRST
         if params.dfsph.w == 0.0 {
