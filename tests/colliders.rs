@@ -31,6 +31,11 @@ fn scene_for(solver: Solver) -> (sph_core::SphParams, BoxContainer, BlockSpawn) 
 
 /// The colliders as components (with their transforms) and as the CPU solver's colliders.
 fn colliders() -> Vec<(SphCollider, Transform)> {
+    colliders_with_sphere(ColliderMotion::Dynamic)
+}
+
+/// [`colliders`] with the sphere's motion `sphere`.
+fn colliders_with_sphere(sphere: ColliderMotion) -> Vec<(SphCollider, Transform)> {
     vec![
         (
             SphCollider::new(ColliderShape::Cuboid {
@@ -38,12 +43,11 @@ fn colliders() -> Vec<(SphCollider, Transform)> {
             }),
             Transform::from_xyz(0.1, 0.08, 0.12).with_rotation(Quat::from_rotation_y(0.6)),
         ),
-        // Dynamic: its samples neither mirror DFSPH's stiffness nor hold the rise, and carry
-        // the GPU's dynamic bit (sph_core::gpu_layout::DYNAMIC_BODY_BIT) through every pass's
-        // reactions.
+        // Dynamic and without a mass: no sample mirrors DFSPH's stiffness or holds the rise
+        // (sph_core::Boundary::mirrors), and every sample carries the GPU's unmirrored bit
+        // (sph_core::gpu_layout::UNMIRRORED_BODY_BIT) through every pass's reactions.
         (
-            SphCollider::new(ColliderShape::Sphere { radius: 0.05 })
-                .with_motion(ColliderMotion::Dynamic),
+            SphCollider::new(ColliderShape::Sphere { radius: 0.05 }).with_motion(sphere),
             Transform::from_xyz(0.22, 0.12, 0.2),
         ),
         (
@@ -87,14 +91,15 @@ fn spawn_velocity(solver: Solver) -> Vec3 {
 }
 
 fn app_with_colliders_for(backend: SphBackend, solver: Solver) -> (App, Vec<Entity>, usize) {
-    app_with_colliders_moving(backend, solver, spawn_velocity(solver))
+    app_with_colliders_moving(backend, solver, spawn_velocity(solver), colliders())
 }
 
-/// The scene's app with the block spawned at `velocity`.
+/// The scene's app with `colliders` and the block spawned at `velocity`.
 fn app_with_colliders_moving(
     backend: SphBackend,
     solver: Solver,
     velocity: Vec3,
+    colliders: Vec<(SphCollider, Transform)>,
 ) -> (App, Vec<Entity>, usize) {
     let (params, container, block) = scene_for(solver);
     let mut app = headless_app(block.count() as u32, backend);
@@ -106,7 +111,7 @@ fn app_with_colliders_moving(
         ..default()
     });
     app.world_mut().spawn(SphContainer(container));
-    let entities = colliders()
+    let entities = colliders
         .into_iter()
         .map(|(c, t)| app.world_mut().spawn((c, t)).id())
         .collect();
@@ -151,6 +156,18 @@ fn one_dfsph_gpu_step_with_colliders_matches_the_cpu_solver() {
     one_step_with_colliders_matches(Solver::Dfsph, spawn_velocity(Solver::Dfsph));
 }
 
+/// DFSPH with every collider static or kinematic: every body's samples mirror κ_i and hold the
+/// hydrostatic rise (`sph_core::Boundary::mirrors`), and their reactions are doubled.
+#[test]
+fn one_dfsph_gpu_step_with_mirroring_colliders_matches_the_cpu_solver() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    one_step_with_these_colliders_matches(
+        Solver::Dfsph,
+        spawn_velocity(Solver::Dfsph),
+        colliders_with_sphere(ColliderMotion::Static),
+    );
+}
+
 /// DFSPH with the block thrown down at 20 m/s: after the constant-density solve the speculative
 /// contact bounds the velocity the move takes (on the GPU in `dfsph_reactions`), so the floor's
 /// row and the water over the colliders stop a tenth of a spacing short of them, and its
@@ -163,11 +180,20 @@ fn one_dfsph_gpu_step_with_the_speculative_contact_matches_the_cpu_solver() {
 }
 
 fn one_step_with_colliders_matches(solver: Solver, velocity: Vec3) {
+    one_step_with_these_colliders_matches(solver, velocity, colliders());
+}
+
+fn one_step_with_these_colliders_matches(
+    solver: Solver,
+    velocity: Vec3,
+    colliders: Vec<(SphCollider, Transform)>,
+) {
     let (params, container, block) = scene_for(solver);
     let mut cpu = CpuSolver::new(params, container, block.count()).unwrap();
-    for (c, t) in colliders() {
-        cpu.add_collider(as_solver_collider(&c, &t)).unwrap();
+    for (c, t) in &colliders {
+        cpu.add_collider(as_solver_collider(c, t)).unwrap();
     }
+    let mirrors = cpu.boundary().mirrors();
     let report = cpu.spawn(&block.positions(), velocity);
     assert!(report.inside_colliders > 0);
     // Some particles start closer than Δx to the floor's samples (Δx/2 under it) and move towards
@@ -184,7 +210,15 @@ fn one_step_with_colliders_matches(solver: Solver, velocity: Vec3) {
     cpu.take_collider_forces();
     cpu.step();
 
-    let (mut app, entities, n) = app_with_colliders_moving(SphBackend::Gpu, solver, velocity);
+    let dynamic = colliders
+        .iter()
+        .any(|(c, _)| c.motion == ColliderMotion::Dynamic);
+    assert_eq!(
+        mirrors, !dynamic,
+        "a dynamic collider without a mass turns the mirror off"
+    );
+    let (mut app, entities, n) =
+        app_with_colliders_moving(SphBackend::Gpu, solver, velocity, colliders);
     assert_eq!(n, report.spawned, "both backends skip the same particles");
     assert!(app.world().resource::<SphStats>().boundary_samples > 0);
     step_to(&mut app, steps);

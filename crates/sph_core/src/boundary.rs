@@ -101,9 +101,8 @@ pub struct Boundary {
     /// Whether each body is a dynamic collider, by body index.
     pub dynamic: Vec<bool>,
     /// Whether each body's samples mirror DFSPH's stiffness κ_i (`crate::dfsph_bender2017`), by
-    /// body index: all but the dynamic colliders whose mass is not known. Such a body cannot
-    /// give way in the solves ([`crate::free_bodies`]), and with the mirror the water threw a
-    /// heavy one (`tests/free_bodies.rs`: 2,400 m/s against 0.25 m/s without).
+    /// body index: every body's, unless a dynamic collider's mass is not known, and then none
+    /// ([`Self::mirrors`]).
     pub mirrored: Vec<bool>,
     /// Each body's pose origin (the torque's reference point), by body index.
     pub origin: Vec<Vec3>,
@@ -339,11 +338,25 @@ impl Boundary {
             });
         };
         body.mass = mass;
-        let mirrored = body.collider.motion != ColliderMotion::Dynamic || mass.is_some();
-        if let Some(m) = self.mirrored.get_mut(id.0 as usize + 1) {
-            *m = mirrored;
-        }
+        let mirrors = self.mirrors();
+        self.mirrored.iter_mut().for_each(|m| *m = mirrors);
         Ok(())
+    }
+
+    /// Whether the samples mirror DFSPH's stiffness κ_i: only while every dynamic collider's
+    /// mass is known ([`Self::set_mass`]), so that it gives way in the solves
+    /// ([`crate::free_bodies`]).
+    /// - A body that cannot give way must not answer twice: with the mirror the water threw a
+    ///   heavy one (`tests/free_bodies.rs`: 2,400 m/s against 0.25 m/s without).
+    /// - Nor may the walls around it: a heavy box resting on the floor, with the floor
+    ///   answering twice and the box once, bounced on the water between them whenever its force
+    ///   reached it a few steps late (the GPU's readback), and was thrown off the floor. A
+    ///   particle that touched the box answering once was not enough (docs/dfsph.md).
+    pub fn mirrors(&self) -> bool {
+        self.slots
+            .iter()
+            .flatten()
+            .all(|b| b.collider.motion != ColliderMotion::Dynamic || b.mass.is_some())
     }
 
     /// The mass of body `body` (a body index, as in [`Self::body`]) when it is a dynamic
@@ -449,7 +462,8 @@ impl Boundary {
         self.friction
             .push(self.walls.as_ref().map_or(0.0, |(_, slip)| slip.friction()));
         self.dynamic.push(false);
-        self.mirrored.push(true);
+        let mirrors = self.mirrors();
+        self.mirrored.push(mirrors);
         self.origin.push(Vec3::ZERO);
         if let Some((set, _)) = &self.walls {
             place(set, WALLS_BODY, &|x| (x, Vec3::ZERO));
@@ -461,8 +475,7 @@ impl Boundary {
                 .as_ref()
                 .is_some_and(|b| b.collider.motion == crate::collider::ColliderMotion::Dynamic);
             self.dynamic.push(dynamic);
-            self.mirrored
-                .push(!dynamic || slot.as_ref().is_some_and(|b| b.mass.is_some()));
+            self.mirrored.push(mirrors);
             self.origin.push(
                 slot.as_ref()
                     .map_or(Vec3::ZERO, |b| b.collider.pose.translation),

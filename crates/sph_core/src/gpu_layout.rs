@@ -501,7 +501,7 @@ pub struct GpuBoundarySamples {
     /// The colliders, for the guard.
     pub colliders: Vec<GpuCollider>,
     /// Each sample's body: 0 the walls, k + 1 the collider slot k ([`crate::ColliderId`]), with
-    /// [`DYNAMIC_BODY_BIT`] set for a dynamic collider's samples.
+    /// [`UNMIRRORED_BODY_BIT`] set on every sample while a dynamic collider is in the boundary.
     pub body: Vec<u32>,
     /// The mesh colliders' hierarchies and triangles ([`crate::TriMesh::gpu_words`]), one after
     /// the other.
@@ -541,25 +541,26 @@ impl GpuBoundarySamples {
             velocity,
             cell_start: boundary.grid.cell_start.clone(),
             colliders,
-            body: boundary
-                .body
-                .iter()
-                .map(|&b| {
-                    let dynamic = boundary.dynamic[b as usize];
-                    b | if dynamic { DYNAMIC_BODY_BIT } else { 0 }
-                })
-                .collect(),
+            body: {
+                let bit = if boundary.dynamic.contains(&true) {
+                    UNMIRRORED_BODY_BIT
+                } else {
+                    0
+                };
+                boundary.body.iter().map(|&b| b | bit).collect()
+            },
             meshes,
             membership: boundary.membership(),
         }
     }
 }
 
-/// Set in [`GpuBoundarySamples::body`] for the samples of a dynamic collider, which do not
-/// mirror DFSPH's stiffness on the GPU (`crate::dfsph_bender2017`): the GPU does not let a body
-/// give way in the solves ([`crate::free_bodies`], [`crate::Boundary::mirrored`]). The body's
-/// index is the other bits.
-pub const DYNAMIC_BODY_BIT: u32 = 1 << 31;
+/// Set in [`GpuBoundarySamples::body`] for the samples that do not mirror DFSPH's stiffness
+/// (`crate::dfsph_bender2017`) nor hold the hydrostatic rise: on the GPU, every sample while a
+/// dynamic collider is in the boundary. The GPU does not let a body give way in the solves
+/// ([`crate::free_bodies`]), so it follows [`crate::Boundary::mirrors`] as if no mass were
+/// known. The body's index is the other bits.
+pub const UNMIRRORED_BODY_BIT: u32 = 1 << 31;
 
 /// Bodies whose force the GPU sums: the walls and the first 31 collider slots. A body beyond
 /// is left out of the sums (its [`GpuBodyForces::sum`] is `None`).

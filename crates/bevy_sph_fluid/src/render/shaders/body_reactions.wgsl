@@ -56,7 +56,7 @@ fn flush_reaction() {
 }
 
 // The force f on the body of a sample's `body_bits` (its boundary_body entry: the index, and
-// the dynamic bit, sph_core::gpu_layout::DYNAMIC_BODY_BIT, masked off) at `at`.
+// the unmirrored bit, sph_core::gpu_layout::UNMIRRORED_BODY_BIT, masked off) at `at`.
 fn add_reaction(body_bits: u32, f: vec3<f32>, at: vec3<f32>) {
     let body = body_bits & BODY_INDEX_BITS;
     if body != reaction_body {

@@ -77,9 +77,9 @@ fn mirrors(i: u32) -> bool {
     return dfsph_mirror[i].w != 0.0;
 }
 
-// Whether boundary sample b belongs to a dynamic collider (sph_core::gpu_layout::DYNAMIC_BODY_BIT),
-// whose samples neither mirror κ_i nor hold the rise.
-fn dynamic_sample(b: u32) -> bool {
+// Whether boundary sample b neither mirrors κ_i nor holds the rise: every sample while a
+// dynamic collider is in the water (sph_core::gpu_layout::UNMIRRORED_BODY_BIT).
+fn unmirrored_sample(b: u32) -> bool {
     return (boundary_body[b] & 0x80000000u) != 0u;
 }
 

@@ -2,8 +2,8 @@
 // over the lists' pairs and the boundary samples within h,
 // ρ_i = m Σ_j W_ij (self included) + Σ_b Ψ_b W_ib,
 // D_i = (Σ_j g_ij + Σ_b g_ib + Σ_b' g_ib')·(Σ_j g_ij + Σ_b g_ib) + Σ_j |g_ij|²  ->  1/D_i (0
-// below the cut-off params.dfsph.z), b' the samples of the bodies that are not dynamic, which
-// mirror κ_i; unless that D is below half of D without them (a particle pinched between a
+// below the cut-off params.dfsph.z), b' the samples that mirror κ_i (none while a dynamic
+// collider is in the water, sph_core::Boundary::mirrors); unless that D is below half of D without them (a particle pinched between a
 // mirrored wall and a body, whose factor the mirror would halve): then none mirrors.
 // Besides: Σ_b g_ib, Σ_b' g_ib', Σ_b v_b·g_ib, the neighbour count, the rise's floor
 // p̂_i = max((κ_i^ρ + κ_i^v) ρ0², 0) of the solves' totals, and each pair's g_ij for the solves
@@ -14,7 +14,7 @@
 #import sph::bindings::{params, position, density, velocity_predicted, neighbor_count, pbf_neighbors, acceleration_start, sorted_acceleration_start, dfsph_mirror, boundary_position, boundary_velocity}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range}
-#import sph::dfsph::{mass, rest_density, set_pair, open_solve, dynamic_sample}
+#import sph::dfsph::{mass, rest_density, set_pair, open_solve, unmirrored_sample}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -62,7 +62,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             rho += psi * cubic(r_len);
             let g = cubic_grad(r, r_len) * psi;
             boundary_grad += g;
-            if !dynamic_sample(b) {
+            if !unmirrored_sample(b) {
                 mirrored_grad += g;
             }
             boundary_flux += dot(boundary_velocity[b].xyz, g);

@@ -1,8 +1,8 @@
 // DFSPH's predicted velocities (Bender & Koschier 2017, Algorithm 1, line 6): right after the
 // time-step pass, the rollback checkpoint is saved or restored, then v* = v + dt a_np with the
 // non-pressure accelerations of the forces pass and the boundary's hydrostatic rise
-// a_i^rise = -Σ_b' (p_b'^rise/ρ0²) g_ib' over the samples b' within h that are not a dynamic
-// collider's (shaders/dfsph.wgsl). Thread 0 opens the constant-density solve.
+// a_i^rise = -Σ_b' (p_b'^rise/ρ0²) g_ib' over the samples b' within h that mirror (none while a
+// dynamic collider is in the water; shaders/dfsph.wgsl). Thread 0 opens the constant-density solve.
 // Nothing is integrated while the clock is frozen or a state is being restored (the rest of the
 // step then leaves the restored state alone, and the move's sort rebuilds its neighbourhood).
 // Rust twins: step 3 of sph_core::solver::dfsph::DfsphStep::advance,
@@ -12,7 +12,7 @@
 #import sph::neighbors::{grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::{apply_checkpoint, restoring}
-#import sph::dfsph::{open_solve, boundary_neighbors, dynamic_sample, rise_floor, rise_over_rho0_squared, rest_density}
+#import sph::dfsph::{open_solve, boundary_neighbors, unmirrored_sample, rise_floor, rise_over_rho0_squared, rest_density}
 
 // a_i^rise at the factors' positions (none without a sample within h).
 fn rise(i: u32) -> vec3<f32> {
@@ -31,7 +31,7 @@ fn rise(i: u32) -> vec3<f32> {
             let sample = boundary_position[b];
             let r = x_i - sample.xyz;
             let r2 = dot(r, r);
-            if r2 >= h2 || dynamic_sample(b) {
+            if r2 >= h2 || unmirrored_sample(b) {
                 continue;
             }
             let g = cubic_grad(r, sqrt(r2)) * (rho0 * sample.w);

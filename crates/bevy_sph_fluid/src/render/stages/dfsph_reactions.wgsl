@@ -25,7 +25,7 @@
 #import sph::probes::record_probes
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
-#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, goes_on, mirrors, dynamic_sample, rise_floor, rise_over_rho0_squared}
+#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, goes_on, mirrors, unmirrored_sample, rise_floor, rise_over_rho0_squared}
 #import sph::speculative_contact::speculative_contact
 
 fn particle(i: u32) {
@@ -54,7 +54,7 @@ fn particle(i: u32) {
                 }
                 let g = cubic_grad(r, sqrt(r2)) * (rho0 * sample.w);
                 var f = k;
-                if !dynamic_sample(b) {
+                if !unmirrored_sample(b) {
                     f = mirrored;
                     if rises {
                         f += mass() * rise_over_rho0_squared(x_i, sample.xyz, p_floor);
