@@ -23,7 +23,10 @@
 //!   walls do, Adami et al. 2012's g term): [`BoundaryRise`], a step's constant, applied with
 //!   the non-pressure accelerations. Mirroring alone (κ_b = κ_i) under-states a floor's pressure
 //!   and over-states a ceiling's, so a box held under water read +28 % (docs/dfsph.md);
-//! - the rate of density change is Dρ_i/Dt = Σ_j (v_i - v_j)·g_ij + Σ_b (v_i - v_b)·g_ib.
+//! - the rate of density change is Dρ_i/Dt = Σ_j (v_i - v_j)·g_ij + Σ_b (v_i - v_b)·g_ib;
+//! - the samples mirror κ_i and hold the rise only while every dynamic collider can give way
+//!   ([`Boundary::mirrors`]); otherwise, and for a particle pinched between samples (D with the
+//!   mirror below half of D without), they answer with κ_i once.
 //!
 //! With the neighbours' stiffness held (a Jacobi step), κ_i alone changes Dρ_i/Dt by exactly
 //! -dt κ_i D_i, through i's own velocity and its neighbours', with
@@ -52,8 +55,8 @@ pub struct ParticleFactor {
     pub inverse_factor: f32,
     /// Σ_b g_ib, the boundary's share of the pressure acceleration per unit κ_i.
     pub boundary_grad: Vec3,
-    /// Σ_b' g_ib' over the samples b' that mirror κ_i: those of the bodies that are not
-    /// dynamic, unless the particle is pinched (then none, and this is 0).
+    /// Σ_b' g_ib' over the samples b' that mirror κ_i: every sample while
+    /// [`Boundary::mirrors`], unless the particle is pinched (then none, and this is 0).
     pub mirrored_grad: Vec3,
     /// Whether the samples b' mirror κ_i (the particle is not pinched).
     pub mirrors: bool,
