@@ -43,9 +43,10 @@ fn colliders_with_sphere(sphere: ColliderMotion) -> Vec<(SphCollider, Transform)
             }),
             Transform::from_xyz(0.1, 0.08, 0.12).with_rotation(Quat::from_rotation_y(0.6)),
         ),
-        // Dynamic and without a mass: no sample mirrors DFSPH's stiffness or holds the rise
-        // (sph_core::Boundary::mirrors), and every sample carries the GPU's unmirrored bit
-        // (sph_core::gpu_layout::UNMIRRORED_BODY_BIT) through every pass's reactions.
+        // Dynamic (in `colliders`) and without a mass: then no sample mirrors DFSPH's stiffness
+        // or holds the rise (sph_core::Boundary::mirrors), and every sample carries the GPU's
+        // unmirrored bit (sph_core::gpu_layout::UNMIRRORED_BODY_BIT) through every pass's
+        // reactions.
         (
             SphCollider::new(ColliderShape::Sphere { radius: 0.05 }).with_motion(sphere),
             Transform::from_xyz(0.22, 0.12, 0.2),
