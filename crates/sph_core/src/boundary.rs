@@ -100,10 +100,6 @@ pub struct Boundary {
     pub friction: Vec<f32>,
     /// Whether each body is a dynamic collider, by body index.
     pub dynamic: Vec<bool>,
-    /// Whether each body's samples mirror DFSPH's stiffness κ_i (`crate::dfsph_bender2017`), by
-    /// body index: every body's, unless a dynamic collider's mass is not known, and then none
-    /// ([`Self::mirrors`]).
-    pub mirrored: Vec<bool>,
     /// Each body's pose origin (the torque's reference point), by body index.
     pub origin: Vec<Vec3>,
     sorted: bool,
@@ -150,7 +146,6 @@ impl Boundary {
             body: Vec::new(),
             friction: Vec::new(),
             dynamic: Vec::new(),
-            mirrored: Vec::new(),
             origin: Vec::new(),
             sorted: false,
             membership: next_membership(),
@@ -338,12 +333,11 @@ impl Boundary {
             });
         };
         body.mass = mass;
-        let mirrors = self.mirrors();
-        self.mirrored.iter_mut().for_each(|m| *m = mirrors);
         Ok(())
     }
 
-    /// Whether the samples mirror DFSPH's stiffness κ_i: only while every dynamic collider's
+    /// Whether the samples mirror DFSPH's stiffness κ_i (`crate::dfsph_bender2017`), all of them
+    /// or none: only while every dynamic collider's
     /// mass is known ([`Self::set_mass`]), so that it gives way in the solves
     /// ([`crate::free_bodies`]).
     /// - A body that cannot give way must not answer twice: with the mirror the water threw a
@@ -457,13 +451,10 @@ impl Boundary {
         };
         self.friction.clear();
         self.dynamic.clear();
-        self.mirrored.clear();
         self.origin.clear();
         self.friction
             .push(self.walls.as_ref().map_or(0.0, |(_, slip)| slip.friction()));
         self.dynamic.push(false);
-        let mirrors = self.mirrors();
-        self.mirrored.push(mirrors);
         self.origin.push(Vec3::ZERO);
         if let Some((set, _)) = &self.walls {
             place(set, WALLS_BODY, &|x| (x, Vec3::ZERO));
@@ -475,7 +466,6 @@ impl Boundary {
                 .as_ref()
                 .is_some_and(|b| b.collider.motion == crate::collider::ColliderMotion::Dynamic);
             self.dynamic.push(dynamic);
-            self.mirrored.push(mirrors);
             self.origin.push(
                 slot.as_ref()
                     .map_or(Vec3::ZERO, |b| b.collider.pose.translation),

@@ -58,7 +58,8 @@ pub struct ParticleFactor {
     /// Σ_b' g_ib' over the samples b' that mirror κ_i: every sample while
     /// [`Boundary::mirrors`], unless the particle is pinched (then none, and this is 0).
     pub mirrored_grad: Vec3,
-    /// Whether the samples b' mirror κ_i (the particle is not pinched).
+    /// Whether the samples b' mirror κ_i: they all do ([`Boundary::mirrors`]) and the particle is
+    /// not pinched.
     pub mirrors: bool,
     /// Σ_b v_b·g_ib, the moving boundary's share of Dρ_i/Dt.
     pub boundary_flux: f32,
@@ -178,19 +179,16 @@ impl BoundaryRise<'_> {
         rise / (rho0 * rho0)
     }
 
-    /// The rise's acceleration of particle i, a_i^rise = -Σ_b (p_b^rise/ρ0²) g_ib.
-    pub fn acceleration(&self, i: usize, pairs: PairsOf, boundary: &Boundary) -> Vec3 {
+    /// The rise's acceleration of particle i, a_i^rise = -Σ_b (p_b^rise/ρ0²) g_ib (the caller
+    /// checks that the samples mirror).
+    fn acceleration(&self, i: usize, pairs: PairsOf, boundary: &Boundary) -> Vec3 {
         pairs.boundary.iter().fold(Vec3::ZERO, |a, pair| {
-            let b = pair.index as usize;
-            if !boundary.mirrored[boundary.body[b] as usize] {
-                return a;
-            }
-            a - pair.grad * self.over_rho0_squared(i, boundary.position[b])
+            a - pair.grad * self.over_rho0_squared(i, boundary.position[pair.index as usize])
         })
     }
 
     /// v_i += dt (a_i + a_i^rise): the predicted velocities of the non-pressure accelerations
-    /// `acceleration` and the rise.
+    /// `acceleration` and the rise (none unless the samples mirror, [`Boundary::mirrors`]).
     pub fn predict(
         &self,
         lists: &NeighborLists,
@@ -199,13 +197,18 @@ impl BoundaryRise<'_> {
         dt: f32,
         v: &mut [Vec3],
     ) {
+        if !boundary.mirrors() {
+            lists.update(v, |i, _, v_i| *v_i += acceleration[i] * dt);
+            return;
+        }
         lists.update(v, |i, pairs, v_i| {
             *v_i += (acceleration[i] + self.acceleration(i, pairs, boundary)) * dt;
         });
     }
 
     /// The fluid's force on each boundary body from the rise: m (p_b^rise/ρ0²) g_ib per pair,
-    /// at the sample, with its torque (indexed like [`Boundary::friction`]).
+    /// at the sample, with its torque (indexed like [`Boundary::friction`]; zero unless the
+    /// samples mirror).
     pub fn reactions(
         &self,
         lists: &NeighborLists,
@@ -213,15 +216,15 @@ impl BoundaryRise<'_> {
         mass: f32,
     ) -> Vec<BodyForceSum> {
         let bodies = boundary.body_count();
+        if !boundary.mirrors() {
+            return vec![BodyForceSum::default(); bodies];
+        }
         lists.fold(
             || vec![BodyForceSum::default(); bodies],
             |mut sums, i, pairs| {
                 for p in pairs.boundary {
                     let b = p.index as usize;
                     let body = boundary.body[b] as usize;
-                    if !boundary.mirrored[body] {
-                        continue;
-                    }
                     let x_b = boundary.position[b];
                     let force = p.grad * (mass * self.over_rho0_squared(i, x_b));
                     sums[body].add(force, x_b, boundary.origin[body]);
@@ -248,6 +251,7 @@ pub fn compute_factors(
     reference: f32,
     factors: &mut [ParticleFactor],
 ) {
+    let mirrored = boundary.is_some_and(Boundary::mirrors);
     lists.update(factors, |i, pairs, out| {
         let mut sum = Vec3::ZERO;
         let mut squares = 0.0;
@@ -256,28 +260,22 @@ pub fn compute_factors(
             squares += pair.grad.length_squared();
         }
         let mut boundary_grad = Vec3::ZERO;
-        let mut mirrored_grad = Vec3::ZERO;
         let mut boundary_flux = 0.0;
         if let Some(b) = boundary {
             for pair in pairs.boundary {
                 boundary_grad += pair.grad;
-                if b.mirrored[b.body[pair.index as usize] as usize] {
-                    mirrored_grad += pair.grad;
-                }
                 boundary_flux += b.velocity[pair.index as usize].dot(pair.grad);
             }
         }
         let rise_floor = totals.map_or(0.0, |(density, divergence)| {
             ((density[i] + divergence[i]) * rest_density * rest_density).max(0.0)
         });
-        // The boundary mirrors κ_i (see the module).
+        // The boundary mirrors κ_i (see the module), unless the particle is pinched.
         let once = (sum + boundary_grad).length_squared() + squares;
-        let mirrored = once + mirrored_grad.dot(sum + boundary_grad);
-        let mirrors = mirrored >= 0.5 * once;
-        if !mirrors {
-            mirrored_grad = Vec3::ZERO;
-        }
-        let d = if mirrors { mirrored } else { once };
+        let with_mirror = once + boundary_grad.dot(sum + boundary_grad);
+        let mirrors = mirrored && with_mirror >= 0.5 * once;
+        let mirrored_grad = if mirrors { boundary_grad } else { Vec3::ZERO };
+        let d = if mirrors { with_mirror } else { once };
         *out = ParticleFactor {
             inverse_factor: if d > FACTOR_EPSILON * reference {
                 1.0 / d
@@ -444,11 +442,7 @@ pub fn boundary_reactions(
                 for p in pairs.boundary {
                     let b = p.index as usize;
                     let body = boundary.body[b] as usize;
-                    let k = if !boundary.mirrored[body] || !factors[i].mirrors {
-                        k
-                    } else {
-                        2.0 * k
-                    };
+                    let k = if !factors[i].mirrors { k } else { 2.0 * k };
                     sums[body].add(p.grad * k, boundary.position[b], boundary.origin[body]);
                 }
             }
