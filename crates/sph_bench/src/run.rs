@@ -25,10 +25,6 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
     if args.surface_tension {
         p.surface_tension = sph_core::params::WATER_SURFACE_TENSION;
     }
-    if let Some(alpha) = args.viscosity_alpha {
-        // ν = α h c0 / 10, as in the derivation.
-        p.set_artificial_viscosity_alpha(alpha);
-    }
     match args.solver {
         Solver::Wcsph => {
             if let Some(dt) = args.dt {
@@ -78,6 +74,10 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
                 p.pbf.over_relaxation = omega;
             }
         }
+    }
+    if let Some(alpha) = args.viscosity_alpha {
+        // ν = α h c0 / 10, as in the derivation; after use_solver, which sets DFSPH's own α.
+        p.set_artificial_viscosity_alpha(alpha);
     }
     s.rollback = rollback(args.rollback);
     s.walls = args.walls;

@@ -192,6 +192,34 @@ fn use_solver_switches_the_time_step_rule() {
 }
 
 #[test]
+fn use_solver_gives_dfsph_its_own_viscosity() {
+    use sph_core::params::{DEFAULT_VISCOSITY_ALPHA, DFSPH_VISCOSITY_ALPHA};
+    let alpha = |p: &SphParams| p.artificial_viscosity_alpha();
+    let mut p = SphParams::water();
+    assert!((alpha(&p) - DEFAULT_VISCOSITY_ALPHA).abs() < 1e-5);
+    p.use_solver(Solver::Dfsph);
+    assert!((alpha(&p) - DFSPH_VISCOSITY_ALPHA).abs() < 1e-5);
+    // Leaving DFSPH, for either other solver, restores the derived viscosity.
+    for other in [Solver::Wcsph, Solver::Pbf] {
+        p.use_solver(other);
+        assert!(
+            (alpha(&p) - DEFAULT_VISCOSITY_ALPHA).abs() < 1e-5,
+            "{other:?}"
+        );
+        p.use_solver(Solver::Dfsph);
+    }
+    // A viscosity chosen after the switch stays when DFSPH is chosen again.
+    p.set_artificial_viscosity_alpha(0.4);
+    p.use_solver(Solver::Dfsph);
+    assert!((alpha(&p) - 0.4).abs() < 1e-5);
+    // Switching between the other two leaves the viscosity alone.
+    p.use_solver(Solver::Wcsph);
+    p.set_artificial_viscosity_alpha(0.07);
+    p.use_solver(Solver::Pbf);
+    assert!((alpha(&p) - 0.07).abs() < 1e-5);
+}
+
+#[test]
 fn bad_settings_name_the_field_and_the_range() {
     let cases: [(DfsphSettings, &str); 6] = [
         (
