@@ -4,9 +4,10 @@
 use std::ops::RangeInclusive;
 
 /// Artificial viscosity α (dimensionless) of ν = α h c0 / 10, set with
-/// `SphParams::set_artificial_viscosity_alpha`. The water preset has α = 0.15 (0.25 with DFSPH);
-/// the end covers the design preset's μ = 0.02 Pa s at ρ0 = 1 (α ≈ 1.7 at the default budget, 3.3
-/// at the largest).
+/// `SphParams::set_artificial_viscosity_alpha`. The water preset has α = 0.15 (0.25 with DFSPH,
+/// which scales the viscosity by 5/3); the end covers the design preset's μ = 0.02 Pa s at ρ0 = 1
+/// (α ≈ 1.7 at the default budget, 3.3 at the largest; with DFSPH 2.8 and 5.5, the slider then
+/// shows 4 but keeps the value until moved).
 pub const VISCOSITY_ALPHA: RangeInclusive<f32> = 0.0..=4.0;
 /// Pressure stiffness k (Tait's B [Pa]).
 pub const STIFFNESS: RangeInclusive<f32> = 1e-2..=1e7;

@@ -765,10 +765,12 @@ pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
          At {largest} particles (ms per step; change against the baseline). A scene without surface \
          tension compiles no normals pass and no cohesion code; without viscosity, no viscosity term.\n\n{}\n\
          ## The peers on dambreak32k\n\n\
-         Measured on this 2-core machine (issue 5): SPlisHSPlasH 2.16 DFSPH 36.8 ms per step at dt 1e-3 \
-         (18 s for 0.5 s: 36 s per simulated second); salva 0.11 DFSPH 192.6 ms per step (97 s: 194 s \
-         per simulated second); SPlisHSPlasH's WCSPH blew up at every dt down to 1e-4. Our rows are in \
-         the `dambreak32k` group above.\n",
+         Measured on an earlier 2-core machine (issue 5): SPlisHSPlasH 2.16 DFSPH 36.8 ms per step at \
+         dt 1e-3 (18 s for 0.5 s: 36 s per simulated second); salva 0.11 DFSPH 192.6 ms per step (97 s: \
+         194 s per simulated second); SPlisHSPlasH's WCSPH blew up at every dt down to 1e-4. Timed again \
+         on the 2-core machine of 2026-11-27 (docs/peers/README.md): SPlisHSPlasH 2.16 DFSPH 54.9 ms per \
+         step (27.5 s for 0.5 s: 55 s per simulated second). Our rows are in the `dambreak32k` group \
+         above.\n",
         advice(&rows),
         table(&rows),
         limits,

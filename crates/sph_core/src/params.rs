@@ -175,12 +175,17 @@ pub const WATER_SURFACE_TENSION: f32 = 0.05;
 /// ahead (RMS Z 0.146), 0.1 gives 0.081, 0.15 gives 0.057, 0.2 gives 0.040 (docs/boundary.md).
 pub const DEFAULT_VISCOSITY_ALPHA: f32 = 0.15;
 
-/// DFSPH's artificial viscosity α, set by [`SphParams::use_solver`]. With the mirrored boundary
-/// (docs/dfsph.md) DFSPH at α = 0.15 puts the Martin & Moyce front 0.12 T ahead (RMS Z 0.128 at
-/// 8,000 particles); α = 0.2 gives 0.107, 0.25 gives 0.085 and 0.3 gives 0.063, while the tank at
-/// rest stays within 2.3 % (α = 0.25) and 2.5 % (0.3) of hydrostatic pressure and calm
-/// (0.0013 m/s at the end).
+/// DFSPH's artificial viscosity α in the water preset: [`SphParams::use_solver`] scales the
+/// viscosity by [`DFSPH_VISCOSITY_SCALE`] on entering DFSPH, which turns the preset's
+/// [`DEFAULT_VISCOSITY_ALPHA`] into this. With the mirrored boundary (docs/dfsph.md) DFSPH at
+/// α = 0.15 puts the Martin & Moyce front 0.12 T ahead (RMS Z 0.128 at 8,000 particles); α = 0.2
+/// gives 0.107, 0.25 gives 0.085 and 0.3 gives 0.063, while the tank at rest stays within 2.3 %
+/// (α = 0.25) and 2.5 % (0.3) of hydrostatic pressure and calm (0.0013 m/s at the end).
 pub const DFSPH_VISCOSITY_ALPHA: f32 = 0.25;
+
+/// How much more viscosity DFSPH takes than WCSPH and PBF on the same scene:
+/// [`DFSPH_VISCOSITY_ALPHA`] / [`DEFAULT_VISCOSITY_ALPHA`] (5/3).
+pub const DFSPH_VISCOSITY_SCALE: f32 = DFSPH_VISCOSITY_ALPHA / DEFAULT_VISCOSITY_ALPHA;
 
 /// The CFL factor λ of the derived and the adaptive time steps.
 pub const DEFAULT_CFL_FACTOR: f32 = 0.4;
@@ -258,20 +263,18 @@ impl SphParams {
     /// rule λ Δx / v_max clamped to [`dfsph_max_time_step`], for PBF λ h / v_max clamped to
     /// [`PBF_MAX_TIME_STEP`] with λ = `cfl_factor` set to [`PBF_CFL_FACTOR`]. Leaving PBF for
     /// another solver sets λ back to [`DEFAULT_CFL_FACTOR`]; otherwise λ stays. Entering DFSPH
-    /// sets the viscosity to DFSPH's artificial viscosity [`DFSPH_VISCOSITY_ALPHA`], leaving it
-    /// sets it back to [`DEFAULT_VISCOSITY_ALPHA`] (both through
-    /// [`Self::set_artificial_viscosity_alpha`]); otherwise the viscosity stays, as do the other
-    /// fields. Set `cfl_factor` or the viscosity after this call to choose other values.
+    /// multiplies the viscosity by [`DFSPH_VISCOSITY_SCALE`] (the water preset's α = 0.15 becomes
+    /// [`DFSPH_VISCOSITY_ALPHA`]; a viscosity of 0 stays off) and leaving DFSPH divides it back;
+    /// otherwise the viscosity stays, as do the other fields. Set `cfl_factor` or the viscosity
+    /// after this call to choose other values.
     pub fn use_solver(&mut self, solver: Solver) {
         if self.solver == Solver::Pbf && solver != Solver::Pbf {
             self.cfl_factor = DEFAULT_CFL_FACTOR;
         }
-        if (self.solver == Solver::Dfsph) != (solver == Solver::Dfsph) {
-            self.set_artificial_viscosity_alpha(if solver == Solver::Dfsph {
-                DFSPH_VISCOSITY_ALPHA
-            } else {
-                DEFAULT_VISCOSITY_ALPHA
-            });
+        match (self.solver == Solver::Dfsph, solver == Solver::Dfsph) {
+            (false, true) => self.viscosity *= DFSPH_VISCOSITY_SCALE,
+            (true, false) => self.viscosity /= DFSPH_VISCOSITY_SCALE,
+            _ => {}
         }
         self.solver = solver;
         match solver {

@@ -217,6 +217,20 @@ fn use_solver_gives_dfsph_its_own_viscosity() {
     p.set_artificial_viscosity_alpha(0.07);
     p.use_solver(Solver::Pbf);
     assert!((alpha(&p) - 0.07).abs() < 1e-5);
+    // The design preset keeps its own viscosity's proportion, a round trip gives it back, and a
+    // viscosity switched off stays off.
+    let mut seed = SphParams::seed();
+    let seed_viscosity = seed.viscosity;
+    seed.use_solver(Solver::Dfsph);
+    assert!(
+        (seed.viscosity / seed_viscosity - DFSPH_VISCOSITY_ALPHA / DEFAULT_VISCOSITY_ALPHA).abs()
+            < 1e-5
+    );
+    seed.use_solver(Solver::Wcsph);
+    assert!((seed.viscosity / seed_viscosity - 1.0).abs() < 1e-6);
+    seed.viscosity = 0.0;
+    seed.use_solver(Solver::Dfsph);
+    assert_eq!(seed.viscosity, 0.0);
 }
 
 #[test]
