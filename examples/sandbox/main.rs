@@ -348,7 +348,10 @@ fn apply_cli_toggles(
 }
 
 /// With `--screenshot`, saves the window after `--frames` frames of the scene, prints the median
-/// frame time and the real-time factor of the second half, then exits.
+/// frame time and the real-time factor of the second half, then exits. Frames while the GPU
+/// backend still compiles its shaders or prepares its buffers (`SphStats::error` "gpu: compiling
+/// shaders", "gpu: preparing buffers") do not count: on a slow machine a DFSPH scene can take more
+/// than 20 frames to compile, and the picture would show no water.
 fn take_screenshot(
     cli: Res<Cli>,
     time: Res<Time<Real>>,
@@ -361,6 +364,12 @@ fn take_screenshot(
     let Some(path) = cli.screenshot.clone() else {
         return;
     };
+    let gpu_not_ready = stats.error.as_deref().is_some_and(|e| {
+        e.starts_with("gpu: compiling shaders") || e.starts_with("gpu: preparing buffers")
+    });
+    if gpu_not_ready {
+        return;
+    }
     *frames += 1;
     if *frames == cli.frames / 2 {
         *half_way = (time.elapsed_secs_f64(), stats.sim_time);
