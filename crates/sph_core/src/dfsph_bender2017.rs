@@ -55,11 +55,8 @@ pub struct ParticleFactor {
     pub inverse_factor: f32,
     /// Σ_b g_ib, the boundary's share of the pressure acceleration per unit κ_i.
     pub boundary_grad: Vec3,
-    /// Σ_b' g_ib' over the samples b' that mirror κ_i: every sample while
-    /// [`Boundary::mirrors`], unless the particle is pinched (then none, and this is 0).
-    pub mirrored_grad: Vec3,
-    /// Whether the samples b' mirror κ_i: they all do ([`Boundary::mirrors`]) and the particle is
-    /// not pinched.
+    /// Whether the samples mirror κ_i, so that they answer with 2 κ_i: they all do
+    /// ([`Boundary::mirrors`]) and the particle is not pinched.
     pub mirrors: bool,
     /// Σ_b v_b·g_ib, the moving boundary's share of Dρ_i/Dt.
     pub boundary_flux: f32,
@@ -274,7 +271,6 @@ pub fn compute_factors(
         let once = (sum + boundary_grad).length_squared() + squares;
         let with_mirror = once + boundary_grad.dot(sum + boundary_grad);
         let mirrors = mirrored && with_mirror >= 0.5 * once;
-        let mirrored_grad = if mirrors { boundary_grad } else { Vec3::ZERO };
         let d = if mirrors { with_mirror } else { once };
         *out = ParticleFactor {
             inverse_factor: if d > FACTOR_EPSILON * reference {
@@ -283,7 +279,6 @@ pub fn compute_factors(
                 0.0
             },
             boundary_grad,
-            mirrored_grad,
             mirrors,
             boundary_flux,
             rise_floor,
@@ -415,7 +410,8 @@ pub fn apply_stiffness(
     lists.update(v, |i, pairs, v_i| {
         let k_i = stiffness[i];
         let f = &factors[i];
-        let mut a = -k_i * (f.boundary_grad + f.mirrored_grad);
+        let boundary_k = if f.mirrors { 2.0 * k_i } else { k_i };
+        let mut a = -boundary_k * f.boundary_grad;
         for p in pairs.fluid {
             a -= (k_i + stiffness[p.index as usize]) * p.grad;
         }
