@@ -242,6 +242,20 @@ fn dfsph_setting_ends() -> Vec<(&'static str, sph_core::DfsphSettings)> {
                 ..d
             },
         ),
+        (
+            "density over-relaxation 1",
+            sph_core::DfsphSettings {
+                density_over_relaxation: 1.0,
+                ..d
+            },
+        ),
+        (
+            "density over-relaxation 1.9",
+            sph_core::DfsphSettings {
+                density_over_relaxation: 1.9,
+                ..d
+            },
+        ),
     ]
 }
 

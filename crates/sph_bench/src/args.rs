@@ -300,6 +300,10 @@ pub struct RunArgs {
     /// (1: plain Jacobi) [default: 1.4].
     #[arg(long, value_name = "OMEGA", value_parser = over_relaxation)]
     pub divergence_over_relaxation: Option<f32>,
+    /// DFSPH: over-relaxation ω of the constant-density solve's iterations after its first
+    /// (1: plain Jacobi) [default: 1.3].
+    #[arg(long, value_name = "OMEGA", value_parser = over_relaxation)]
+    pub density_over_relaxation: Option<f32>,
     /// PBF: over-relaxation ω of the iterations after the first (1: plain Jacobi)
     /// [default: 1.4].
     #[arg(long, value_name = "OMEGA", value_parser = over_relaxation)]
@@ -378,6 +382,7 @@ impl Default for RunArgs {
             pbf_vorticity: None,
             pbf_over_relaxation: None,
             divergence_over_relaxation: None,
+            density_over_relaxation: None,
             particles: 8_192,
             a: 0.146,
             integrator: Integrator::KickDriftKick,

@@ -64,6 +64,9 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
             if let Some(omega) = args.divergence_over_relaxation {
                 p.dfsph.divergence_over_relaxation = omega;
             }
+            if let Some(omega) = args.density_over_relaxation {
+                p.dfsph.density_over_relaxation = omega;
+            }
             if let Some(n) = args.pbf_iterations {
                 p.pbf.iterations = n;
             }

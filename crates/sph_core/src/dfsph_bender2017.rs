@@ -346,7 +346,8 @@ pub fn divergence_source(
 }
 
 /// The over-relaxation of a solve's iterations after its first
-/// ([`crate::DfsphSettings::divergence_over_relaxation`]).
+/// ([`crate::DfsphSettings::divergence_over_relaxation`],
+/// [`crate::DfsphSettings::density_over_relaxation`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OverRelaxation {
     /// ω.

@@ -88,8 +88,9 @@ pub struct GpuSphParams {
     /// Drains: the main world's frame number (recorded with each sort's tail), the open drains
     /// in [`GpuPumps`] (0 = none), 0, 0.
     pub drains: [u32; 4],
-    /// DFSPH: the divergence-free solve's over-relaxation ω
-    /// ([`crate::DfsphSettings::divergence_over_relaxation`]), 0, 0, 0.
+    /// DFSPH: the over-relaxation ω of the divergence-free solve
+    /// ([`crate::DfsphSettings::divergence_over_relaxation`]) and of the constant-density solve
+    /// ([`crate::DfsphSettings::density_over_relaxation`]), 0, 0.
     pub dfsph_c: [f32; 4],
     /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m],
     /// its pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa]
@@ -341,7 +342,12 @@ impl GpuSphParams {
                 crate::dfsph_bender2017::MAX_CORRECTION,
             ],
             drains: [0; 4],
-            dfsph_c: [params.dfsph.divergence_over_relaxation, 0.0, 0.0, 0.0],
+            dfsph_c: [
+                params.dfsph.divergence_over_relaxation,
+                params.dfsph.density_over_relaxation,
+                0.0,
+                0.0,
+            ],
             boundary_contact: {
                 let contact = crate::stage::BoundaryContact::of(params);
                 [

@@ -487,6 +487,14 @@ impl DfsphSettings {
             true,
             1.9,
             "[1, 1.9] (1: plain Jacobi)",
+        )?;
+        check_range(
+            "dfsph.density_over_relaxation",
+            self.density_over_relaxation,
+            1.0,
+            true,
+            1.9,
+            "[1, 1.9] (1: plain Jacobi)",
         )
     }
 }

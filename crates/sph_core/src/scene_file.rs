@@ -92,6 +92,8 @@ pub enum SolverSpec {
         warm_start: Option<bool>,
         /// Over-relaxation ω of the divergence-free solve (1: plain Jacobi).
         divergence_over_relaxation: Option<f32>,
+        /// Over-relaxation ω of the constant-density solve (1: plain Jacobi).
+        density_over_relaxation: Option<f32>,
     },
     /// Position-based fluids.
     Pbf {
@@ -603,6 +605,7 @@ impl SceneFile {
                 max_divergence_error_pct,
                 warm_start,
                 divergence_over_relaxation,
+                density_over_relaxation,
             } => {
                 let base = DfsphSettings::default();
                 params.dfsph = DfsphSettings {
@@ -613,6 +616,8 @@ impl SceneFile {
                     warm_start: warm_start.unwrap_or(base.warm_start),
                     divergence_over_relaxation: divergence_over_relaxation
                         .unwrap_or(base.divergence_over_relaxation),
+                    density_over_relaxation: density_over_relaxation
+                        .unwrap_or(base.density_over_relaxation),
                     ..base
                 };
             }

@@ -235,7 +235,7 @@ fn use_solver_gives_dfsph_its_own_viscosity() {
 
 #[test]
 fn bad_settings_name_the_field_and_the_range() {
-    let cases: [(DfsphSettings, &str); 6] = [
+    let cases: [(DfsphSettings, &str); 8] = [
         (
             DfsphSettings {
                 max_density_error: 0.0,
@@ -278,6 +278,20 @@ fn bad_settings_name_the_field_and_the_range() {
                 ..Default::default()
             },
             "dfsph.divergence_over_relaxation",
+        ),
+        (
+            DfsphSettings {
+                density_over_relaxation: 0.99,
+                ..Default::default()
+            },
+            "dfsph.density_over_relaxation",
+        ),
+        (
+            DfsphSettings {
+                density_over_relaxation: 2.0,
+                ..Default::default()
+            },
+            "dfsph.density_over_relaxation",
         ),
     ];
     for (settings, field) in cases {

@@ -222,13 +222,15 @@ impl DfsphStep<'_> {
         let mut error = mean_error(s, &p.velocity, &p.density);
         let mut iterations = 0;
         while (iterations < min || error > eta) && iterations < max {
-            // The divergence-free solve's iterations after its first are over-relaxed (the
-            // constant-density solve's are not: with it, a tank at rest kept moving, 0.042 m/s).
-            let relaxation =
-                (iterations > 0 && matches!(solve, Solve::Divergence)).then_some(OverRelaxation {
-                    omega: settings.divergence_over_relaxation,
-                    converged_source: eta * rho0,
-                });
+            // Both solves' iterations after their first are over-relaxed, each by its ω.
+            let omega = match solve {
+                Solve::Density => settings.density_over_relaxation,
+                Solve::Divergence => settings.divergence_over_relaxation,
+            };
+            let relaxation = (iterations > 0).then_some(OverRelaxation {
+                omega,
+                converged_source: eta * rho0,
+            });
             // The top row's stiffness (the constant-density solve's; the divergence-free solve
             // leaves the free surface alone, INTERIOR_NEIGHBORS).
             let top_row = matches!(solve, Solve::Density).then(|| {

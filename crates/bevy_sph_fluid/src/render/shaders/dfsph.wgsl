@@ -107,11 +107,15 @@ fn set_stiffness(i: u32, k: f32) {
     pressure[i] = k;
 }
 
-// The stiffness to apply from a Jacobi iteration's κ and the one applied before it (the
-// divergence-free solve's iterations after its first): ω κ + (ω - 1) κ'. Rust twin: the over-relaxation of
-// sph_core::dfsph_bender2017::stiffness_from_source.
+// The stiffness to apply from a Jacobi iteration's κ and the one applied before it (a solve's
+// iterations after its first): ω κ + (ω - 1) κ', with the solve's ω. Rust twin: the
+// over-relaxation of sph_core::dfsph_bender2017::stiffness_from_source.
 fn over_relaxed(k: f32, previous: f32) -> f32 {
+#ifdef DIVERGENCE_SOLVE
     let omega = params.dfsph_c.x;
+#else
+    let omega = params.dfsph_c.y;
+#endif
     return omega * k + (omega - 1.0) * previous;
 }
 
@@ -174,7 +178,7 @@ fn close_solve() {
     clock.dfsph_args_x = 0u;
 }
 
-// Adds a workgroup's sum (of s_i/ρ0, non-negative) to error sum `b` (0: a, 1: b) in 64-bit
+// Adds a sum (of s_i/ρ0 terms, non-negative) to error sum `b` (0: a, 1: b) in 64-bit
 // fixed point.
 fn add_error(b: u32, sum: f32) {
     let units = max(sum, 0.0) * UNITS_PER_ONE;

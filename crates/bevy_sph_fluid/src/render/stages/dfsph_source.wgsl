@@ -7,10 +7,12 @@
 //                              ones, before this iteration's), at most |g| Δx / (2 ρ0);
 // divergence-free (DIVERGENCE_SOLVE): s_i = max(Dρ_i/Dt, 0) for particles with at least
 //                              INTERIOR_NEIGHBORS neighbours, else 0; κ_i = s_i / (dt D_i).
+// The iterations after the solve's first over-relax where s_i > η ρ0: ω κ_i + (ω - 1) κ'_i,
+// κ'_i the stiffness applied before, ω the solve's (shaders/dfsph.wgsl, over_relaxed).
 // DFSPH_WARM: the warm start instead: κ_i = fraction × the stiffness the solve summed last
 // step where s_i > 0, else 0, and the sum starts from it.
 // Otherwise Σ s_i/ρ0 goes to the error sum the next applying pass reads (TO_B: sum b, else
-// a): each workgroup reduces its threads' terms and adds them in 64-bit fixed point.
+// a): each thread adds its term in 64-bit fixed point.
 // DFSPH_FIRST: the solve's first source (without the warm start its sum starts at 0); the
 // sources after it count the iteration the pass before applied.
 // Dispatched indirectly: no workgroup runs once the solve converged.
@@ -20,8 +22,6 @@
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
 #import sph::dfsph::{INTERIOR_NEIGHBORS, spacing, rest_density, factor, pair, stiffness, set_stiffness, over_relaxed, total, set_total, add_error}
-
-var<workgroup> partial: array<f32, #{WORKGROUP_SIZE}>;
 
 // The solve's source of particle i (see above).
 fn source(i: u32) -> f32 {
@@ -76,10 +76,7 @@ fn top_row_target(i: u32, s: f32) -> f32 {
 }
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
-fn main(
-    @builtin(global_invocation_id) id: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     var term = 0.0;
     if i < params.particle_count && !frozen() && !restoring() {
@@ -104,14 +101,15 @@ fn main(
 #ifdef DFSPH_FIRST
         let k = jacobi;
 #else
+        // Plain Jacobi where the particle is within the solve's tolerance (η ρ0): no momentum
+        // on a particle whose compression is gone (see stiffness_from_source).
 #ifdef DIVERGENCE_SOLVE
-        // Plain Jacobi where the particle is within the solve's tolerance (params.dfsph.y ρ0):
-        // no momentum on a particle whose compression is gone (see stiffness_from_source).
-        let converged = s <= params.dfsph.y * rest_density();
-        let k = select(over_relaxed(jacobi, stiffness(i)), jacobi, converged);
+        let eta = params.dfsph.y;
 #else
-        let k = jacobi;
+        let eta = params.dfsph.x;
 #endif
+        let converged = s <= eta * rest_density();
+        let k = select(over_relaxed(jacobi, stiffness(i)), jacobi, converged);
 #endif
 #ifdef DIVERGENCE_SOLVE
         set_stiffness(i, k);
@@ -139,20 +137,16 @@ fn main(
 #endif
     }
 #ifndef DFSPH_WARM
-    // One barrier, then thread 0 adds the workgroup's terms: lavapipe runs each barrier as a
-    // switch between all of the workgroup's SIMD groups, and the tree reduction's seven cost
-    // more than the 63 additions (docs/dfsph.md).
-    partial[local] = term;
-    workgroupBarrier();
-    if local == 0u {
-        var sum = 0.0;
-        for (var k = 0u; k < #{WORKGROUP_SIZE}u; k++) {
-            sum += partial[k];
-        }
+    // Each thread with a positive term adds it to the sum itself. Reduced over the workgroup
+    // first (one barrier, then thread 0's 63 additions), the pass cost 1.7 times as much on
+    // lavapipe, which runs a barrier as a switch between all of the workgroup's SIMD groups
+    // (docs/dfsph.md, "Cheaper iterations"). Integer atomics: the sum does not
+    // depend on the order.
+    if term > 0.0 {
 #ifdef TO_B
-        add_error(1u, sum);
+        add_error(1u, term);
 #else
-        add_error(0u, sum);
+        add_error(0u, term);
 #endif
     }
 #ifndef DFSPH_FIRST
