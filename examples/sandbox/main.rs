@@ -349,9 +349,9 @@ fn apply_cli_toggles(
 
 /// With `--screenshot`, saves the window after `--frames` frames of the scene, prints the median
 /// frame time and the real-time factor of the second half, then exits. Frames while the GPU
-/// backend still compiles its shaders or prepares its buffers (`SphStats::error` "gpu: compiling
-/// shaders", "gpu: preparing buffers") do not count: on a slow machine a DFSPH scene can take more
-/// than 20 frames to compile, and the picture would show no water.
+/// backend still compiles its shaders or prepares its buffers (`SphStats::gpu_warming_up`) do not
+/// count: on a slow machine a DFSPH scene can take more than 20 frames to compile, and the
+/// picture would show no water.
 fn take_screenshot(
     cli: Res<Cli>,
     time: Res<Time<Real>>,
@@ -364,10 +364,7 @@ fn take_screenshot(
     let Some(path) = cli.screenshot.clone() else {
         return;
     };
-    let gpu_not_ready = stats.error.as_deref().is_some_and(|e| {
-        e.starts_with("gpu: compiling shaders") || e.starts_with("gpu: preparing buffers")
-    });
-    if gpu_not_ready {
+    if stats.gpu_warming_up() {
         return;
     }
     *frames += 1;

@@ -296,7 +296,25 @@ pub struct SphStats {
     pub scene_error: Option<String>,
 }
 
+/// [`SphStats::error`] while the GPU backend compiles its compute shaders: the water does not
+/// step yet (on lavapipe a DFSPH scene takes seconds). See [`SphStats::gpu_warming_up`].
+pub const STATUS_COMPILING_SHADERS: &str = "gpu: compiling shaders";
+
+/// [`SphStats::error`] while the GPU backend creates the scene's buffers and bind groups: the
+/// water does not step yet. See [`SphStats::gpu_warming_up`].
+pub const STATUS_PREPARING_BUFFERS: &str = "gpu: preparing buffers";
+
 impl SphStats {
+    /// Whether the GPU backend is still starting up ([`STATUS_COMPILING_SHADERS`],
+    /// [`STATUS_PREPARING_BUFFERS`]): not an error, but no step has been taken with the current
+    /// scene yet. Screenshots and timings should wait for it to end.
+    pub fn gpu_warming_up(&self) -> bool {
+        matches!(
+            self.error.as_deref(),
+            Some(STATUS_COMPILING_SHADERS | STATUS_PREPARING_BUFFERS)
+        )
+    }
+
     /// initial + emitted − drained − live: 0 while no particle is lost or duplicated.
     pub fn particle_balance(&self) -> i64 {
         self.particles_initial as i64 + self.particles_emitted as i64
@@ -526,5 +544,22 @@ impl SphGpuBuffers {
             body_forces: make(std::mem::size_of::<sph_core::gpu_layout::GpuBodyForces>()),
             probes: make(std::mem::size_of::<sph_core::gpu_layout::GpuProbes>()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_gpu_warms_up_only_while_it_compiles_or_prepares() {
+        let mut stats = SphStats::default();
+        assert!(!stats.gpu_warming_up());
+        for status in [STATUS_COMPILING_SHADERS, STATUS_PREPARING_BUFFERS] {
+            stats.error = Some(status.to_string());
+            assert!(stats.gpu_warming_up(), "{status}");
+        }
+        stats.error = Some("gpu: shader error: bad".to_string());
+        assert!(!stats.gpu_warming_up());
     }
 }

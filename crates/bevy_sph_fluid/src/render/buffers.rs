@@ -5,6 +5,7 @@
 
 use super::extract::ExtractedSphFrame;
 use super::plan::VariantKey;
+use crate::api::STATUS_PREPARING_BUFFERS;
 use crate::shared::SphRenderFeedback;
 use bevy::prelude::*;
 use bevy::render::render_asset::RenderAssets;
@@ -428,7 +429,7 @@ pub(crate) fn prepare_sph_buffers(
     let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(pressure), Some(neighbor_count), Some(clock), Some(body_forces), Some(probes)] =
         readable
     else {
-        state.status = Some("gpu: preparing buffers".into());
+        state.status = Some(STATUS_PREPARING_BUFFERS.into());
         return;
     };
     let grid = match DenseGrid::new(&frame.container, frame.params.smoothing_radius) {

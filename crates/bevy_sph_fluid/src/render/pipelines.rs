@@ -9,6 +9,7 @@ use super::extract::ExtractedSphFrame;
 use super::plan::VariantKey;
 use super::stage::{Dispatch, GpuStage, QueuedStage};
 use super::stages;
+use crate::api::STATUS_COMPILING_SHADERS;
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use bevy::render::render_resource::binding_types::{storage_buffer_sized, uniform_buffer_sized};
@@ -134,7 +135,7 @@ pub fn pipelines_not_ready(cache: &PipelineCache, list: &[QueuedStage]) -> Optio
             match cache.get_compute_pipeline_state(id) {
                 CachedPipelineState::Ok(_) => {}
                 CachedPipelineState::Err(e) => return Some(format!("gpu: shader error: {e}")),
-                _ => return Some("gpu: compiling shaders".to_string()),
+                _ => return Some(STATUS_COMPILING_SHADERS.to_string()),
             }
         }
     }

@@ -8,6 +8,7 @@ use super::extract::ExtractedSphFrame;
 use super::pipelines::{pipelines_not_ready, SphPipelines};
 use super::plan::{step_plans, DfsphPhase, EvaluationPlan, PbfPhase, VariantKey};
 use super::stage::{encode_stage, StageRun};
+use crate::api::{STATUS_COMPILING_SHADERS, STATUS_PREPARING_BUFFERS};
 use crate::sets::SphStep;
 use crate::shared::SphRenderFeedback;
 use bevy::prelude::*;
@@ -46,7 +47,7 @@ pub fn sph_simulate(world: &mut World) {
             f.status = state
                 .status
                 .clone()
-                .or(Some("gpu: preparing buffers".into()))
+                .or(Some(STATUS_PREPARING_BUFFERS.into()))
         });
         return;
     };
@@ -55,7 +56,7 @@ pub fn sph_simulate(world: &mut World) {
     let bitonic = state.bitonic_bind_group.clone();
     let bind_groups = state.bind_groups.clone();
     let Some(list) = world.resource::<SphPipelines>().variants.get(&key).cloned() else {
-        feedback.update(|f| f.status = Some("gpu: compiling shaders".into()));
+        feedback.update(|f| f.status = Some(STATUS_COMPILING_SHADERS.into()));
         return;
     };
     if let Some(why) = pipelines_not_ready(world.resource::<PipelineCache>(), &list) {
