@@ -77,8 +77,9 @@ pub struct DfsphSettings {
     /// stiffness applied is κ'_k = ω κ_k + (ω - 1) κ'_{k-1} (the stationary Chebyshev
     /// semi-iterative method, Wang 2015, as [`PbfSettings::over_relaxation`]). 1 is plain
     /// Jacobi. Measured (docs/dfsph.md): at 1.4 dambreak32k's divergence iterations fall from
-    /// 84 to 16 a step, and the tank at rest ends calmer. At 1.6 the tank at rest does not
-    /// settle (0.027 m/s) and a box held under water reads +29 % over ρ0 g V.
+    /// 84 to 16 a step, and the tank at rest ends calmer. At 1.6 (with the constant-density
+    /// solve at 1.3) the tank at rest does not settle (0.027 m/s) and a box held under water
+    /// reads +29 % over ρ0 g V.
     pub divergence_over_relaxation: f32,
     /// Over-relaxation ω of the constant-density solve's Jacobi iterations after its first, as
     /// `divergence_over_relaxation`. 1 is plain Jacobi. Measured (docs/dfsph.md): at 1.3
