@@ -246,3 +246,30 @@ fn probes_match_the_rust_layout() {
         std::mem::size_of::<sph_core::gpu_layout::GpuProbes>()
     );
 }
+
+#[test]
+fn the_lists_tile_as_the_rust_layout_sizes_them() {
+    let mut composer = composer();
+    let all = all_stages();
+    let stage = all.iter().find(|s| s.name == "sph_pbf_neighbors").unwrap();
+    let (path, source) = stage_source(stage);
+    let module = compose(&mut composer, &path, &source, &[], stage.workgroup_size);
+    let (_, constant) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref().is_some_and(|n| n.contains("LIST_TILE")))
+        .expect("LIST_TILE in shaders/neighbors.wgsl");
+    let value = match module.global_expressions[constant.init] {
+        naga::Expression::Literal(naga::Literal::U32(v)) => v,
+        ref other => panic!("LIST_TILE is {other:?}"),
+    };
+    assert_eq!(value, sph_core::gpu_layout::LIST_TILE);
+    // Whole tiles: the last particle's last entry fits, for a capacity that is not a multiple.
+    let capacity = 8 * 5 + 3;
+    let last = ((capacity - 1) / value * sph_core::gpu_layout::PBF_MAX_NEIGHBORS
+        + sph_core::gpu_layout::PBF_MAX_NEIGHBORS
+        - 1)
+        * value
+        + (capacity - 1) % value;
+    assert!((last as u64) < sph_core::gpu_layout::list_entries(capacity));
+}

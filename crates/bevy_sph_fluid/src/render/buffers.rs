@@ -13,7 +13,7 @@ use bevy::render::render_resource::{BindGroup, Buffer, BufferDescriptor, BufferU
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::storage::GpuShaderBuffer;
 use sph_core::gpu_layout::{
-    bitonic_steps, sort_length, GpuClock, GpuCollider, GpuSphParams, PBF_MAX_NEIGHBORS,
+    bitonic_steps, list_entries, sort_length, GpuClock, GpuCollider, GpuSphParams,
 };
 use sph_core::neighbor::grid::DenseGrid;
 use sph_core::neighbor::hash::hash_table_size;
@@ -92,7 +92,8 @@ pub enum Buf {
     /// The mesh colliders' hierarchies and triangles, for the guard.
     Meshes,
     /// PBF: each particle's neighbours of the step (pairs within h at the predicted positions),
-    /// at most `PBF_MAX_NEIGHBORS`, neighbour k of particle i at `k * capacity + i`.
+    /// at most `PBF_MAX_NEIGHBORS`, neighbour k of particle i at `list_slot(i, k)`
+    /// (`sph_core::gpu_layout::LIST_TILE`).
     PbfNeighbors,
     /// DFSPH: the same pairs with their weighted gradient, (m ∇W_ij, j as bits), written with
     /// the factors after each sort and read by every iteration of the solves.
@@ -315,9 +316,9 @@ fn allocate(
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
             Buf::Pumps => std::mem::size_of::<sph_core::gpu_layout::GpuPumps>() as u64,
-            Buf::PbfNeighbors if key.pbf || key.dfsph => 4 * n * PBF_MAX_NEIGHBORS as u64,
+            Buf::PbfNeighbors if key.pbf || key.dfsph => 4 * list_entries(capacity),
             Buf::PbfNeighbors => 16,
-            Buf::DfsphPairs if key.dfsph => 16 * n * PBF_MAX_NEIGHBORS as u64,
+            Buf::DfsphPairs if key.dfsph => 16 * list_entries(capacity),
             Buf::DfsphPairs => 16,
             Buf::PressureEos if !key.pbf && !key.dfsph => 4 * n,
             Buf::PressureEos => 16,

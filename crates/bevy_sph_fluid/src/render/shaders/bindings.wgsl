@@ -54,11 +54,11 @@
 // The mesh colliders' hierarchies and triangles (sph_core::trimesh::TriMesh::gpu_words), for
 // the guard.
 @group(0) @binding(33) var<storage, read_write> meshes: array<vec4<f32>>;
-// PBF: each particle's neighbours of the step, neighbour k of particle i at k * capacity + i
+// PBF: each particle's neighbours of the step, neighbour k of particle i at list_slot(i, k)
 // (written by the pbf_neighbors pass; its count in neighbor_count).
 @group(0) @binding(34) var<storage, read_write> pbf_neighbors: array<u32>;
 // DFSPH: the same pairs with their weighted gradient (m ∇W_ij, j as bits), pair k of particle
-// i at k * capacity + i (written by the dfsph_density pass after each sort).
+// i at list_slot(i, k) (written by the dfsph_density pass after each sort; sph::neighbors).
 @group(0) @binding(35) var<storage, read_write> dfsph_pairs: array<vec4<f32>>;
 // WCSPH: the equation of state's pressures (written by the density pass), from which the
 // free-surface pass writes `pressure`.

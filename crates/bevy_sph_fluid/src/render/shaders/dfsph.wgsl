@@ -26,6 +26,7 @@
 #define_import_path sph::dfsph
 
 #import sph::bindings::{params, clock, pressure, acceleration_start, sorted_acceleration_start, velocity_predicted, dfsph_pairs, dfsph_mirror, boundary_body}
+#import sph::neighbors::list_slot
 
 // Isolated particles: fewer neighbours than this is a free surface, left out of the
 // divergence-free solve (sph_core::dfsph_bender2017::INTERIOR_NEIGHBORS).
@@ -143,12 +144,12 @@ struct Pair {
 }
 
 fn pair(i: u32, k: u32) -> Pair {
-    let e = dfsph_pairs[k * params.capacity + i];
+    let e = dfsph_pairs[list_slot(i, k)];
     return Pair(bitcast<u32>(e.w), e.xyz);
 }
 
 fn set_pair(i: u32, k: u32, j: u32, grad: vec3<f32>) {
-    dfsph_pairs[k * params.capacity + i] = vec4<f32>(grad, bitcast<f32>(j));
+    dfsph_pairs[list_slot(i, k)] = vec4<f32>(grad, bitcast<f32>(j));
 }
 
 // A solve starts: nothing applied, no error summed, its passes dispatched over every particle

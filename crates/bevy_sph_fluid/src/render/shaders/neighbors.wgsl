@@ -81,6 +81,20 @@ fn grid_row_cells(c: vec3<i32>, q: u32) -> vec2<u32> {
     return vec2<u32>(grid_index(vec3<i32>(x0, y, z)), grid_index(vec3<i32>(x1, y, z)));
 }
 
+// Where the lists keep particle i's k-th neighbour (`pbf_neighbors`, `dfsph_pairs`): in tiles of
+// LIST_TILE particles, each tile's entries row by row (entry k of the tile's particles side by
+// side, then entry k + 1; sph_core::gpu_layout::LIST_TILE). A SIMD group of consecutive
+// particles reads one contiguous row per k, and the rows follow each other, so a pass over the
+// lists streams through memory. Laid out k * capacity + i instead, the rows lay 512 KiB apart
+// at 32,768 particles: every k another page, and a dambreak32k DFSPH iteration on lavapipe cost
+// about a quarter more, and varied more between runs (docs/dfsph.md, "Tiled lists").
+const LIST_TILE: u32 = 8u;
+
+fn list_slot(i: u32, k: u32) -> u32 {
+    let rows = params.pbf_counts.z;
+    return ((i / LIST_TILE) * rows + k) * LIST_TILE + i % LIST_TILE;
+}
+
 // Whether a candidate at x_j in range q really belongs to it (hash collisions never count).
 fn accepts(c: vec3<i32>, q: u32, x_j: vec3<f32>) -> bool {
 #ifdef SEARCH_HASH

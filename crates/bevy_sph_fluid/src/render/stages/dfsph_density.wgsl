@@ -13,7 +13,7 @@
 // sph_core::dfsph_bender2017::compute_factors.
 #import sph::bindings::{params, position, density, velocity_predicted, neighbor_count, pbf_neighbors, acceleration_start, sorted_acceleration_start, dfsph_mirror, boundary_position, boundary_velocity}
 #import sph::kernels::{cubic, cubic_grad}
-#import sph::neighbors::{grid_cell, boundary_range}
+#import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::dfsph::{mass, rest_density, set_pair, open_solve, unmirrored_sample}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
@@ -34,7 +34,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var squares = 0.0;
     let fluid = neighbor_count[i];
     for (var k = 0u; k < fluid; k++) {
-        let j = pbf_neighbors[k * params.capacity + i];
+        let j = pbf_neighbors[list_slot(i, k)];
         let r = x_i - position[j].xyz;
         let r_len = length(r);
         let g = cubic_grad(r, r_len) * m;

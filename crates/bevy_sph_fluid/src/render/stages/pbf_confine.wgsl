@@ -6,6 +6,7 @@
 // sph_core::pbf_macklin2013::confine_vorticity, sph_core::pump::apply_pumps.
 #import sph::bindings::{params, neighbor_count, pbf_neighbors, velocity, acceleration, density, sorted_acceleration}
 #import sph::kernels::cubic_grad
+#import sph::neighbors::list_slot
 #import sph::clock::{step_dt, frozen, record_speed}
 #import sph::pumps::pumped
 #import sph::probes::record_probes
@@ -22,7 +23,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let w_i = length(omega_i);
     var eta = vec3<f32>(0.0);
     for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = pbf_neighbors[k * params.capacity + i];
+        let j = pbf_neighbors[list_slot(i, k)];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let w_j = length(sorted_acceleration[j].xyz);

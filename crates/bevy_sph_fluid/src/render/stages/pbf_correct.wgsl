@@ -11,7 +11,7 @@
 // Rust twins: sph_core::pbf_macklin2013::{compute_corrections, apply_corrections}.
 #import sph::bindings::{params, position, neighbor_count, pbf_neighbors, normal, boundary_position, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
-#import sph::neighbors::{grid_cell, boundary_range}
+#import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen}
 #import sph::pbf::{current_position, write_next_position, mass, rest_density, relaxed_position, correction_weight}
 #import sph::types::drained
@@ -49,7 +49,7 @@ fn particle(i: u32) {
     let scale = m / rest_density();
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = pbf_neighbors[k * params.capacity + i];
+        let j = pbf_neighbors[list_slot(i, k)];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let r_len = sqrt(r2);

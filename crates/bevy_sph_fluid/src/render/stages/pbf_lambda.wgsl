@@ -8,7 +8,7 @@
 // Rust twin: sph_core::pbf_macklin2013::compute_lambdas.
 #import sph::bindings::{params, position, neighbor_count, pbf_neighbors, normal, boundary_position}
 #import sph::kernels::{cubic, cubic_grad}
-#import sph::neighbors::{grid_cell, boundary_range}
+#import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::frozen
 #import sph::pbf::{current_position, mass, rest_density, count_iteration}
 
@@ -29,7 +29,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var grad_i = vec3<f32>(0.0);
     var squares = 0.0;
     for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = pbf_neighbors[k * params.capacity + i];
+        let j = pbf_neighbors[list_slot(i, k)];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let r_len = sqrt(r2);

@@ -1,11 +1,11 @@
 // PBF's neighbour lists (Macklin & Müller 2013, Algorithm 1, line 5): after the sort of the
 // predicted positions x*, the particles j != i within h of i at x*, at most
-// sph_core::gpu_layout::PBF_MAX_NEIGHBORS (params.pbf_counts.z) of them (neighbour k at k * capacity + i), and their
+// sph_core::gpu_layout::PBF_MAX_NEIGHBORS (params.pbf_counts.z) of them (neighbour k at list_slot(i, k)), and their
 // number in neighbor_count. The step's other PBF passes loop over these lists and evaluate the
 // kernel at their own positions. A particle with more neighbours keeps the first ones found and
 // is counted in the clock. Rust twin: sph_core::neighbor_lists::NeighborLists::rebuild.
 #import sph::bindings::{params, position, neighbor_count, pbf_neighbors, clock}
-#import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
+#import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, list_slot}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -28,7 +28,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 continue;
             }
             if count < most {
-                pbf_neighbors[count * params.capacity + i] = j;
+                pbf_neighbors[list_slot(i, count)] = j;
                 count += 1u;
             } else {
                 overflow = true;

@@ -4,6 +4,7 @@
 // shaders/pbf.wgsl). Only with VORTICITY. Rust twin: sph_core::pbf_macklin2013::vorticity.
 #import sph::bindings::{params, neighbor_count, pbf_neighbors, velocity, density, sorted_acceleration}
 #import sph::kernels::cubic_grad
+#import sph::neighbors::list_slot
 #import sph::clock::frozen
 #import sph::pbf::{current_position, mass}
 
@@ -17,7 +18,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let v_i = velocity[i].xyz;
     var curl = vec3<f32>(0.0);
     for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = pbf_neighbors[k * params.capacity + i];
+        let j = pbf_neighbors[list_slot(i, k)];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let grad_j = -cubic_grad(r, sqrt(r2));
