@@ -86,8 +86,8 @@ fn grid_row_cells(c: vec3<i32>, q: u32) -> vec2<u32> {
 // side, then entry k + 1; sph_core::gpu_layout::LIST_TILE). A SIMD group of consecutive
 // particles reads one contiguous row per k, and the rows follow each other, so a pass over the
 // lists streams through memory. Laid out k * capacity + i instead, the rows lay 512 KiB apart
-// at 32,768 particles: every k another page, and a dambreak32k DFSPH iteration on lavapipe cost
-// about a quarter more, and varied more between runs (docs/dfsph.md, "Tiled lists").
+// at 32,768 particles: every k another page, and a dambreak32k DFSPH step with 8 + 8 iterations
+// pinned took 375 ms on lavapipe against 273 tiled (medians of 7; docs/dfsph.md, "Tiled lists").
 const LIST_TILE: u32 = 8u;
 
 fn list_slot(i: u32, k: u32) -> u32 {
