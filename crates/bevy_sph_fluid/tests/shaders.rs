@@ -198,13 +198,19 @@ fn variant_defs_change_the_code() {
     );
 }
 
-/// The size naga lays out for the WGSL struct named `name` in `stage`.
-fn wgsl_struct_size(stage: &str, name: &str) -> usize {
+/// The registered stage `name` composed without variant definitions: its path and module.
+fn composed_stage(name: &str) -> (String, naga::Module) {
     let mut composer = composer();
     let all = all_stages();
-    let stage = all.iter().find(|s| s.name == stage).unwrap();
+    let stage = all.iter().find(|s| s.name == name).unwrap();
     let (path, source) = stage_source(stage);
     let module = compose(&mut composer, &path, &source, &[], stage.workgroup_size);
+    (path, module)
+}
+
+/// The size naga lays out for the WGSL struct named `name` in `stage`.
+fn wgsl_struct_size(stage: &str, name: &str) -> usize {
+    let (path, module) = composed_stage(stage);
     let ty = module
         .types
         .iter()
@@ -249,11 +255,7 @@ fn probes_match_the_rust_layout() {
 
 #[test]
 fn the_lists_tile_as_the_rust_layout_sizes_them() {
-    let mut composer = composer();
-    let all = all_stages();
-    let stage = all.iter().find(|s| s.name == "sph_pbf_neighbors").unwrap();
-    let (path, source) = stage_source(stage);
-    let module = compose(&mut composer, &path, &source, &[], stage.workgroup_size);
+    let (_, module) = composed_stage("sph_pbf_neighbors");
     let (_, constant) = module
         .constants
         .iter()
