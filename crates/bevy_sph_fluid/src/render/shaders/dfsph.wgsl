@@ -173,6 +173,27 @@ fn goes_on(applied: u32, error: f32, least: u32, most: u32, eta: f32) -> bool {
     return (applied < least || error > eta) && applied < most;
 }
 
+// The solve's tolerance η: the constant-density solve's largest mean compression
+// (params.dfsph.x), the divergence-free solve's largest mean compression rate [1/s] (.y).
+fn tolerance() -> f32 {
+#ifdef DIVERGENCE_SOLVE
+    return params.dfsph.y;
+#else
+    return params.dfsph.x;
+#endif
+}
+
+// goes_on with the solve's least and most iterations (params.dfsph_counts: constant density
+// x, y; divergence-free z, w) and its tolerance.
+fn solve_goes_on(applied: u32, error: f32) -> bool {
+#ifdef DIVERGENCE_SOLVE
+    let counts = params.dfsph_counts.zw;
+#else
+    let counts = params.dfsph_counts.xy;
+#endif
+    return goes_on(applied, error, counts.x, counts.y, tolerance());
+}
+
 // The solve converged: its remaining passes dispatch no workgroup.
 fn close_solve() {
     clock.dfsph_done = 1u;

@@ -14,7 +14,7 @@
 #import sph::bindings::{params, clock, velocity, neighbor_count}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
-#import sph::dfsph::{factor, mirrored_grad, pair, stiffness, total, set_total, mean_error, clear_error, close_solve, goes_on}
+#import sph::dfsph::{factor, mirrored_grad, pair, stiffness, total, set_total, mean_error, clear_error, close_solve, solve_goes_on}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -28,17 +28,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #else
     let read = 0u;
 #endif
-    let applied = clock.dfsph_applied;
-#ifdef DIVERGENCE_SOLVE
-    let least = params.dfsph_counts.z;
-    let most = params.dfsph_counts.w;
-    let eta = params.dfsph.y;
-#else
-    let least = params.dfsph_counts.x;
-    let most = params.dfsph_counts.y;
-    let eta = params.dfsph.x;
-#endif
-    if !goes_on(applied, mean_error(read), least, most, eta) {
+    if !solve_goes_on(clock.dfsph_applied, mean_error(read)) {
         if i == 0u {
             close_solve();
         }

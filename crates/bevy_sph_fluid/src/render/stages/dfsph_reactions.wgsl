@@ -25,7 +25,7 @@
 #import sph::probes::record_probes
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
-#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, goes_on, mirrors, unmirrored_sample, rise_floor, rise_over_rho0_squared}
+#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, solve_goes_on, mirrors, unmirrored_sample, rise_floor, rise_over_rho0_squared}
 #import sph::speculative_contact::speculative_contact
 
 fn particle(i: u32) {
@@ -103,9 +103,7 @@ fn main(
         clock.divergence_iterations += applied;
         clock.divergence_frame_max = max(clock.divergence_frame_max, applied);
         clock.divergence_error = error;
-        let least = params.dfsph_counts.z;
-        let most = params.dfsph_counts.w;
-        if open && goes_on(applied, error, least, most, params.dfsph.y) {
+        if open && solve_goes_on(applied, error) {
             clock.divergence_cut_short += 1u;
         }
 #else
@@ -113,9 +111,7 @@ fn main(
         clock.density_iterations_max = max(clock.density_iterations_max, applied);
         clock.density_frame_max = max(clock.density_frame_max, applied);
         clock.density_error = error;
-        let least = params.dfsph_counts.x;
-        let most = params.dfsph_counts.y;
-        if open && goes_on(applied, error, least, most, params.dfsph.x) {
+        if open && solve_goes_on(applied, error) {
             clock.density_cut_short += 1u;
         }
 #endif

@@ -21,7 +21,7 @@
 #import sph::bindings::{params, clock, velocity, density, neighbor_count}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
-#import sph::dfsph::{INTERIOR_NEIGHBORS, spacing, rest_density, factor, pair, stiffness, set_stiffness, over_relaxed, total, set_total, add_error}
+#import sph::dfsph::{INTERIOR_NEIGHBORS, spacing, rest_density, factor, pair, stiffness, set_stiffness, over_relaxed, tolerance, total, set_total, add_error}
 
 // The solve's source of particle i (see above).
 fn source(i: u32) -> f32 {
@@ -103,12 +103,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #else
         // Plain Jacobi where the particle is within the solve's tolerance (η ρ0): no momentum
         // on a particle whose compression is gone (see stiffness_from_source).
-#ifdef DIVERGENCE_SOLVE
-        let eta = params.dfsph.y;
-#else
-        let eta = params.dfsph.x;
-#endif
-        let converged = s <= eta * rest_density();
+        let converged = s <= tolerance() * rest_density();
         let k = select(over_relaxed(jacobi, stiffness(i)), jacobi, converged);
 #endif
 #ifdef DIVERGENCE_SOLVE
