@@ -29,7 +29,8 @@
 #import sph::speculative_contact::speculative_contact
 
 fn particle(i: u32) {
-    let x_i = position[i].xyz;
+    let x = position[i];
+    let x_i = x.xyz;
     let k = total(i) * mass();
     let mirrored = select(k, 2.0 * k, mirrors(i));
 #ifdef DIVERGENCE_SOLVE
@@ -38,8 +39,10 @@ fn particle(i: u32) {
     let rises = true;
 #endif
     let p_floor = rise_floor(i);
-    // The factors pass counted the samples within h at these positions: none, no reaction.
-    if (k != 0.0 || rises) && boundary_neighbors(i) > 0.0 {
+    let kept = !drained(x.w);
+    // The factors pass counted the samples within h at these positions: none, no reaction;
+    // a drained particle gives none either.
+    if (k != 0.0 || rises) && kept && boundary_neighbors(i) > 0.0 {
         let h2 = params.kernel_a.y;
         let rho0 = rest_density();
         let cell = grid_cell(x_i);
@@ -60,16 +63,14 @@ fn particle(i: u32) {
                         f += mass() * rise_over_rho0_squared(x_i, sample.xyz, p_floor);
                     }
                 }
-                if !drained(position[i].w) {
-                    add_reaction(boundary_body[b], g * f, sample.xyz);
-                }
+                add_reaction(boundary_body[b], g * f, sample.xyz);
             }
         }
     }
 #ifndef DIVERGENCE_SOLVE
     let dt = step_dt();
     let u = velocity[i];
-    let a_s = speculative_contact(x_i, u.xyz, vec3<f32>(0.0), dt, 1.0, !drained(position[i].w));
+    let a_s = speculative_contact(x_i, u.xyz, vec3<f32>(0.0), dt, 1.0, kept);
     velocity[i] = vec4<f32>(u.xyz + a_s * dt, u.w);
 #endif
 #ifdef DIVERGENCE_SOLVE

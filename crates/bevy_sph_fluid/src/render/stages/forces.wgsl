@@ -176,7 +176,8 @@ fn main(
 }
 
 fn particle(i: u32) {
-    let x_i = position[i].xyz;
+    let x = position[i];
+    let x_i = x.xyz;
     let rho_i = density[i];
     let p_i = pressure[i] / pressure_density_squared(rho_i);
     let m = params.gravity.w;
@@ -248,6 +249,7 @@ fn particle(i: u32) {
     var push_sum = vec3<f32>(0.0);
     var push_velocity = vec3<f32>(0.0);
     var push_weight = 0.0;
+    let kept = !drained(x.w);
     let g = grid_cell(x_i);
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(g, q);
@@ -286,11 +288,17 @@ fn particle(i: u32) {
             var a_b = spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
 #endif
             let u = boundary_velocity[b];
+#ifdef SOLVER_DFSPH
+            // Without friction the sample adds nothing here, nor a reaction.
+            if u.w <= 0.0 {
+                continue;
+            }
+#endif
             if u.w > 0.0 {
                 a_b += (u.xyz - v_i) * (u.w * viscous * sample.w * viscosity_laplacian(r_len));
             }
             wall += a_b;
-            if !drained(position[i].w) {
+            if kept {
                 add_reaction(boundary_body[b], a_b * -m, sample.xyz);
             }
         }
@@ -314,7 +322,7 @@ fn particle(i: u32) {
             // in proportion to (push_b·n)₊ (a sample pushing against n does not lean on i).
             let n = normalize(push_sum);
             let along = contact_shares(x_i, g, n, vec3<f32>(0.0));
-            if along > 0.0 && !drained(position[i].w) {
+            if along > 0.0 && kept {
                 contact_shares(x_i, g, n, push_sum * (-m * scale / along));
             }
             a += push_sum * scale;
@@ -322,7 +330,7 @@ fn particle(i: u32) {
     }
 #ifndef SOLVER_DFSPH
     // The solids' speculative contact (sph_core::speculative_contact), after every other term.
-    a += speculative_contact(x_i, v_contact, a, contact_dt(), drift_kick(), !drained(position[i].w));
+    a += speculative_contact(x_i, v_contact, a, contact_dt(), drift_kick(), kept);
 #endif
     acceleration[i] = vec4<f32>(a, 0.0);
     let dt = step_dt();
