@@ -196,6 +196,27 @@ fn an_invalid_parameter_is_reported_by_name_and_not_applied() {
 }
 
 #[test]
+fn gpu_dfsph_beyond_its_packed_pairs_index_is_refused_by_name() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let limit = sph_core::gpu_dfsph_pairs::MAX_PARTICLES;
+    let mut app = headless_app(limit + 1, SphBackend::Gpu);
+    app.world_mut().spawn(SphContainer(BoxContainer::default()));
+    app.world_mut()
+        .resource_mut::<SphParams>()
+        .use_solver(sph_core::Solver::Dfsph);
+    app.world_mut().resource_mut::<SphControl>().single_step = true;
+    for _ in 0..3 {
+        app.update();
+    }
+    let error = stats_error(&app);
+    assert!(
+        error.contains("DFSPH") && error.contains(&limit.to_string()),
+        "{error}"
+    );
+    assert_eq!(steps_taken(&app), 0);
+}
+
+#[test]
 fn neighbor_counts_match_a_brute_force_count() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
     let params = sph_core::SphParams::water();

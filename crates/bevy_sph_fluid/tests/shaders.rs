@@ -253,18 +253,33 @@ fn probes_match_the_rust_layout() {
     );
 }
 
-#[test]
-fn the_lists_tile_as_the_rust_layout_sizes_them() {
-    let (_, module) = composed_stage("sph_pbf_neighbors");
+/// The value of the u32 constant `name` in a composed stage (naga_oil decorates the names).
+fn u32_constant(stage: &str, name: &str) -> u32 {
+    let (_, module) = composed_stage(stage);
     let (_, constant) = module
         .constants
         .iter()
-        .find(|(_, c)| c.name.as_deref().is_some_and(|n| n.contains("LIST_TILE")))
-        .expect("LIST_TILE in shaders/neighbors.wgsl");
-    let value = match module.global_expressions[constant.init] {
+        .find(|(_, c)| c.name.as_deref().is_some_and(|n| n.contains(name)))
+        .unwrap_or_else(|| panic!("{name} in {stage}"));
+    match module.global_expressions[constant.init] {
         naga::Expression::Literal(naga::Literal::U32(v)) => v,
-        ref other => panic!("LIST_TILE is {other:?}"),
-    };
+        ref other => panic!("{name} is {other:?}"),
+    }
+}
+
+#[test]
+fn the_packed_pairs_have_the_rust_twins_bits() {
+    use sph_core::gpu_dfsph_pairs::{GRAD_BITS, INDEX_BITS};
+    assert_eq!(
+        u32_constant("sph_dfsph_apply", "PAIR_INDEX_BITS"),
+        INDEX_BITS
+    );
+    assert_eq!(u32_constant("sph_dfsph_apply", "PAIR_GRAD_BITS"), GRAD_BITS);
+}
+
+#[test]
+fn the_lists_tile_as_the_rust_layout_sizes_them() {
+    let value = u32_constant("sph_pbf_neighbors", "LIST_TILE");
     assert_eq!(value, sph_core::gpu_layout::LIST_TILE);
     // Whole tiles: the last particle's last entry fits, for a capacity that is not a multiple.
     let capacity = 8 * 5 + 3;

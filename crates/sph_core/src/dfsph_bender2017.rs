@@ -11,7 +11,8 @@
 //!
 //! Notation:
 //! - g_ij = m ∇W(x_i - x_j) for fluid neighbours, g_ib = Ψ_b ∇W(x_i - x_b) with Ψ_b = ρ0 V_b for
-//!   boundary samples (Akinci 2012);
+//!   boundary samples (Akinci 2012); the fluid pairs' g_ij rounded to 3e-5 of their largest as
+//!   the GPU packs them ([`crate::gpu_dfsph_pairs`]), so both backends solve with the same g_ij;
 //! - the stiffness κ_i [m⁵/(kg s²)] is a pressure over density squared, p_i/ρ_i², so it does not
 //!   depend on dt and warm-starts across steps whose dt differ;
 //! - the pressure acceleration is a_i = -Σ_j (κ_i + κ_j) g_ij - 2 κ_i Σ_b g_ib: the symmetric

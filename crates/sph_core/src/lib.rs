@@ -33,6 +33,7 @@ pub mod frame_budget;
 pub mod free_bodies;
 pub mod free_surface_pressure;
 pub mod front;
+pub mod gpu_dfsph_pairs;
 pub mod gpu_layout;
 pub mod guard;
 pub mod integrate;

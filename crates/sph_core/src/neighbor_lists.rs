@@ -9,6 +9,7 @@
 //! instead of 16).
 
 use crate::boundary::Boundary;
+use crate::gpu_dfsph_pairs;
 use crate::kernel::CubicSpline;
 use crate::neighbor::grid::GROUP;
 use crate::neighbor::Neighbors;
@@ -344,6 +345,8 @@ impl NeighborLists {
     /// [`Self::rebuild`] with the cubic spline `kernel` (DFSPH's), the fluid pairs evaluated
     /// eight at a time ([`crate::pair_lanes`], in the AVX2 copy where the CPU has it) with the
     /// fused [`CubicSpline::value_and_gradient_factor`]: the same pairs, W and ∇W to rounding.
+    /// The fluid pairs' m ∇W_ij are rounded as the GPU packs them ([`gpu_dfsph_pairs::round`]),
+    /// so that both backends' DFSPH solve with the same g_ij.
     pub fn rebuild_cubic_spline(
         &mut self,
         source: ListSource,
@@ -352,6 +355,7 @@ impl NeighborLists {
     ) {
         let (positions, mass) = (source.positions, source.mass);
         let self_weight = kernel.value(0.0);
+        let scale = gpu_dfsph_pairs::scale(mass, kernel.l);
         let wide = wide_lanes();
         self.rebuild_by(
             source,
@@ -363,6 +367,7 @@ impl NeighborLists {
                     list,
                     positions,
                     mass,
+                    scale,
                 };
                 self_weight + pass.append(wide, out)
             },
@@ -436,10 +441,12 @@ struct FluidPairs<'a> {
     list: &'a [u32],
     positions: &'a [Vec3],
     mass: f32,
+    /// The packed pairs' scale ([`gpu_dfsph_pairs::scale`]).
+    scale: f32,
 }
 
 impl FluidPairs<'_> {
-    /// Appends the pairs (m ∇W_ij) to `out` and returns Σ_j W_ij, in the AVX2 copy when `wide`.
+    /// Appends the pairs (m ∇W_ij, rounded as packed) to `out` and returns Σ_j W_ij, in the AVX2 copy when `wide`.
     #[inline]
     fn append(&self, wide: bool, out: &mut Vec<Pair>) -> f32 {
         #[cfg(target_arch = "x86_64")]
@@ -470,7 +477,10 @@ impl FluidPairs<'_> {
             for (l, &j) in block.iter().enumerate() {
                 out.push(Pair {
                     index: j,
-                    grad: Vec3::new(r.x[l], r.y[l], r.z[l]) * f[l],
+                    grad: gpu_dfsph_pairs::round(
+                        Vec3::new(r.x[l], r.y[l], r.z[l]) * f[l],
+                        self.scale,
+                    ),
                 });
             }
         }

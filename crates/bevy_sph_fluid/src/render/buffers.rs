@@ -12,6 +12,7 @@ use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{BindGroup, Buffer, BufferDescriptor, BufferUsages};
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::storage::GpuShaderBuffer;
+use sph_core::gpu_dfsph_pairs;
 use sph_core::gpu_layout::{
     bitonic_steps, list_entries, sort_length, GpuClock, GpuCollider, GpuSphParams,
 };
@@ -318,7 +319,8 @@ fn allocate(
             Buf::Pumps => std::mem::size_of::<sph_core::gpu_layout::GpuPumps>() as u64,
             Buf::PbfNeighbors if key.pbf || key.dfsph => 4 * list_entries(capacity),
             Buf::PbfNeighbors => 16,
-            Buf::DfsphPairs if key.dfsph => 16 * list_entries(capacity),
+            // Two 8-byte pairs to a 16-byte entry (sph_core::gpu_dfsph_pairs).
+            Buf::DfsphPairs if key.dfsph => 8 * list_entries(capacity),
             Buf::DfsphPairs => 16,
             Buf::PressureEos if !key.pbf && !key.dfsph => 4 * n,
             Buf::PressureEos => 16,
@@ -442,6 +444,16 @@ pub(crate) fn prepare_sph_buffers(
         }
     };
     let key = VariantKey::of(&frame.params, frame.neighbor_counts);
+    if key.dfsph && frame.capacity > gpu_dfsph_pairs::MAX_PARTICLES {
+        state.status = Some(format!(
+            "gpu: DFSPH holds at most {} particles on the GPU (its pairs keep 18-bit indices); \
+             the capacity is {}: use the CPU backend or another solver",
+            gpu_dfsph_pairs::MAX_PARTICLES,
+            frame.capacity
+        ));
+        state.bind_groups.clear();
+        return;
+    }
     let needs_allocation = state.buffers.as_ref().is_none_or(|b| {
         b.capacity != frame.capacity
             || b.grid_dims != grid.dims

@@ -57,9 +57,10 @@
 // PBF: each particle's neighbours of the step, neighbour k of particle i at list_slot(i, k)
 // (written by the pbf_neighbors pass; its count in neighbor_count).
 @group(0) @binding(34) var<storage, read_write> pbf_neighbors: array<u32>;
-// DFSPH: the same pairs with their weighted gradient (m ∇W_ij, j as bits), pair k of particle
-// i at list_slot(i, k) (written by the dfsph_density pass after each sort; sph::neighbors).
-@group(0) @binding(35) var<storage, read_write> dfsph_pairs: array<vec4<f32>>;
+// DFSPH: the same pairs with their weighted gradient (m ∇W_ij), packed to 8 bytes, pairs k and
+// k + 1 of particle i in one entry (written by the dfsph_density pass after each sort;
+// sph::dfsph's pairs).
+@group(0) @binding(35) var<storage, read_write> dfsph_pairs: array<vec4<u32>>;
 // WCSPH: the equation of state's pressures (written by the density pass), from which the
 // free-surface pass writes `pressure`.
 @group(0) @binding(36) var<storage, read_write> pressure_eos: array<f32>;

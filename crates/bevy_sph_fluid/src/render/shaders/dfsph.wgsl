@@ -20,13 +20,14 @@
 // - `velocity_predicted`: (κ summed by the constant-density solve, κ summed by the
 //   divergence-free solve, 0, 0), carried by the sort: the next step's warm starts;
 // - `neighbor_count`, `pbf_neighbors`: the pairs within h after each sort (the lists pass),
-//   and `dfsph_pairs`: the same pairs with g_ij (the factors pass), read by every iteration.
+//   and `dfsph_pairs`: the same pairs with g_ij, packed (the factors pass; see `pairs` below),
+//   read by every iteration.
 // The solve in progress keeps its state in the clock (dfsph_*): the applied iterations, the
 // converged flag, two error sums, and the indirect dispatch arguments of its passes.
 #define_import_path sph::dfsph
 
 #import sph::bindings::{params, clock, pressure, acceleration_start, sorted_acceleration_start, velocity_predicted, dfsph_pairs, dfsph_mirror, boundary_body}
-#import sph::neighbors::list_slot
+#import sph::neighbors::tiled_slot
 
 // Isolated particles: fewer neighbours than this is a free surface, left out of the
 // divergence-free solve (sph_core::dfsph_bender2017::INTERIOR_NEIGHBORS).
@@ -143,13 +144,76 @@ struct Pair {
     grad: vec3<f32>,
 }
 
-fn pair(i: u32, k: u32) -> Pair {
-    let e = dfsph_pairs[list_slot(i, k)];
-    return Pair(bitcast<u32>(e.w), e.xyz);
+// Pairs are packed to 8 bytes, two to an entry, so that a pair loop issues one load for two
+// pairs and one for each neighbour's value: lavapipe runs every load whose address varies
+// across the SIMD lanes as a loop over the lanes, and the iterations' passes cost what their
+// loads issue (docs/dfsph.md, "Packed pairs"). As one 64-bit field (x the low word): j in bits
+// 0-17, then g_ij's x, y and z in 15 bits each, fixed point of the largest |g_ij| (pair_scale)
+// with PAIR_STEPS steps each way, offset by PAIR_ZERO. So GPU DFSPH holds at most 2^18
+// particles. Rust twin: sph_core::gpu_dfsph_pairs::{pack, unpack}.
+const PAIR_INDEX_BITS: u32 = 18u;
+const PAIR_GRAD_BITS: u32 = 15u;
+const PAIR_STEPS: f32 = 16383.0;
+const PAIR_ZERO: f32 = 16384.0;
+
+// The largest |g_ij| = m |∇W|: the cubic spline's slope l q (3q - 2) peaks at q = 1/3 (l/3,
+// sph::kernels::cubic_grad), above its l (1 - q)² beyond q = 1/2. Rust twin:
+// sph_core::gpu_dfsph_pairs::scale.
+fn pair_scale() -> f32 {
+    return mass() * params.pbf_kernel.y / 3.0;
 }
 
-fn set_pair(i: u32, k: u32, j: u32, grad: vec3<f32>) {
-    dfsph_pairs[list_slot(i, k)] = vec4<f32>(grad, bitcast<f32>(j));
+// g_ij in steps of scale / PAIR_STEPS, clamped to ±PAIR_STEPS (ties to even): what a packed pair
+// keeps of it. Rust twin: sph_core::gpu_dfsph_pairs::round, with which the CPU solver rounds its
+// pairs as well, so both backends solve with the same g_ij.
+fn pair_steps(grad: vec3<f32>, scale: f32) -> vec3<f32> {
+    return round(clamp(grad / scale, vec3<f32>(-1.0), vec3<f32>(1.0)) * PAIR_STEPS);
+}
+
+// g_ij back from its pair_steps.
+fn steps_grad(steps: vec3<f32>, scale: f32) -> vec3<f32> {
+    return steps * (scale / PAIR_STEPS);
+}
+
+// Pair (j, g_ij) packed, g_ij given by its pair_steps.
+fn pack_pair(j: u32, steps: vec3<f32>) -> vec2<u32> {
+    let c = vec3<u32>(steps + PAIR_ZERO);
+    let low = j | (c.x << PAIR_INDEX_BITS);
+    let high = (c.x >> (32u - PAIR_INDEX_BITS)) | (c.y << 1u) | (c.z << (1u + PAIR_GRAD_BITS));
+    return vec2<u32>(low, high);
+}
+
+fn unpack_pair(e: vec2<u32>, scale: f32) -> Pair {
+    let j = extractBits(e.x, 0u, PAIR_INDEX_BITS);
+    let low_bits = 32u - PAIR_INDEX_BITS;
+    let x = extractBits(e.x, PAIR_INDEX_BITS, low_bits) | (extractBits(e.y, 0u, 1u) << low_bits);
+    let y = extractBits(e.y, 1u, PAIR_GRAD_BITS);
+    let z = extractBits(e.y, 1u + PAIR_GRAD_BITS, PAIR_GRAD_BITS);
+    let steps = vec3<f32>(vec3<u32>(x, y, z)) - PAIR_ZERO;
+    return Pair(j, steps_grad(steps, scale));
+}
+
+// The entry of pairs k and k + 1 (k even): tiles of LIST_TILE particles as the lists, half as
+// many rows.
+fn pairs_slot(i: u32, k: u32) -> u32 {
+    return tiled_slot(i, k / 2u, params.pbf_counts.z / 2u);
+}
+
+// Pairs k and k + 1 of particle i (k even; `second` means nothing when k + 1 is past the list).
+struct TwoPairs {
+    first: Pair,
+    second: Pair,
+}
+
+fn pairs(i: u32, k: u32) -> TwoPairs {
+    let e = dfsph_pairs[pairs_slot(i, k)];
+    let scale = pair_scale();
+    return TwoPairs(unpack_pair(e.xy, scale), unpack_pair(e.zw, scale));
+}
+
+// Stores pairs k and k + 1 of particle i (k even), packed by pack_pair.
+fn set_pairs(i: u32, k: u32, first: vec2<u32>, second: vec2<u32>) {
+    dfsph_pairs[pairs_slot(i, k)] = vec4<u32>(first, second);
 }
 
 // A solve starts: nothing applied, no error summed, its passes dispatched over every particle

@@ -81,7 +81,8 @@ fn grid_row_cells(c: vec3<i32>, q: u32) -> vec2<u32> {
     return vec2<u32>(grid_index(vec3<i32>(x0, y, z)), grid_index(vec3<i32>(x1, y, z)));
 }
 
-// Where the lists keep particle i's k-th neighbour (`pbf_neighbors`, `dfsph_pairs`): in tiles of
+// Where the lists keep particle i's k-th neighbour (`pbf_neighbors`; `dfsph_pairs` tiles the
+// same way two pairs to an entry, sph::dfsph's pairs_slot): in tiles of
 // LIST_TILE particles, each tile's entries row by row (entry k of the tile's particles side by
 // side, then entry k + 1; sph_core::gpu_layout::LIST_TILE). A SIMD group of consecutive
 // particles reads one contiguous row per k, and the rows follow each other, so a pass over the
@@ -91,7 +92,11 @@ fn grid_row_cells(c: vec3<i32>, q: u32) -> vec2<u32> {
 const LIST_TILE: u32 = 8u;
 
 fn list_slot(i: u32, k: u32) -> u32 {
-    let rows = params.pbf_counts.z;
+    return tiled_slot(i, k, params.pbf_counts.z);
+}
+
+// Entry k of particle i in tiles of LIST_TILE particles with `rows` entries each.
+fn tiled_slot(i: u32, k: u32, rows: u32) -> u32 {
     return ((i / LIST_TILE) * rows + k) * LIST_TILE + i % LIST_TILE;
 }
 

@@ -14,7 +14,12 @@
 #import sph::bindings::{params, clock, velocity, neighbor_count}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
-#import sph::dfsph::{factor, mirrored_grad, pair, stiffness, total, set_total, mean_error, clear_error, close_solve, solve_goes_on}
+#import sph::dfsph::{Pair, factor, mirrored_grad, pairs, stiffness, total, set_total, mean_error, clear_error, close_solve, solve_goes_on}
+
+// (κ_i + κ_j) g_ij of one pair.
+fn pressure_term(k_i: f32, p: Pair) -> vec3<f32> {
+    return (k_i + stiffness(p.j)) * p.grad;
+}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -44,9 +49,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let k_i = stiffness(i);
     var a = -k_i * (factor(i).boundary_grad + mirrored_grad(i));
     let fluid = neighbor_count[i];
-    for (var k = 0u; k < fluid; k++) {
-        let p = pair(i, k);
-        a -= (k_i + stiffness(p.j)) * p.grad;
+    for (var k = 0u; k < fluid; k += 2u) {
+        let two = pairs(i, k);
+        a -= pressure_term(k_i, two.first);
+        if k + 1u < fluid {
+            a -= pressure_term(k_i, two.second);
+        }
     }
     velocity[i] = vec4<f32>(velocity[i].xyz + a * step_dt(), 0.0);
 #ifndef DFSPH_WARM

@@ -14,7 +14,29 @@
 #import sph::bindings::{params, position, density, velocity_predicted, neighbor_count, pbf_neighbors, acceleration_start, sorted_acceleration_start, dfsph_mirror, boundary_position, boundary_velocity}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
-#import sph::dfsph::{mass, rest_density, set_pair, open_solve, unmirrored_sample}
+#import sph::dfsph::{mass, rest_density, pair_scale, pair_steps, steps_grad, pack_pair, set_pairs, open_solve, unmirrored_sample}
+
+// Over the fluid pairs: m Σ_j W_ij (self included), Σ_j g_ij and Σ_j |g_ij|².
+struct FluidSums {
+    rho: f32,
+    grad: vec3<f32>,
+    squares: f32,
+}
+
+// Pair k of particle i at x_i: adds it to the sums and returns it packed (sph::dfsph's pairs).
+// The sums take g_ij as packed, as every iteration reads it (and as the CPU solver rounds it).
+fn fluid_pair(i: u32, k: u32, x_i: vec3<f32>, scale: f32, sums: ptr<function, FluidSums>) -> vec2<u32> {
+    let m = mass();
+    let j = pbf_neighbors[list_slot(i, k)];
+    let r = x_i - position[j].xyz;
+    let r_len = length(r);
+    let steps = pair_steps(cubic_grad(r, r_len) * m, scale);
+    let g = steps_grad(steps, scale);
+    (*sums).rho += m * cubic(r_len);
+    (*sums).grad += g;
+    (*sums).squares += dot(g, g);
+    return pack_pair(j, steps);
+}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -29,20 +51,21 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = mass();
     let rho0 = rest_density();
     let h2 = params.kernel_a.y;
-    var rho = m * cubic(0.0);
-    var sum = vec3<f32>(0.0);
-    var squares = 0.0;
+    var fluid_sums = FluidSums(m * cubic(0.0), vec3<f32>(0.0), 0.0);
+    let scale = pair_scale();
     let fluid = neighbor_count[i];
-    for (var k = 0u; k < fluid; k++) {
-        let j = pbf_neighbors[list_slot(i, k)];
-        let r = x_i - position[j].xyz;
-        let r_len = length(r);
-        let g = cubic_grad(r, r_len) * m;
-        set_pair(i, k, j, g);
-        rho += m * cubic(r_len);
-        sum += g;
-        squares += dot(g, g);
+    for (var k = 0u; k < fluid; k += 2u) {
+        let first = fluid_pair(i, k, x_i, scale, &fluid_sums);
+        // Past the list's end: a pair with itself and no gradient, which no reader uses.
+        var second = pack_pair(i, vec3<f32>(0.0));
+        if k + 1u < fluid {
+            second = fluid_pair(i, k + 1u, x_i, scale, &fluid_sums);
+        }
+        set_pairs(i, k, first, second);
     }
+    var rho = fluid_sums.rho;
+    let sum = fluid_sums.grad;
+    let squares = fluid_sums.squares;
     var boundary_grad = vec3<f32>(0.0);
     var mirrored_grad = vec3<f32>(0.0);
     var boundary_flux = 0.0;

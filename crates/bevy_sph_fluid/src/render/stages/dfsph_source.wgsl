@@ -21,7 +21,12 @@
 #import sph::bindings::{params, clock, velocity, density, neighbor_count}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
-#import sph::dfsph::{INTERIOR_NEIGHBORS, spacing, rest_density, factor, pair, stiffness, set_stiffness, over_relaxed, tolerance, total, set_total, add_error}
+#import sph::dfsph::{Pair, INTERIOR_NEIGHBORS, spacing, rest_density, factor, pairs, stiffness, set_stiffness, over_relaxed, tolerance, total, set_total, add_error}
+
+// (v_i - v_j)·g_ij of one pair.
+fn rate_term(v_i: vec3<f32>, p: Pair) -> f32 {
+    return dot(v_i - velocity[p.j].xyz, p.grad);
+}
 
 // The solve's source of particle i (see above).
 fn source(i: u32) -> f32 {
@@ -29,9 +34,12 @@ fn source(i: u32) -> f32 {
     let v_i = velocity[i].xyz;
     var rate = dot(v_i, f.boundary_grad) - f.boundary_flux;
     let fluid = neighbor_count[i];
-    for (var k = 0u; k < fluid; k++) {
-        let p = pair(i, k);
-        rate += dot(v_i - velocity[p.j].xyz, p.grad);
+    for (var k = 0u; k < fluid; k += 2u) {
+        let two = pairs(i, k);
+        rate += rate_term(v_i, two.first);
+        if k + 1u < fluid {
+            rate += rate_term(v_i, two.second);
+        }
     }
 #ifdef DIVERGENCE_SOLVE
     if f.neighbors < INTERIOR_NEIGHBORS {
@@ -48,6 +56,13 @@ fn source(i: u32) -> f32 {
 // (sph_core::dfsph_bender2017::TOP_ROW_DENSITY).
 const TOP_ROW_DENSITY: f32 = 0.95;
 
+// (|g_ij| κ_j, |g_ij|) of one pair whose neighbour's sum κ_j is positive, else 0.
+fn top_row_term(p: Pair) -> vec2<f32> {
+    let k_j = total(p.j);
+    let w = length(p.grad);
+    return select(vec2<f32>(0.0), vec2<f32>(w * k_j, w), k_j > 0.0);
+}
+
 // The sum particle i's stiffness rises to on the top row, or -1 (see above; Rust twin:
 // sph_core::dfsph_bender2017::TopRowStiffness::targets). Reads the neighbours' sums, which no
 // thread of this pass writes.
@@ -59,14 +74,14 @@ fn top_row_target(i: u32, s: f32) -> f32 {
     var sum = 0.0;
     var weights = 0.0;
     let fluid = neighbor_count[i];
-    for (var k = 0u; k < fluid; k++) {
-        let p = pair(i, k);
-        let k_j = total(p.j);
-        if k_j > 0.0 {
-            let w = length(p.grad);
-            sum += w * k_j;
-            weights += w;
+    for (var k = 0u; k < fluid; k += 2u) {
+        let two = pairs(i, k);
+        var term = top_row_term(two.first);
+        if k + 1u < fluid {
+            term += top_row_term(two.second);
         }
+        sum += term.x;
+        weights += term.y;
     }
     if weights <= 0.0 {
         return -1.0;
