@@ -373,8 +373,8 @@ impl SphCollider {
 /// The water's force and torque on a collider (about the entity's origin), averaged over the
 /// force evaluations of the last frame that stepped: for game code or a physics engine to apply
 /// to a dynamic body. The CPU backend writes it every frame; the GPU backend sums it on the
-/// device and writes it when the readback arrives, a frame or two later (the walls and the
-/// first 31 collider slots are summed).
+/// device and writes it when the readback arrives, a frame or two later (the first 31 collider
+/// slots are summed).
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq, Reflect)]
 #[reflect(Component)]
 pub struct SphColliderForce {

@@ -102,7 +102,10 @@ pub struct GpuSphParams {
     pub drains: [u32; 4],
     /// DFSPH: the over-relaxation ω of the divergence-free solve
     /// ([`crate::DfsphSettings::divergence_over_relaxation`]) and of the constant-density solve
-    /// ([`crate::DfsphSettings::density_over_relaxation`]), 0, 0.
+    /// ([`crate::DfsphSettings::density_over_relaxation`]); 1 when some boundary sample has
+    /// friction, else 0 (set by the plugin from the boundary upload: without one DFSPH's forces
+    /// pass skips the samples and the reactions' workgroup sums, which only friction feeds
+    /// there); 0.
     pub dfsph_c: [f32; 4],
     /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m],
     /// its pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa]
@@ -581,7 +584,8 @@ impl GpuBoundarySamples {
 pub const UNMIRRORED_BODY_BIT: u32 = 1 << 31;
 
 /// Bodies whose force the GPU sums: the walls and the first 31 collider slots. A body beyond
-/// is left out of the sums (its [`GpuBodyForces::sum`] is `None`).
+/// is left out of the sums (its [`GpuBodyForces::sum`] is `None`). While no collider is in the
+/// boundary nothing is summed (no reader asks for the walls' force; `body_reactions.wgsl`).
 pub const GPU_BODY_SLOTS: usize = 32;
 
 /// Components summed per body: the force and Σ x_b × f (the moment about the world origin).

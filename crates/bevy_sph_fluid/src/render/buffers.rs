@@ -262,6 +262,8 @@ pub struct SphGpuState {
     pub boundary_samples: u32,
     /// Colliders in the guard's list on the GPU.
     pub boundary_colliders: u32,
+    /// Whether some boundary sample on the GPU has friction (`GpuSphParams::dfsph_c`'s z).
+    pub boundary_friction: bool,
 }
 
 /// New particles waiting for upload: first slot, positions (w = id), velocities.
@@ -622,6 +624,7 @@ pub(crate) fn prepare_sph_buffers(
         uniforms = uniforms.with_frame_budget(duration, frame.steps, number);
     }
     uniforms.flags[3] = state.boundary_colliders;
+    uniforms.dfsph_c[2] = if state.boundary_friction { 1.0 } else { 0.0 };
     uniforms.drains = [frame.number, pumps.sink_count, 0, 0];
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
 }
@@ -699,6 +702,7 @@ fn upload_boundary(
     }
     state.boundary_samples = samples.position.len() as u32;
     state.boundary_colliders = samples.colliders.len() as u32;
+    state.boundary_friction = samples.velocity.iter().any(|v| v[3] > 0.0);
     if grown {
         state.generation += 1;
     }

@@ -24,7 +24,7 @@
 #import sph::pumps::pumped
 #import sph::probes::record_probes
 #import sph::types::drained
-#import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
+#import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction, reactions_read}
 #import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, solve_goes_on, mirrors, unmirrored_sample, rise_floor, rise_over_rho0_squared}
 #import sph::speculative_contact::speculative_contact
 
@@ -41,8 +41,8 @@ fn particle(i: u32) {
     let p_floor = rise_floor(i);
     let kept = !drained(x.w);
     // The factors pass counted the samples within h at these positions: none, no reaction;
-    // a drained particle gives none either.
-    if (k != 0.0 || rises) && kept && boundary_neighbors(i) > 0.0 {
+    // a drained particle gives none either, nor any while no sum is read.
+    if (k != 0.0 || rises) && kept && boundary_neighbors(i) > 0.0 && reactions_read() {
         let h2 = params.kernel_a.y;
         let rho0 = rest_density();
         let cell = grid_cell(x_i);

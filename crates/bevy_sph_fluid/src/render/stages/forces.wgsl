@@ -158,6 +158,17 @@ fn contact_shares(x_i: vec3<f32>, g: vec3<i32>, n: vec3<f32>, force: vec3<f32>) 
     return along;
 }
 
+// Whether the boundary samples add anything in this pass: DFSPH's pressure solves answer for
+// the boundary, so here only a sample with friction does (params.dfsph_c.z); otherwise always.
+// dambreak32k's walls have none: its samples' loop is skipped.
+fn samples_act() -> bool {
+#ifdef SOLVER_DFSPH
+    return params.dfsph_c.z > 0.0;
+#else
+    return true;
+#endif
+}
+
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(
     @builtin(global_invocation_id) id: vec3<u32>,
@@ -251,7 +262,8 @@ fn particle(i: u32) {
     var push_weight = 0.0;
     let kept = !drained(x.w);
     let g = grid_cell(x_i);
-    for (var q = 0u; q < 9u; q++) {
+    let sample_cells = select(0u, 9u, samples_act());
+    for (var q = 0u; q < sample_cells; q++) {
         let range = boundary_range(g, q);
         for (var b = range.x; b < range.y; b++) {
             let sample = boundary_position[b];
