@@ -446,7 +446,8 @@ struct FluidPairs<'a> {
 }
 
 impl FluidPairs<'_> {
-    /// Appends the pairs (m ∇W_ij, rounded as packed) to `out` and returns Σ_j W_ij, in the AVX2 copy when `wide`.
+    /// Appends the pairs (m ∇W_ij, rounded as packed) to `out` and returns Σ_j W_ij, in the
+    /// AVX2 copy when `wide`.
     #[inline]
     fn append(&self, wide: bool, out: &mut Vec<Pair>) -> f32 {
         #[cfg(target_arch = "x86_64")]
