@@ -53,7 +53,7 @@ fn steps(grad: Vec3, scale: f32) -> Vec3 {
 /// packing. WGSL twin: `steps_grad(pair_steps(grad, scale), scale)`.
 #[inline(always)]
 pub fn round(grad: Vec3, scale: f32) -> Vec3 {
-    steps(grad, scale) * (scale / STEPS)
+    steps(grad, scale) * step(scale)
 }
 
 /// A DFSPH pair as the GPU's factors pass stores it in `dfsph_pairs` (8 bytes, two pairs to a
@@ -80,7 +80,7 @@ pub fn unpack(packed: [u32; 2], scale: f32) -> (u32, Vec3) {
     let x = bits(packed[0], index_bits, low_bits) | (bits(packed[1], 0, 1) << low_bits);
     let y = bits(packed[1], 1, GRAD_BITS);
     let z = bits(packed[1], 1 + GRAD_BITS, GRAD_BITS);
-    let component = |c: u32| (c as f32 - ZERO) * (scale / STEPS);
+    let component = |c: u32| (c as f32 - ZERO) * step(scale);
     (
         bits(packed[0], 0, index_bits),
         Vec3::new(component(x), component(y), component(z)),
