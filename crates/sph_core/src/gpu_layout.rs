@@ -105,7 +105,8 @@ pub struct GpuSphParams {
     /// ([`crate::DfsphSettings::density_over_relaxation`]); 1 when some boundary sample has
     /// friction, else 0 (set by the plugin from the boundary upload: without one DFSPH's forces
     /// pass skips the samples and the reactions' workgroup sums, which only friction feeds
-    /// there); 0.
+    /// there); 1 while the boundary samples do not mirror the stiffness, else 0
+    /// ([`GpuBoundarySamples::mirrors`], also from the upload).
     pub dfsph_c: [f32; 4],
     /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m],
     /// its pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa]
@@ -521,9 +522,14 @@ pub struct GpuBoundarySamples {
     pub cell_start: Vec<u32>,
     /// The colliders, for the guard.
     pub colliders: Vec<GpuCollider>,
-    /// Each sample's body: 0 the walls, k + 1 the collider slot k ([`crate::ColliderId`]), with
-    /// [`UNMIRRORED_BODY_BIT`] set on every sample while a dynamic collider is in the boundary.
+    /// Each sample's body: 0 the walls, k + 1 the collider slot k ([`crate::ColliderId`]).
     pub body: Vec<u32>,
+    /// Whether the samples mirror DFSPH's stiffness and hold the hydrostatic rise
+    /// (`crate::dfsph_bender2017`): unless a dynamic collider is in the boundary. The GPU does not
+    /// let a body give way in the solves ([`crate::free_bodies`]), so it follows
+    /// [`crate::Boundary::mirrors`] as if no mass were known. The plugin passes it on in
+    /// [`GpuSphParams::dfsph_c`]'s w.
+    pub mirrors: bool,
     /// The mesh colliders' hierarchies and triangles ([`crate::TriMesh::gpu_words`]), one after
     /// the other.
     pub meshes: Vec<[f32; 4]>,
@@ -562,26 +568,13 @@ impl GpuBoundarySamples {
             velocity,
             cell_start: boundary.grid.cell_start.clone(),
             colliders,
-            body: {
-                let bit = if boundary.dynamic.contains(&true) {
-                    UNMIRRORED_BODY_BIT
-                } else {
-                    0
-                };
-                boundary.body.iter().map(|&b| b | bit).collect()
-            },
+            body: boundary.body.clone(),
+            mirrors: !boundary.dynamic.contains(&true),
             meshes,
             membership: boundary.membership(),
         }
     }
 }
-
-/// Set in [`GpuBoundarySamples::body`] for the samples that do not mirror DFSPH's stiffness
-/// (`crate::dfsph_bender2017`) nor hold the hydrostatic rise: on the GPU, every sample while a
-/// dynamic collider is in the boundary. The GPU does not let a body give way in the solves
-/// ([`crate::free_bodies`]), so it follows [`crate::Boundary::mirrors`] as if no mass were
-/// known. The body's index is the other bits.
-pub const UNMIRRORED_BODY_BIT: u32 = 1 << 31;
 
 /// Bodies whose force the GPU sums: the walls and the first 31 collider slots. A body beyond
 /// is left out of the sums (its [`GpuBodyForces::sum`] is `None`). While no collider is in the

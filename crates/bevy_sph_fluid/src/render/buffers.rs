@@ -264,6 +264,9 @@ pub struct SphGpuState {
     pub boundary_colliders: u32,
     /// Whether some boundary sample on the GPU has friction (`GpuSphParams::dfsph_c`'s z).
     pub boundary_friction: bool,
+    /// Whether the boundary samples on the GPU do not mirror DFSPH's stiffness (a dynamic
+    /// collider is among them; `GpuSphParams::dfsph_c`'s w).
+    pub boundary_unmirrored: bool,
 }
 
 /// New particles waiting for upload: first slot, positions (w = id), velocities.
@@ -625,6 +628,7 @@ pub(crate) fn prepare_sph_buffers(
     }
     uniforms.flags[3] = state.boundary_colliders;
     uniforms.dfsph_c[2] = if state.boundary_friction { 1.0 } else { 0.0 };
+    uniforms.dfsph_c[3] = if state.boundary_unmirrored { 1.0 } else { 0.0 };
     uniforms.drains = [frame.number, pumps.sink_count, 0, 0];
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
 }
@@ -703,6 +707,7 @@ fn upload_boundary(
     state.boundary_samples = samples.position.len() as u32;
     state.boundary_colliders = samples.colliders.len() as u32;
     state.boundary_friction = samples.velocity.iter().any(|v| v[3] > 0.0);
+    state.boundary_unmirrored = !samples.mirrors;
     if grown {
         state.generation += 1;
     }

@@ -11,8 +11,6 @@
 
 const BODY_SLOTS: u32 = 32u;
 const NO_BODY: u32 = 0xffffffffu;
-// The body's index in a boundary_body entry (the top bit marks a dynamic body's samples).
-const BODY_INDEX_BITS: u32 = 0x7fffffffu;
 
 // The workgroup's sums per body: Σ f and Σ x_b × f, in units of body_force_unit and
 // body_moment_unit (zeroed by the
@@ -68,13 +66,11 @@ fn flush_reaction() {
     reaction_moment = vec3<f32>(0.0);
 }
 
-// The force f on the body of a sample's `body_bits` (its boundary_body entry: the index, and
-// the unmirrored bit, sph_core::gpu_layout::UNMIRRORED_BODY_BIT, masked off) at `at`.
-fn add_reaction(body_bits: u32, f: vec3<f32>, at: vec3<f32>) {
+// The force f on body `body` (a sample's boundary_body entry) at `at`.
+fn add_reaction(body: u32, f: vec3<f32>, at: vec3<f32>) {
     if !reactions_read() {
         return;
     }
-    let body = body_bits & BODY_INDEX_BITS;
     if body != reaction_body {
         flush_reaction();
         reaction_body = body;

@@ -26,7 +26,7 @@
 // converged flag, two error sums, and the indirect dispatch arguments of its passes.
 #define_import_path sph::dfsph
 
-#import sph::bindings::{params, clock, pressure, acceleration_start, sorted_acceleration_start, velocity_predicted, dfsph_pairs, dfsph_mirror, boundary_body}
+#import sph::bindings::{params, clock, pressure, acceleration_start, sorted_acceleration_start, velocity_predicted, dfsph_pairs, dfsph_mirror}
 #import sph::neighbors::tiled_slot
 
 // Isolated particles: fewer neighbours than this is a free surface, left out of the
@@ -79,10 +79,10 @@ fn mirrors(i: u32) -> bool {
     return dfsph_mirror[i].w != 0.0;
 }
 
-// Whether boundary sample b neither mirrors κ_i nor holds the rise: every sample while a
-// dynamic collider is in the water (sph_core::gpu_layout::UNMIRRORED_BODY_BIT).
-fn unmirrored_sample(b: u32) -> bool {
-    return (boundary_body[b] & 0x80000000u) != 0u;
+// Whether the boundary samples mirror κ_i and hold the rise: unless a dynamic collider is in the
+// water, and then none does (params.dfsph_c.w; sph_core::gpu_layout::GpuBoundarySamples::mirrors).
+fn samples_mirror() -> bool {
+    return params.dfsph_c.w == 0.0;
 }
 
 // p̂_i = max((κ_i^ρ + κ_i^v) ρ0², 0) of the solves' totals when the factors pass ran: the

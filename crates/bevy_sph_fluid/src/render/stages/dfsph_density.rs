@@ -30,7 +30,6 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BoundaryPosition,
         Buf::BoundaryVelocity,
         Buf::BoundaryCellStart,
-        Buf::BoundaryBody,
         Buf::DfsphMirror,
         Buf::Clock,
     ],

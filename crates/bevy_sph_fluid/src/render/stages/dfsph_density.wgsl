@@ -14,7 +14,7 @@
 #import sph::bindings::{params, position, density, velocity_predicted, neighbor_count, pbf_neighbors, acceleration_start, sorted_acceleration_start, dfsph_mirror, boundary_position, boundary_velocity}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
-#import sph::dfsph::{mass, rest_density, pair_scale, pair_steps, steps_grad, pack_pair, set_pairs, open_solve, unmirrored_sample}
+#import sph::dfsph::{mass, rest_density, pair_scale, pair_steps, steps_grad, pack_pair, set_pairs, open_solve, samples_mirror}
 
 // Over the fluid pairs: m Σ_j W_ij (self included), Σ_j g_ij and Σ_j |g_ij|².
 struct FluidSums {
@@ -70,6 +70,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var mirrored_grad = vec3<f32>(0.0);
     var boundary_flux = 0.0;
     var solid = 0u;
+    let mirror_samples = samples_mirror();
     let cell = grid_cell(x_i);
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(cell, q);
@@ -85,7 +86,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             rho += psi * cubic(r_len);
             let g = cubic_grad(r, r_len) * psi;
             boundary_grad += g;
-            if !unmirrored_sample(b) {
+            if mirror_samples {
                 mirrored_grad += g;
             }
             boundary_flux += dot(boundary_velocity[b].xyz, g);

@@ -24,7 +24,6 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::SortedAccelerationStart,
         Buf::BoundaryPosition,
         Buf::BoundaryCellStart,
-        Buf::BoundaryBody,
         Buf::Clock,
         Buf::Checkpoint,
     ],

@@ -12,12 +12,13 @@
 #import sph::neighbors::{grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::{apply_checkpoint, restoring}
-#import sph::dfsph::{open_solve, boundary_neighbors, unmirrored_sample, rise_floor, rise_over_rho0_squared, rest_density}
+#import sph::dfsph::{open_solve, boundary_neighbors, samples_mirror, rise_floor, rise_over_rho0_squared, rest_density}
 
-// a_i^rise at the factors' positions (none without a sample within h).
+// a_i^rise at the factors' positions (none without a sample within h, nor while the samples do
+// not mirror).
 fn rise(i: u32) -> vec3<f32> {
     var a = vec3<f32>(0.0);
-    if boundary_neighbors(i) == 0.0 {
+    if boundary_neighbors(i) == 0.0 || !samples_mirror() {
         return a;
     }
     let x_i = position[i].xyz;
@@ -31,7 +32,7 @@ fn rise(i: u32) -> vec3<f32> {
             let sample = boundary_position[b];
             let r = x_i - sample.xyz;
             let r2 = dot(r, r);
-            if r2 >= h2 || unmirrored_sample(b) {
+            if r2 >= h2 {
                 continue;
             }
             let g = cubic_grad(r, sqrt(r2)) * (rho0 * sample.w);

@@ -25,7 +25,7 @@
 #import sph::probes::record_probes
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction, reactions_read}
-#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, solve_goes_on, mirrors, unmirrored_sample, rise_floor, rise_over_rho0_squared}
+#import sph::dfsph::{boundary_neighbors, mass, rest_density, total, mean_error, solve_goes_on, mirrors, samples_mirror, rise_floor, rise_over_rho0_squared}
 #import sph::speculative_contact::speculative_contact
 
 fn particle(i: u32) {
@@ -45,6 +45,7 @@ fn particle(i: u32) {
     if (k != 0.0 || rises) && kept && boundary_neighbors(i) > 0.0 && reactions_read() {
         let h2 = params.kernel_a.y;
         let rho0 = rest_density();
+        let mirror_samples = samples_mirror();
         let cell = grid_cell(x_i);
         for (var q = 0u; q < 9u; q++) {
             let range = boundary_range(cell, q);
@@ -57,7 +58,7 @@ fn particle(i: u32) {
                 }
                 let g = cubic_grad(r, sqrt(r2)) * (rho0 * sample.w);
                 var f = k;
-                if !unmirrored_sample(b) {
+                if mirror_samples {
                     f = mirrored;
                     if rises {
                         f += mass() * rise_over_rho0_squared(x_i, sample.xyz, p_floor);
