@@ -64,10 +64,9 @@ pub fn round(grad: Vec3, scale: f32) -> Vec3 {
 /// WGSL twin: `pack_pair` in the plugin's `shaders/dfsph.wgsl`.
 pub fn pack(j: u32, grad: Vec3, scale: f32) -> [u32; 2] {
     let [x, y, z] = (steps(grad, scale) + ZERO).to_array().map(|c| c as u32);
-    let index_bits = INDEX_BITS;
     [
-        j | (x << index_bits),
-        (x >> (32 - index_bits)) | (y << 1) | (z << (1 + GRAD_BITS)),
+        j | (x << INDEX_BITS),
+        (x >> (32 - INDEX_BITS)) | (y << 1) | (z << (1 + GRAD_BITS)),
     ]
 }
 
@@ -75,14 +74,13 @@ pub fn pack(j: u32, grad: Vec3, scale: f32) -> [u32; 2] {
 /// WGSL twin: `unpack_pair` in the plugin's `shaders/dfsph.wgsl`.
 pub fn unpack(packed: [u32; 2], scale: f32) -> (u32, Vec3) {
     let bits = |word: u32, offset: u32, count: u32| (word >> offset) & ((1 << count) - 1);
-    let index_bits = INDEX_BITS;
-    let low_bits = 32 - index_bits;
-    let x = bits(packed[0], index_bits, low_bits) | (bits(packed[1], 0, 1) << low_bits);
+    let low_bits = 32 - INDEX_BITS;
+    let x = bits(packed[0], INDEX_BITS, low_bits) | (bits(packed[1], 0, 1) << low_bits);
     let y = bits(packed[1], 1, GRAD_BITS);
     let z = bits(packed[1], 1 + GRAD_BITS, GRAD_BITS);
     let component = |c: u32| (c as f32 - ZERO) * step(scale);
     (
-        bits(packed[0], 0, index_bits),
+        bits(packed[0], 0, INDEX_BITS),
         Vec3::new(component(x), component(y), component(z)),
     )
 }
