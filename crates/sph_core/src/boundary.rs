@@ -130,6 +130,7 @@ impl Boundary {
         wall_slip: Slip,
     ) -> Result<Self, ParamError> {
         let spacing = params.spacing();
+        crate::limits::check_container(container, params.smoothing_radius, spacing)?;
         let kernels = Kernels::new(params.smoothing_radius);
         let mut boundary = Self {
             container: *container,
@@ -229,6 +230,7 @@ impl Boundary {
                 allowed: "at most twice the container's diagonal",
             });
         }
+        crate::limits::check_shape_samples(&collider.shape, self.spacing)?;
         let samples = sample_shape(&collider.shape, self.spacing);
         let volume = self.volumes(&samples);
         let local = samples.position;

@@ -8,6 +8,18 @@
 use glam::Vec3;
 use std::f32::consts::PI;
 
+/// The largest h / Δx a lattice sum walks: (2·64 + 1)³ ≈ 2.1 M lattice points. The presets use 2.
+pub const MAX_LATTICE_REACH: f32 = 64.0;
+
+/// The lattice points a sum walks along each axis either side of the origin, ⌈h / Δx⌉; `None`
+/// when h / Δx is not finite, not positive or above [`MAX_LATTICE_REACH`] (a spacing of
+/// `3.4e38` makes h infinite), so the sum returns NaN for validation to refuse instead of
+/// walking 2^96 points.
+fn lattice_reach(h: f32, spacing: f32) -> Option<i32> {
+    let ratio = h / spacing;
+    (ratio > 0.0 && ratio <= MAX_LATTICE_REACH).then(|| ratio.ceil() as i32)
+}
+
 /// Precomputed kernel constants for one smoothing radius `h` (metres).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Kernels {
@@ -121,7 +133,9 @@ impl Kernels {
     /// ratio ρ/ρ0 that the rest lattice gives with m = ρ0 Δx³ (1.0098 at h = 2Δx). Summed in
     /// f64 in a fixed order, so the same inputs always give the same value.
     pub fn lattice_sum(&self, spacing: f32) -> f32 {
-        let n = (self.h / spacing).ceil() as i32;
+        let Some(n) = lattice_reach(self.h, spacing) else {
+            return f32::NAN;
+        };
         let (h2, dx) = (self.h as f64 * self.h as f64, spacing as f64);
         let mut sum = 0.0f64;
         for i in -n..=n {
@@ -144,7 +158,9 @@ impl Kernels {
     /// correction of the rest configuration (Bonet & Lok 1999, evaluated once on the lattice
     /// instead of per particle), so hydrostatic water holds up with ρ0 g depth.
     pub fn lattice_gradient_moment(&self, spacing: f32) -> f32 {
-        let n = (self.h / spacing).ceil() as i32;
+        let Some(n) = lattice_reach(self.h, spacing) else {
+            return f32::NAN;
+        };
         let (h, dx) = (self.h as f64, spacing as f64);
         let mut sum = 0.0f64;
         for i in -n..=n {
@@ -268,7 +284,9 @@ impl CubicSpline {
 
     /// Σ_j W(x_j) Δx³ over the cubic lattice of spacing Δx (f64, fixed order).
     pub fn lattice_sum(&self, spacing: f32) -> f32 {
-        let n = (self.h / spacing).ceil() as i32;
+        let Some(n) = lattice_reach(self.h, spacing) else {
+            return f32::NAN;
+        };
         let mut sum = 0.0f64;
         for i in -n..=n {
             for j in -n..=n {

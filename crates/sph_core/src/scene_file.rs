@@ -543,6 +543,14 @@ fn locate_after(text: &str, section: Option<&str>, key: &str, nth: usize) -> (us
         .unwrap_or((0, 0))
 }
 
+/// The 1-based line and column just past the last character of `text` that is not white space.
+fn end_of(text: &str) -> (usize, usize) {
+    let body = text.trim_end();
+    let line = body.lines().count().max(1);
+    let column = body.lines().last().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
 impl SceneFile {
     /// Parses `text` (the contents of `file`); a syntax error or an unknown, missing or
     /// mistyped field is refused with its line and column.
@@ -561,12 +569,20 @@ impl SceneFile {
                     E::NoSuchEnumVariant { found, .. } => found.clone(),
                     _ => "-".into(),
                 };
+                // A file cut short (a truncated save, a hot reload mid-write) fails at its last
+                // character with whatever token the parser expected next: name the real cause.
+                let reaches = (e.span.end.line, e.span.end.col);
+                let message = if matches!(e.code, E::Eof) || reaches >= end_of(text) {
+                    format!("unexpected end of file ({})", e.code)
+                } else {
+                    e.code.to_string()
+                };
                 SceneError {
                     file: file.into(),
                     line: e.span.start.line,
                     column: e.span.start.col,
                     field,
-                    message: e.code.to_string(),
+                    message,
                 }
             })
     }
@@ -664,6 +680,9 @@ impl SceneFile {
         container
             .validate()
             .map_err(|e| refuse(format!("container.{}", e.field), (None, "container"), 0, e))?;
+        // The walls' samples and the search grid, counted before anything is allocated.
+        crate::limits::check_container(&container, params.smoothing_radius, params.spacing())
+            .map_err(|e| refuse(e.field.to_string(), (None, "container"), 0, e))?;
         let in_entry = |section: &str, k: usize, key: &str, field: String, message: String| {
             let (line, column) = locate_in_entry(text, section, k, key);
             SceneError {
@@ -716,6 +735,16 @@ impl SceneFile {
         let mut colliders = Vec::with_capacity(self.colliders.len());
         for (k, c) in self.colliders.iter().enumerate() {
             let mut collider = self.collider(k, c, file, text)?;
+            crate::limits::check_shape_samples(&collider.collider.shape, params.spacing())
+                .map_err(|e| {
+                    in_entry(
+                        "colliders",
+                        k,
+                        "shape",
+                        format!("colliders[{k}] ({:?}).{}", c.name, e.field),
+                        format!("{} is not allowed: {}", e.value, e.allowed),
+                    )
+                })?;
             if let MotionSpec::Controlled { control, to } = &c.motion {
                 let index = control_of("colliders", k, &c.name, "control", control)?;
                 let (from, to) = (v(c.position), v(*to));
@@ -740,16 +769,26 @@ impl SceneFile {
         }
         let spacing = params.spacing();
         let mut blocks = Vec::with_capacity(self.blocks.len());
+        let mut block_particles: u64 = 0;
         for (k, b) in self.blocks.iter().enumerate() {
             let block = BlockSpawn::new(v(b.min), v(b.max), spacing);
-            block.validate().map_err(|e| {
+            let refuse_block = |e: ParamError| {
                 refuse(
                     format!("blocks[{k}].{}", e.field),
                     (Some("blocks"), "min"),
                     k,
                     e,
                 )
-            })?;
+            };
+            block.validate().map_err(refuse_block)?;
+            // Each block is within the bound; so must all of them be together.
+            block_particles = crate::limits::check_count(
+                "block.max",
+                block.checked_count().map(|n| n + block_particles),
+                crate::limits::MAX_SPAWN_PARTICLES,
+                "at most 4194304 particles (2^22) in all blocks together",
+            )
+            .map_err(refuse_block)?;
             blocks.push((block, v(b.velocity)));
         }
         let mut emitters = Vec::with_capacity(self.emitters.len());

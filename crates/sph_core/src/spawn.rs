@@ -1,5 +1,6 @@
 //! Spawners: a block of particles on a lattice, and the design's water jet from a pipe.
 
+use crate::limits;
 use crate::params::{check_range, ParamError};
 use crate::rng::SplitMix64;
 use glam::Vec3;
@@ -31,20 +32,27 @@ impl BlockSpawn {
         }
     }
 
-    /// Particles along each axis.
+    /// Particles along each axis (saturating: an infinite extent gives `usize::MAX`).
     pub fn lattice_dims(&self) -> [usize; 3] {
-        let n = ((self.max - self.min) / self.spacing)
-            .floor()
-            .max(Vec3::ZERO);
-        [n.x as usize, n.y as usize, n.z as usize]
+        let e = self.max - self.min;
+        [e.x, e.y, e.z].map(|x| limits::steps_along(x, self.spacing) as usize)
     }
 
-    /// Number of particles the block holds.
+    /// Number of particles the block holds, or `None` when it overflows.
+    pub fn checked_count(&self) -> Option<u64> {
+        limits::lattice_count(self.lattice_dims().map(|n| n as u64))
+    }
+
+    /// Number of particles the block holds (saturating at `usize::MAX`; a validated block holds
+    /// at most [`limits::MAX_SPAWN_PARTICLES`]).
     pub fn count(&self) -> usize {
-        self.lattice_dims().iter().product()
+        self.checked_count()
+            .and_then(|n| usize::try_from(n).ok())
+            .unwrap_or(usize::MAX)
     }
 
-    /// Checks spacing (> 0, finite), jitter ([0, 0.5]) and corners (finite, min <= max).
+    /// Checks spacing (> 0, finite), jitter ([0, 0.5]), corners (finite, min <= max) and the
+    /// particle count (at most [`limits::MAX_SPAWN_PARTICLES`]).
     pub fn validate(&self) -> Result<(), ParamError> {
         check_range(
             "block.spacing",
@@ -69,32 +77,41 @@ impl BlockSpawn {
                 allowed: "finite corners with min <= max on every axis",
             });
         }
+        limits::check_count(
+            "block.max",
+            self.checked_count(),
+            limits::MAX_SPAWN_PARTICLES,
+            "at most 4194304 particles (2^22) in a block",
+        )?;
         Ok(())
     }
 
-    /// The particle positions, x fastest.
-    pub fn positions(&self) -> Vec<Vec3> {
+    /// The particle positions, x fastest, one at a time: a caller with room for fewer takes
+    /// what fits without building the rest.
+    pub fn lattice(&self) -> impl Iterator<Item = Vec3> + '_ {
         let [nx, ny, nz] = self.lattice_dims();
         let mut rng = SplitMix64::new(self.seed);
         let amplitude = self.jitter * self.spacing;
-        let mut out = Vec::with_capacity(nx * ny * nz);
-        for k in 0..nz {
-            for j in 0..ny {
-                for i in 0..nx {
-                    let lattice = Vec3::new(i as f32 + 0.5, j as f32 + 0.5, k as f32 + 0.5);
-                    let mut p = self.min + lattice * self.spacing;
-                    if amplitude > 0.0 {
-                        p += Vec3::new(
-                            rng.range(-amplitude, amplitude),
-                            rng.range(-amplitude, amplitude),
-                            rng.range(-amplitude, amplitude),
-                        );
-                    }
-                    out.push(p);
+        (0..nz)
+            .flat_map(move |k| (0..ny).flat_map(move |j| (0..nx).map(move |i| (i, j, k))))
+            .map(move |(i, j, k)| {
+                let lattice = Vec3::new(i as f32 + 0.5, j as f32 + 0.5, k as f32 + 0.5);
+                let mut p = self.min + lattice * self.spacing;
+                if amplitude > 0.0 {
+                    p += Vec3::new(
+                        rng.range(-amplitude, amplitude),
+                        rng.range(-amplitude, amplitude),
+                        rng.range(-amplitude, amplitude),
+                    );
                 }
-            }
-        }
-        out
+                p
+            })
+    }
+
+    /// The particle positions, x fastest. Validate first: an unvalidated block may hold more
+    /// than memory does.
+    pub fn positions(&self) -> Vec<Vec3> {
+        self.lattice().collect()
     }
 }
 
@@ -149,7 +166,8 @@ impl PipeEmitter {
         emitter
     }
 
-    /// Checks radius, speed, rate, spacing and direction.
+    /// Checks radius, speed, rate, spacing and direction, and that the disc holds at most
+    /// [`limits::MAX_DISC_RADIUS_SPACINGS`] spacings of radius.
     pub fn validate(&self) -> Result<(), ParamError> {
         check_range(
             "emitter.radius",
@@ -159,6 +177,26 @@ impl PipeEmitter {
             1.0e3,
             "(0, 1e3] m",
         )?;
+        check_range(
+            "emitter.spacing",
+            self.spacing,
+            0.0,
+            false,
+            1.0e3,
+            "(0, 1e3] m",
+        )?;
+        if !self.disc_fits() {
+            return Err(ParamError {
+                field: "emitter.radius",
+                value: format!(
+                    "{} m ({} spacings of {} m)",
+                    self.radius,
+                    self.radius / self.spacing,
+                    self.spacing
+                ),
+                allowed: "at most 256 spacings",
+            });
+        }
         check_range(
             "emitter.speed",
             self.speed,
@@ -174,14 +212,6 @@ impl PipeEmitter {
             true,
             1.0e9,
             "[0, 1e9] particles/s",
-        )?;
-        check_range(
-            "emitter.spacing",
-            self.spacing,
-            0.0,
-            false,
-            1.0e3,
-            "(0, 1e3] m",
         )?;
         if !(self.direction.is_finite() && self.direction.length() > 1e-6) {
             return Err(ParamError {
@@ -200,8 +230,20 @@ impl PipeEmitter {
         Ok(())
     }
 
-    /// Disc offsets in the pipe's cross-section: a square lattice of the spacing inside the radius.
+    /// Whether the radius is at most [`limits::MAX_DISC_RADIUS_SPACINGS`] spacings (false for a
+    /// negative, infinite or NaN ratio).
+    fn disc_fits(&self) -> bool {
+        let ratio = self.radius / self.spacing;
+        (0.0..=limits::MAX_DISC_RADIUS_SPACINGS).contains(&ratio)
+    }
+
+    /// Disc offsets in the pipe's cross-section: a square lattice of the spacing inside the
+    /// radius; empty when the radius is not a valid number of spacings, so that an emitter
+    /// built from bad input allocates nothing before it is validated.
     pub fn disc(&self) -> Vec<Vec3> {
+        if !self.disc_fits() {
+            return Vec::new();
+        }
         let axis = self.direction.normalize_or(Vec3::Y);
         let (u, w) = axis.any_orthonormal_pair();
         let n = (self.radius / self.spacing).floor() as i32;

@@ -413,3 +413,72 @@ fn a_hinged_paddle_wheel_is_built_and_bad_ones_are_refused_by_field() {
         assert_eq!(e.field, format!("colliders[0] (\"wheel\").{field}"), "{e}");
     }
 }
+
+#[test]
+fn sizes_a_file_implies_are_refused_before_anything_is_allocated() {
+    let scene = |body: &str| {
+        format!("(\n  container: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)),\n{body}\n)")
+    };
+    // Emitter radii that would lay 1e19 disc points, or overflow the lattice's bounds.
+    for radius in ["inf", "1e30", "-1e30", "NaN", "999.0"] {
+        let e = build(&scene(&format!(
+            "  emitters: [(position: (0.5, 0.9, 0.5), direction: (1.0, 0.0, 0.0), radius: {radius}, speed: 1.0)],"
+        )))
+        .unwrap_err();
+        assert_eq!(
+            (e.line, e.field.as_str()),
+            (3, "emitters[0].emitter.radius"),
+            "{radius}: {e}"
+        );
+    }
+    // A block of 8e12 particles, and blocks each within the bound but not together.
+    let e = build(&scene(
+        "  blocks: [(min: (0.0, 0.0, 0.0), max: (400.0, 400.0, 400.0))],",
+    ))
+    .unwrap_err();
+    assert_eq!(e.field, "blocks[0].block.max", "{e}");
+    assert!(e.message.contains("4194304"), "{e}");
+    let e = build(
+        "(\n  container: (min: (0.0, 0.0, 0.0), max: (10.0, 10.0, 10.0)),\n  blocks: [\n    (min: (0.0, 0.0, 0.0), max: (3.0, 3.0, 2.4)),\n    (min: (0.0, 0.0, 0.0), max: (3.0, 3.0, 2.4)),\n  ],\n)",
+    )
+    .unwrap_err();
+    assert_eq!(
+        (e.line, e.field.as_str()),
+        (5, "blocks[1].block.max"),
+        "{e}"
+    );
+    assert!(e.message.contains("together"), "{e}");
+    // A container whose walls alone would take 1.5e11 samples at the default spacing.
+    let e = build("(container: (min: (0.0, 0.0, 0.0), max: (5000.0, 10.0, 5000.0)))").unwrap_err();
+    assert!(
+        e.field.contains("smoothing_radius") || e.field == "container",
+        "{e}"
+    );
+    // A collider that samples to more than 2^24 points.
+    let e = build(
+        "(\n  container: (min: (0.0, 0.0, 0.0), max: (10.0, 10.0, 10.0)),\n  spacing: 0.05,\n  colliders: [(name: \"slab\", shape: Cuboid(half_extents: (60.0, 1.0, 60.0)), position: (5.0, 5.0, 5.0))],\n)",
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "colliders[0] (\"slab\").shape", "{e}");
+    assert!(e.message.contains("2^24"), "{e}");
+}
+
+#[test]
+fn a_file_cut_short_says_so() {
+    let (text, built) = load("dam_break.ron");
+    built.unwrap();
+    for cut in [text.len() / 3, text.len() / 2, text.len() - 3] {
+        let mut at = cut;
+        while !text.is_char_boundary(at) {
+            at -= 1;
+        }
+        let e = build(&text[..at]).unwrap_err();
+        assert!(
+            e.message.starts_with("unexpected end of file"),
+            "cut at {at}: {e}"
+        );
+    }
+    // An error inside the file is not called the end of it.
+    let e = build("(container: (min: (0.0, 0.0, 0.0), max: \"big\"))").unwrap_err();
+    assert!(!e.message.contains("end of file"), "{e}");
+}

@@ -40,16 +40,8 @@ pub struct DenseGrid {
 impl DenseGrid {
     /// A grid covering `container` with cells of size `h`.
     pub fn new(container: &BoxContainer, h: f32) -> Result<Self, ParamError> {
-        let size = container.size();
-        let dims = (size / h).ceil().max(Vec3::ONE);
-        let cells = dims.x as u64 * dims.y as u64 * dims.z as u64;
-        if cells > MAX_GRID_CELLS {
-            return Err(ParamError {
-                field: "smoothing_radius",
-                value: format!("{h} (a {dims} cell grid over a {size} m box)"),
-                allowed: "at most 2^26 grid cells: a larger h, a smaller box, or the hash search",
-            });
-        }
+        let cells = crate::limits::grid_cells(container, h)?;
+        let dims = (container.size() / h).ceil().max(Vec3::ONE);
         let dims = dims.as_uvec3();
         Ok(Self {
             origin: container.min(),
