@@ -18,13 +18,16 @@ use glam::Vec3;
 /// Pairs evaluated side by side.
 pub const LANES: usize = 8;
 
-/// Whether the CPU runs the passes' AVX2 + FMA copies (x86-64 CPUs since about 2013; never on
-/// other architectures). Cached by the standard library after the first call.
+/// Whether the CPU runs the passes' AVX2 + FMA + POPCNT copies (x86-64 CPUs since about 2013;
+/// never on other architectures): every feature any `#[target_feature]` copy enables, so that
+/// none runs on a CPU without it. Cached by the standard library after the first call.
 #[inline]
 pub fn wide_lanes() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
-        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("fma")
+            && std::arch::is_x86_feature_detected!("popcnt")
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
