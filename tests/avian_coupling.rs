@@ -22,9 +22,9 @@ const FRAME: f32 = 1.0 / 60.0;
 
 // The GPU tests of this file run one at a time (`common::GPU`). A body's force comes back from
 // the device a frame or two late, and more frames late when another lavapipe app shares the 2
-// cores: in one CI run of 2026-11-25, with the floating-box test running beside it, the late
-// force threw aquaplay's boat out of the channel (y up to 0.39 m); run alone, 3 of 3 runs kept
-// it within 0.050–0.087 m. The plugin now holds the water for a frame while the newest force
+// cores: with the floating-box test running beside it, the late force threw aquaplay's boat
+// out of the channel (y up to 0.39 m); run alone, 3 of 3 runs kept it within 0.050–0.087 m.
+// The plugin holds the water for a frame while the newest force
 // read back is more than `MAX_BODY_FORCE_LAG` frames old (`assert_short_frames_on_the_gpu`
 // checks it; docs/scenes.md).
 const SIDE: f32 = 0.12;

@@ -14,8 +14,8 @@ pub const G: f64 = 9.81;
 /// How long the hydrostatic tank runs [s]; its figures are averaged over the last 40 %. The
 /// water starts on a lattice and takes seconds to settle: in 1 s runs the worst layer below the
 /// top read 5.0 to 5.9 % over ρ0 g depth and the largest speed 0.06 to 0.08 m/s on average over
-/// five tank sizes, in 5 s runs 3.8 to 5.3 % and 0.035 to 0.044 m/s (docs/boundary.md, "The
-/// tank settles").
+/// five tank sizes, in 5 s runs 3.8 to 5.3 % and 0.035 to 0.044 m/s (docs/boundary.md,
+/// "Figures").
 pub const TANK_DURATION: f64 = 5.0;
 
 /// A scenario name.

@@ -483,8 +483,8 @@ impl AppSimulation {
     /// time, dt and health are current.
     fn sync_clock(&mut self) {
         // Bounded by time rather than a count of updates: on a loaded machine (CI's tests in
-        // parallel on two cores) 100 waited updates were once not enough (2026-11-26,
-        // pipe_fill.ron again at 2.23 s of 2).
+        // parallel on two cores) a fixed count of 100 waited updates can be too few (pipe_fill.ron
+        // was seen stopping at 2.23 s of 2).
         let start = Instant::now();
         while start.elapsed() < std::time::Duration::from_secs(60) {
             let stats = self.stats();

@@ -608,7 +608,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                 },
             ));
             // Less artificial viscosity matches the front better, but a tank at rest no
-            // longer calms down (see the README's physics notes).
+            // longer calms down (see docs/physics.md).
             for alpha in [0.02f32, 0.03] {
                 plan.push(Planned::new(
                     "viscosity α",
@@ -768,7 +768,7 @@ pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
          Measured on an earlier 2-core machine (issue 5): SPlisHSPlasH 2.16 DFSPH 36.8 ms per step at \
          dt 1e-3 (18 s for 0.5 s: 36 s per simulated second); salva 0.11 DFSPH 192.6 ms per step (97 s: \
          194 s per simulated second); SPlisHSPlasH's WCSPH blew up at every dt down to 1e-4. Timed again \
-         on the 2-core machine of 2026-11-27 (docs/peers/README.md): SPlisHSPlasH 2.16 DFSPH 54.9 ms per \
+         on the same 2-core machine (docs/peers/README.md): SPlisHSPlasH 2.16 DFSPH 54.9 ms per \
          step (27.5 s for 0.5 s: 55 s per simulated second). Our rows are in the `dambreak32k` group \
          above.\n",
         advice(&rows),

@@ -5,9 +5,9 @@
 //!
 //! DFSPH measures density with its own kernel, the cubic spline ([`crate::kernel::CubicSpline`],
 //! normalised on the rest lattice), and every gradient below is of that same kernel, so that the
-//! solve predicts the density it will measure after the move. Poly6, the WCSPH density kernel,
-//! was tried first: its gradient peaks at 0.45 h, so close to the rest spacing h/2 that
-//! compressed pairs stop repelling, and a tank at rest sank into its floor (docs/dfsph.md).
+//! solve predicts the density it will measure after the move. Not poly6, the WCSPH density
+//! kernel: its gradient peaks at 0.45 h, so close to the rest spacing h/2 that compressed pairs
+//! stop repelling, and a tank at rest sinks into its floor (docs/dfsph.md).
 //!
 //! Notation:
 //! - g_ij = m ∇W(x_i - x_j) for fluid neighbours, g_ib = Ψ_b ∇W(x_i - x_b) with Ψ_b = ρ0 V_b for
@@ -17,9 +17,9 @@
 //!   depend on dt and warm-starts across steps whose dt differ;
 //! - the pressure acceleration is a_i = -Σ_j (κ_i + κ_j) g_ij - 2 κ_i Σ_b g_ib: the symmetric
 //!   form with the particle's stiffness mirrored onto the samples (κ_b = κ_i, as WCSPH's walls
-//!   mirror p_i, `crate::forces`). With κ_b = 0 instead (the boundary answering with κ_i once,
-//!   until the seventh session of 2026-11-26), a wall row needs twice its pressure to hold: the
-//!   tank's bottom layer read +85 % and the rows next to the side walls too (mean 10.1 %);
+//!   mirror p_i, `crate::forces`). With κ_b = 0 instead (the boundary answering with κ_i once),
+//!   a wall row needs twice its pressure to hold: the tank's bottom layer reads +85 % and the
+//!   rows next to the side walls too (mean 10.1 %);
 //! - the samples hold the hydrostatic rise between particle and sample besides (as WCSPH's
 //!   walls do, Adami et al. 2012's g term): [`BoundaryRise`], a step's constant, applied with
 //!   the non-pressure accelerations. Mirroring alone (κ_b = κ_i) under-states a floor's pressure
@@ -76,7 +76,7 @@ pub const FACTOR_EPSILON: f32 = 1.0e-6;
 /// stiffness; SPlisHSPlasH does it only where the predicted density exceeds ρ0, and so do we).
 /// Half of it: with the whole, the tank's rows next to the mirrored walls keep the stiffness of
 /// the steps before and the tank never comes to rest (0.011 m/s against 0.0012 m/s with half;
-/// docs/dfsph.md, "The mirrored boundary, with the give").
+/// docs/history/dfsph.md, "The mirrored boundary, with the give").
 pub const DENSITY_WARM_START: f32 = 0.5;
 
 /// The free surface's stiffness in the constant-density solve, at most ρ0 |g| Δx/2 over ρ0²

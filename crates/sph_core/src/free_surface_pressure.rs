@@ -15,22 +15,22 @@
 //! `sph-bench validate`'s 8,000-particle tank against the weight of the water above
 //! (docs/boundary.md), layers 0 (the top row), 1 and 2:
 //! - the clamped pressure: layers 1 and 2 +17 % and −10 % (against ρ0 g depth);
-//! - the SPH interpolant Σ_j V_j p_j W (landed 2026-11-27, replaced the same day): the top row
-//!   −40.6 %, layer 1
-//!   +8.2 %: the interpolant gave the top row about 0.6 of its due (the kernel is cut at the
-//!   surface), and with ρ² in the pressure terms that pressure pushed about 1.56 times too hard
+//! - the SPH interpolant Σ_j V_j p_j W: the top row −40.6 %, layer 1 +8.2 %: the interpolant
+//!   gives the top row about 0.6 of its due (the kernel is cut at the surface), and with ρ² in
+//!   the pressure terms that pressure pushes about 1.56 times too hard
 //!   (its SPH density is short by the same cut);
 //! - this average with max(ρ, ρ0)²: the top row +0.9 %, layer 1 +5.7 %, layer 2 +1.8 %.
 //!
-//! Tried: the Shepard average over every neighbour, Σ_j V_j p_j W / Σ_j V_j W, without the
-//! density clamp (layers 1 and 2 −3.5 % and −6.0 % against ρ0 g depth); this average without
-//! the clamp (layer 1 −12.9 % by weight); the interpolant with the clamp (+10.5 %). An unbounded
+//! Each half is needed: the Shepard average over every neighbour, Σ_j V_j p_j W / Σ_j V_j W,
+//! without the density clamp reads layers 1 and 2 −3.5 % and −6.0 % against ρ0 g depth; this
+//! average without the clamp, layer 1 −12.9 % by weight; the interpolant with the clamp, +10.5 %.
+//! The bound is needed too: an unbounded
 //! pressure hands a splash part of an impact's pressure: dambreak32k at its fixed dt of 1 ms
 //! (three times the speed of sound's step, rolled back to 0.5 ms) had 12,973 guard corrections
 //! with the unbounded interpolant, against 14. Bounded at ρ0 |g| Δx, 26 there and 1 in
 //! `obstacles` (a jet's leading particle driven into the floor); at ρ0 |g| Δx/2, 15 and 0.
-//! With this average, `obstacles` had 2 guard corrections (floor grazes) until the solids'
-//! speculative contact ([`crate::speculative_contact`]) stopped such particles.
+//! With this average, `obstacles` has 2 guard corrections (floor grazes) without the solids'
+//! speculative contact ([`crate::speculative_contact`]), which stops such particles.
 
 use crate::neighbor::Neighbors;
 use crate::stage::StageContext;

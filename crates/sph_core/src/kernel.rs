@@ -3,7 +3,7 @@
 //! ("Versatile surface tension and adhesion for SPH fluids").
 //!
 //! All kernels have compact support `h` and are zero for `r >= h`. The constants are the papers'
-//! (the design document's text has typos in three of them; see the crate README).
+//! (the design document's text has typos in three of them; see docs/physics.md).
 
 use glam::Vec3;
 use std::f32::consts::PI;

@@ -86,15 +86,15 @@ pub fn max_surface_pressure(params: &SphParams) -> f32 {
 /// hydrostatic tank, the time step) and grows where a particle reaches the surface, r ≈ Δx/2 on
 /// a face and 0.7 Δx at an edge. The factor 1 + (8 s)⁴ is 2 at r = 7/8 Δx and 257 at Δx/2: with
 /// s² alone a splash driven at a wall met too weak a push to stop it in time, and 3 particles of
-/// `obstacles` ended up to 0.3 mm inside the walls (2026-11-26; the same profile ×16 throughout
-/// stopped them but shook the tank's wall rows). The mirrored pressure alone vanishes where a splashing
+/// `obstacles` ended up to 0.3 mm inside the walls (the same profile ×16 throughout stops them
+/// but shakes the tank's wall rows). The mirrored pressure alone vanishes where a splashing
 /// particle's own pressure is clamped to zero: a thin sheet then slid into the walls and over a
 /// box's convex edges (7,329 guard corrections in `sph-bench run --scenario obstacles`). It acts
 /// in WCSPH's forces only: in DFSPH's non-pressure forces it took that run's corrections from
 /// 11,086 to 312, but a body heavier than water then settled onto a trapped layer of water
-/// (docs/boundary.md). A short-range repulsion in
+/// (docs/history/boundary.md). A short-range repulsion in
 /// the spirit of Monaghan 1994's boundary force; the factor 2, the square and the stopping were
-/// chosen from measurements (docs/boundary.md, "The samples' contact pressure").
+/// chosen from measurements (docs/history/boundary.md, "The samples' contact pressure").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundaryContact {
     /// The range Δx [m].
