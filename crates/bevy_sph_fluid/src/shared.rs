@@ -282,29 +282,34 @@ impl SphSimulation {
 
     /// Queues particles for spawning; leaves out (and counts) what lies inside a collider and
     /// refuses (and counts) what exceeds the capacity. Returns the particles added.
-    pub(crate) fn spawn(&mut self, positions: &[Vec3], velocity: Vec3) -> u64 {
-        let admitted: Vec<Vec3>;
-        let positions = match self.boundary() {
-            Some(b) if b.colliders().next().is_some() => {
-                admitted = positions
-                    .iter()
-                    .copied()
-                    .filter(|&x| b.admits_spawn(x))
-                    .collect();
-                self.inside_colliders += (positions.len() - admitted.len()) as u64;
-                &admitted[..]
-            }
-            _ => positions,
-        };
+    pub(crate) fn spawn(
+        &mut self,
+        positions: impl IntoIterator<Item = Vec3>,
+        velocity: Vec3,
+    ) -> u64 {
+        // One pass over the positions, keeping only what fits: a block larger than the free
+        // slots is counted, not built whole.
         let free = (self.capacity - self.particle_count) as usize;
-        let take = positions.len().min(free);
-        self.refused += (positions.len() - take) as u64;
+        let boundary = self.boundary().filter(|b| b.colliders().next().is_some());
+        let (mut admitted, mut inside, mut refused) = (Vec::new(), 0u64, 0u64);
+        for x in positions {
+            if boundary.is_some_and(|b| !b.admits_spawn(x)) {
+                inside += 1;
+            } else if admitted.len() < free {
+                admitted.push(x);
+            } else {
+                refused += 1;
+            }
+        }
+        self.inside_colliders += inside;
+        self.refused += refused;
+        let take = admitted.len();
         match (&mut self.cpu, self.backend) {
             (Some(solver), SphBackend::Cpu) => {
-                solver.spawn(&positions[..take], velocity);
+                solver.spawn(&admitted, velocity);
             }
             _ => {
-                for &p in &positions[..take] {
+                for &p in &admitted {
                     self.frame
                         .spawn_positions
                         .push([p.x, p.y, p.z, id_to_w(self.next_id)]);

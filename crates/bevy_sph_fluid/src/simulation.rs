@@ -245,7 +245,7 @@ fn sph_spawn_blocks(
             stats.error = Some(e.to_string());
             continue;
         }
-        sim.initial += sim.spawn(&block.block.positions(), block.velocity);
+        sim.initial += sim.spawn(block.block.lattice(), block.velocity);
     }
 }
 
@@ -264,7 +264,7 @@ fn sph_emit(
             continue;
         }
         let emission = emitter.0.emit(duration);
-        sim.emitted += sim.spawn(&emission.positions, emission.velocity);
+        sim.emitted += sim.spawn(emission.positions, emission.velocity);
     }
 }
 
