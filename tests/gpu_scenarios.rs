@@ -170,6 +170,52 @@ fn a_runtime_parameter_change_changes_the_next_step_and_readback_returns_it() {
     assert!(second.positions[0].y > first.positions[0].y - 1e-7);
 }
 
+/// Snapshot requests made every frame, while copies are in flight: every request is served or
+/// counted as dropped, none vanishes.
+#[test]
+fn every_snapshot_request_is_served_or_counted_as_dropped() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let mut app = headless_app(16, SphBackend::Gpu);
+    let params = sph_core::SphParams::water();
+    app.world_mut()
+        .spawn(SphContainer(BoxContainer::from_min_max(
+            Vec3::ZERO,
+            Vec3::ONE,
+        )));
+    let block = sph_core::BlockSpawn::new(
+        Vec3::splat(0.5),
+        Vec3::splat(0.5 + 1.5 * params.spacing()),
+        params.spacing(),
+    );
+    app.world_mut().spawn(SphBlockSpawn {
+        block,
+        velocity: Vec3::ZERO,
+    });
+    app.update();
+    step_to(&mut app, 1);
+    app.world_mut()
+        .resource_mut::<bevy_sph_fluid::headless::Snapshots>()
+        .0
+        .clear();
+    let requests = 6;
+    for _ in 0..requests {
+        app.world_mut().write_message(SphReadbackRequest);
+        app.update();
+    }
+    // The last copy arrives within a few frames.
+    for _ in 0..50 {
+        app.update();
+    }
+    let served = app
+        .world()
+        .resource::<bevy_sph_fluid::headless::Snapshots>()
+        .0
+        .len() as u64;
+    let dropped = app.world().resource::<SphStats>().snapshot_requests_dropped;
+    assert!(served >= 1, "served {served}, dropped {dropped}");
+    assert_eq!(served + dropped, requests, "served {served}, dropped {dropped}");
+}
+
 /// The error `SphStats` reports, or "".
 fn stats_error(app: &App) -> String {
     app.world()

@@ -265,6 +265,10 @@ pub struct SphStats {
     /// steps because the newest body forces read back were more than
     /// [`crate::shared::MAX_BODY_FORCE_LAG`] frames old (a slow or loaded GPU); 0 on the CPU.
     pub frames_held_for_body_forces: u64,
+    /// [`SphReadbackRequest`]s that got no snapshot because the GPU was still copying the
+    /// previous one (one copy is in flight at a time; ask again after the snapshot arrives).
+    /// Requests in the same frame share one snapshot and are not counted. 0 on the CPU.
+    pub snapshot_requests_dropped: u64,
     /// Per-stage time of the last frame in milliseconds: GPU timestamps when the adapter supports
     /// them and `RenderDiagnosticsPlugin` is added (GPU backend), wall clock (CPU backend).
     pub stage_ms: Vec<(String, f64)>,

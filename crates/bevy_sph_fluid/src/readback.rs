@@ -170,7 +170,7 @@ fn sph_read_every_frame<R: EveryFrame>(
 fn sph_request_readback(
     mut requests: MessageReader<SphReadbackRequest>,
     sim: Res<SphSimulation>,
-    stats: Res<SphStats>,
+    mut stats: ResMut<SphStats>,
     mut pending: ResMut<PendingReadback>,
     mut snapshots: MessageWriter<SphSnapshot>,
     mut commands: Commands,
@@ -210,6 +210,7 @@ fn sph_request_readback(
                 return;
             }
             if pending.in_flight {
+                stats.snapshot_requests_dropped += 1;
                 return;
             }
             let Some(buffers) = buffers else { return };
