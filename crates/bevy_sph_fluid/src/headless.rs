@@ -3,7 +3,7 @@
 
 use crate::api::*;
 use crate::plugin::SphFluidPlugin;
-use crate::shared::SphRenderFeedback;
+use crate::shared::{SphRenderFeedback, SphSimulation};
 use bevy::app::PluginGroupBuilder;
 use bevy::prelude::*;
 use bevy::render::pipelined_rendering::PipelinedRenderingPlugin;
@@ -128,13 +128,29 @@ pub fn steps_taken(app: &App) -> u64 {
     }
 }
 
+/// Fails when the plugin runs another backend than the one the app asked for: a GPU test whose
+/// adapter cannot run the passes falls back to the CPU, and would otherwise pass on the CPU's
+/// figures. [`step_to`] and [`snapshot`] check it.
+pub fn ran_as_requested(app: &App) -> Result<(), String> {
+    let requested = app.world().resource::<SphSimulation>().requested;
+    let stats = app.world().resource::<SphStats>();
+    if stats.backend == requested {
+        Ok(())
+    } else {
+        Err(format!(
+            "the {requested:?} backend was requested but the plugin runs {:?} on adapter {:?}",
+            stats.backend, stats.adapter
+        ))
+    }
+}
+
 /// Takes single steps until `steps` have been taken (pipelines may need frames to compile).
 pub fn step_to(app: &mut App, steps: u64) -> Result<(), String> {
     for _ in 0..2000 {
         let done = steps_taken(app);
         if done >= steps {
             return if done == steps {
-                Ok(())
+                ran_as_requested(app)
             } else {
                 Err(format!("overshot: {done} steps taken, {steps} asked"))
             };
@@ -155,7 +171,7 @@ pub fn snapshot(app: &mut App) -> Result<SphSnapshot, String> {
     for _ in 0..200 {
         app.update();
         if let Some(s) = app.world_mut().resource_mut::<Snapshots>().0.pop() {
-            return Ok(s);
+            return ran_as_requested(app).map(|()| s);
         }
     }
     Err("no snapshot after 200 frames".into())
