@@ -34,6 +34,9 @@ pub enum Command {
     Trade(TradeArgs),
     /// A long dam-break run: health, drift of the density error, particle loss.
     Soak(SoakArgs),
+    /// Mutates scene files (truncations, flips, numeric extremes, deleted and duplicated keys)
+    /// and loads each mutant: counts what loads, what is refused and what panics.
+    FuzzScenes(FuzzArgs),
 }
 
 /// Which solver runs the scenario.
@@ -277,8 +280,9 @@ pub struct RunArgs {
     pub backend: Backend,
     /// The pressure solver. DFSPH uses its own time-step rule (λ Δx / v_max, at most
     /// √(0.005 Δx / g)), PBF its own (λ h / v_max, at most 1/120 s), unless --dt is given.
-    #[arg(long, value_name = "NAME", value_parser = solver(), default_value = "wcsph")]
-    pub solver: Solver,
+    /// [default: wcsph; with --scene, the file's solver, which --solver replaces]
+    #[arg(long, value_name = "NAME", value_parser = solver())]
+    pub solver: Option<Solver>,
     /// DFSPH: the largest mean density error of the constant-density solve [%] [default: 0.01].
     #[arg(long, value_name = "PERCENT", value_parser = percent)]
     pub density_error: Option<f32>,
@@ -373,7 +377,7 @@ impl Default for RunArgs {
             scene: None,
             bodies: Bodies::Held,
             backend: Backend::Cpu,
-            solver: Solver::Wcsph,
+            solver: None,
             density_error: None,
             divergence_error: None,
             warm_start: true,
@@ -452,7 +456,7 @@ impl ValidateArgs {
     pub fn base(&self) -> RunArgs {
         RunArgs {
             backend: self.backend,
-            solver: self.solver,
+            solver: Some(self.solver),
             particles: self.particles,
             a: self.a,
             viscosity_alpha: self.viscosity_alpha,
@@ -509,6 +513,23 @@ pub struct SoakArgs {
     /// Steps per frame on the GPU backend [steps].
     #[arg(long, value_name = "K", value_parser = substeps, default_value = "20")]
     pub substeps: u32,
+    /// Write the JSON report here [default: stdout].
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+/// Options of `sph-bench fuzz-scenes`.
+#[derive(Clone, Debug, PartialEq, Args)]
+pub struct FuzzArgs {
+    /// The generator's seed (CI's test uses 0x5EEDF00D, 2,000 per scene).
+    #[arg(long, value_name = "N", default_value = "1592651789")]
+    pub seed: u64,
+    /// Mutants per scene file.
+    #[arg(long, value_name = "N", default_value = "100000")]
+    pub count: u64,
+    /// The scene files [default: assets/scenes/*.ron].
+    #[arg(value_name = "FILE")]
+    pub scenes: Vec<PathBuf>,
     /// Write the JSON report here [default: stdout].
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
@@ -577,6 +598,7 @@ mod tests {
             v.base(),
             RunArgs {
                 particles: 8_000,
+                solver: Some(Solver::Wcsph),
                 ..Default::default()
             }
         );

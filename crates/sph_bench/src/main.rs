@@ -3,10 +3,11 @@
 //! accuracy trade into a table and a plot; soaks. See the README, or `sph-bench --help`.
 //!
 //! The modules, top down (each imports only modules below it; `tests/module_imports.rs` fails on
-//! any import cycle): trade, soak, validate, run, hydrostatic, sim, plot, progress, args,
+//! any import cycle): fuzz, trade, soak, validate, run, hydrostatic, sim, plot, progress, args,
 //! martin_moyce, report, scenarios.
 
 mod args;
+mod fuzz;
 mod hydrostatic;
 mod martin_moyce;
 mod plot;
@@ -20,7 +21,7 @@ mod soak;
 mod trade;
 mod validate;
 
-use args::{Cli, Command, RunArgs, SoakArgs, TradeArgs, ValidateArgs};
+use args::{Cli, Command, FuzzArgs, RunArgs, SoakArgs, TradeArgs, ValidateArgs};
 use clap::Parser;
 use progress::Bars;
 use std::path::Path;
@@ -177,6 +178,29 @@ fn trade_command(args: &TradeArgs, bars: &Bars) -> Result<(), String> {
     Ok(())
 }
 
+/// `sph-bench fuzz-scenes`: fails when any mutant panicked.
+fn fuzz_command(args: &FuzzArgs, bars: &Bars) -> Result<(), String> {
+    eprintln!(
+        "sph-bench: fuzzing scene files, seed {}, {} mutants each",
+        args.seed, args.count
+    );
+    let report = fuzz::run(args, bars)?;
+    write_json(&report, args.json.as_deref())?;
+    eprintln!(
+        "sph-bench: {} loaded, {} refused, {} panicked; slowest load {:.2} ms ({}); {:.0} s",
+        report.loaded,
+        report.refused,
+        report.panicked.len(),
+        report.slowest_ms,
+        report.slowest,
+        report.wall_seconds
+    );
+    match report.panicked.first() {
+        Some(first) => Err(format!("a mutant panicked: {first}")),
+        None => Ok(()),
+    }
+}
+
 /// `sph-bench soak`.
 fn soak_command(args: &SoakArgs, bars: &Bars) -> Result<(), String> {
     eprintln!(
@@ -213,6 +237,7 @@ fn main() {
         Command::Validate(args) => validate_command(args, &bars),
         Command::Trade(args) => trade_command(args, &bars),
         Command::Soak(args) => soak_command(args, &bars),
+        Command::FuzzScenes(args) => fuzz_command(args, &bars),
     };
     if let Err(e) = result {
         eprintln!("sph-bench: error: {e}");

@@ -92,6 +92,30 @@ pub struct BodyMotion {
     pub end: [f32; 3],
     /// The angle it turned through, start to end [rad] (0 to π).
     pub turned_rad: f32,
+    /// Whether it came to rest: over the last quarter of the run (at least two samples), every
+    /// sample moved slower than `run::SETTLED_SPEED` and turned slower than
+    /// `run::SETTLED_TURN_RATE`.
+    pub settled: bool,
+    /// Its pose, velocity and the water's force on it every `run::BODY_SAMPLE_INTERVAL`
+    /// of simulated time.
+    pub series: Vec<BodySample>,
+}
+
+/// One sample of a body's motion.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct BodySample {
+    /// Simulated time [s].
+    pub t: f64,
+    /// Position [m].
+    pub position: [f32; 3],
+    /// Orientation, quaternion (x, y, z, w).
+    pub rotation: [f32; 4],
+    /// Mean velocity since the previous sample [m/s] (zero for the first).
+    pub velocity: [f32; 3],
+    /// Mean rate of turn since the previous sample [rad/s].
+    pub turn_rate: f32,
+    /// The water's force on it, as last read [N].
+    pub force: [f32; 3],
 }
 
 /// The buoyancy scenario: the vertical force on the held box against ρ0 g V.
@@ -194,6 +218,9 @@ pub struct Report {
     pub particle_balance: i64,
     /// The scene file run (`--scene FILE`).
     pub scene_file: Option<String>,
+    /// The scene file's own solver when `--solver` replaced it (`solver` is the one that ran).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub solver_replaced: Option<String>,
     /// The scene file's probes, with every reading.
     pub probes: Vec<ProbeSeries>,
     /// A scene file's bodies: "held" in place or moved by "avian" (`--bodies`).

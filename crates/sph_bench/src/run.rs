@@ -5,11 +5,14 @@ use crate::args::{integrator_name, search_name, Backend, Duration, RunArgs};
 use crate::hydrostatic::HydrostaticSampler;
 use crate::martin_moyce::{experiment, rms_error_and_best_shift};
 use crate::progress::Bars;
-use crate::report::{BodyMotion, BuoyancyFigures, ColliderForceReport, DamBreakFigures, Report};
+use crate::report::{
+    BodyMotion, BodySample, BuoyancyFigures, ColliderForceReport, DamBreakFigures, Report,
+};
 use crate::scenarios::{setup, Setup, G};
 use crate::sim::{AppSimulation, CpuSimulation, Simulation, State};
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
+use sph_core::glam::Vec3;
 use sph_core::{Diagnostics, Integrator, NeighborSearch, Rollback, Solver};
 
 /// Interval between samples of the state [s].
@@ -25,7 +28,8 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
     if args.surface_tension {
         p.surface_tension = sph_core::params::WATER_SURFACE_TENSION;
     }
-    match args.solver {
+    let solver = args.solver.unwrap_or(Solver::Wcsph);
+    match solver {
         Solver::Wcsph => {
             if let Some(dt) = args.dt {
                 p.time_step = dt;
@@ -42,7 +46,7 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
         Solver::Dfsph | Solver::Pbf => {
             // The solver's own rule, unless a dt is given (then fixed, or the largest with
             // --adaptive on), with --cfl's λ in place of the solver's.
-            p.use_solver(args.solver);
+            p.use_solver(solver);
             if let Some(lambda) = args.cfl {
                 p.cfl_factor = lambda;
             }
@@ -246,11 +250,13 @@ pub fn run_setup(
     let mut next_sample = 0.0;
     let mut progress = bars.run(setup.scenario.name(), progress_units(duration, 0, 0.0).1);
     let mut forces = ForceWindow::new(0.6 * end, setup.colliders.len());
+    let mut track = BodyTrack::new(setup);
     let finished = |sim: &dyn Simulation| match duration {
         Duration::Steps(n) => sim.steps() >= n,
         Duration::Time(t) => sim.time() >= t - 1e-9,
     };
     loop {
+        track.record(setup, sim.as_ref(), &forces.last, false);
         if samples.wanted() && sim.time() + 1e-9 >= next_sample {
             let state = sim.state()?;
             samples.record(setup, sim.time(), &state);
@@ -270,6 +276,9 @@ pub fn run_setup(
         if samples.wanted() {
             chunk = chunk.min(((next_sample - sim.time()) / dt).ceil().max(1.0) as u64);
         }
+        if !track.bodies.is_empty() {
+            chunk = chunk.min(((track.next - sim.time()) / dt).ceil().max(1.0) as u64);
+        }
         let chunk = chunk.clamp(1, 500) as u32;
         let (taken, ms) = sim.advance(chunk)?;
         if taken > 0 {
@@ -283,6 +292,7 @@ pub fn run_setup(
         );
     }
     progress.finish();
+    track.record(setup, sim.as_ref(), &forces.last, true);
     let state = sim.state()?;
     let d = diagnostics(setup, &state);
     let (integrator, search) = names(params.integrator, params.neighbor_search);
@@ -367,13 +377,18 @@ pub fn run_setup(
         particles_emitted: sim.flow_counts().0,
         particles_drained: sim.flow_counts().1,
         scene_file: setup.extras.as_ref().map(|e| e.file.clone()),
+        solver_replaced: setup
+            .extras
+            .as_ref()
+            .and_then(|e| e.solver_replaced)
+            .map(|s| s.name().to_owned()),
         probes: setup
             .extras
             .as_ref()
             .map(|e| sim.probe_log().report(&e.probes, sim_time))
             .unwrap_or_default(),
         bodies: setup.extras.as_ref().map(|e| e.bodies.name().into()),
-        body_motion: body_motion(setup, &colliders_now),
+        body_motion: body_motion(setup, &colliders_now, track),
         ..Default::default()
     };
     report.particle_balance = report.particles as i64 + report.particles_emitted as i64
@@ -426,6 +441,8 @@ struct ForceWindow {
     start: f64,
     sums: Vec<(sph_core::glam::DVec3, sph_core::glam::DVec3)>,
     evaluations: u64,
+    /// The force on each collider as last taken, in or before the window [N].
+    last: Vec<Vec3>,
 }
 
 impl ForceWindow {
@@ -434,6 +451,7 @@ impl ForceWindow {
             start,
             sums: vec![Default::default(); colliders],
             evaluations: 0,
+            last: vec![Vec3::ZERO; colliders],
         }
     }
 
@@ -442,6 +460,11 @@ impl ForceWindow {
         let Some((forces, n)) = sim.take_collider_forces() else {
             return;
         };
+        if n > 0 {
+            for (last, f) in self.last.iter_mut().zip(&forces) {
+                *last = f.force;
+            }
+        }
         if !in_window || n == 0 {
             return;
         }
@@ -470,24 +493,100 @@ impl ForceWindow {
     }
 }
 
-/// Where each of a scene file's dynamic and hinged colliders started and where it is now.
-fn body_motion(setup: &Setup, now: &[sph_core::Collider]) -> Vec<BodyMotion> {
-    let Some(extras) = &setup.extras else {
-        return Vec::new();
-    };
-    extras
-        .colliders
+/// How often a scene file's dynamic and hinged colliders are sampled [s of simulated time].
+pub const BODY_SAMPLE_INTERVAL: f64 = 0.05;
+/// A body slower than this [m/s] over the last quarter of a run has settled.
+pub const SETTLED_SPEED: f32 = 0.02;
+/// A body turning slower than this [rad/s] over the last quarter of a run has settled.
+pub const SETTLED_TURN_RATE: f32 = 0.05;
+
+/// The poses of a scene file's dynamic and hinged colliders every [`BODY_SAMPLE_INTERVAL`].
+struct BodyTrack {
+    /// The tracked colliders' indices in `Setup::colliders`.
+    bodies: Vec<usize>,
+    series: Vec<Vec<BodySample>>,
+    next: f64,
+}
+
+impl BodyTrack {
+    fn new(setup: &Setup) -> Self {
+        let bodies: Vec<usize> = setup.extras.as_ref().map_or(Vec::new(), |extras| {
+            extras
+                .colliders
+                .iter()
+                .enumerate()
+                .filter(|(_, written)| written.body.is_some() || written.hinge.is_some())
+                .map(|(k, _)| k)
+                .collect()
+        });
+        Self {
+            series: vec![Vec::new(); bodies.len()],
+            bodies,
+            next: 0.0,
+        }
+    }
+
+    /// Samples the bodies when the next sample is due, or at the end of the run (`last`) when
+    /// the latest sample is older.
+    fn record(&mut self, setup: &Setup, sim: &dyn Simulation, forces: &[Vec3], last: bool) {
+        let t = sim.time();
+        let newest = self.series.first().and_then(|s| s.last()).map(|s| s.t);
+        let due = t + 1e-9 >= self.next || (last && newest.is_some_and(|n| n < t));
+        if self.bodies.is_empty() || !due {
+            return;
+        }
+        self.next = t + BODY_SAMPLE_INTERVAL;
+        let now = sim.colliders_now(&setup.colliders);
+        for (series, &k) in self.series.iter_mut().zip(&self.bodies) {
+            let pose = now[k].pose;
+            let (velocity, turn_rate) = match series.last() {
+                Some(last) if t > last.t => {
+                    let dt = (t - last.t) as f32;
+                    let before = sph_core::glam::Quat::from_array(last.rotation);
+                    (
+                        (pose.translation - Vec3::from(last.position)) / dt,
+                        before.angle_between(pose.rotation) / dt,
+                    )
+                }
+                _ => (Vec3::ZERO, 0.0),
+            };
+            series.push(BodySample {
+                t,
+                position: pose.translation.to_array(),
+                rotation: pose.rotation.to_array(),
+                velocity: velocity.to_array(),
+                turn_rate,
+                force: forces.get(k).copied().unwrap_or_default().to_array(),
+            });
+        }
+    }
+}
+
+/// Where each of a scene file's dynamic and hinged colliders started and where it is now, with
+/// its samples and whether it settled.
+fn body_motion(setup: &Setup, now: &[sph_core::Collider], track: BodyTrack) -> Vec<BodyMotion> {
+    track
+        .bodies
         .iter()
-        .zip(&setup.colliders)
-        .zip(now)
-        .filter(|((written, _), _)| written.body.is_some() || written.hinge.is_some())
-        .map(|((_, c), now)| {
+        .zip(track.series)
+        .map(|(&k, series)| {
+            let c = &setup.colliders[k];
             let start = c.at(0.0).pose;
+            let end = series.last().map_or(0.0, |s| s.t);
+            let last_quarter: Vec<&BodySample> =
+                series.iter().filter(|s| s.t >= 0.75 * end).collect();
+            let settled = last_quarter.len() >= 2
+                && last_quarter.iter().all(|s| {
+                    Vec3::from(s.velocity).length() < SETTLED_SPEED
+                        && s.turn_rate < SETTLED_TURN_RATE
+                });
             BodyMotion {
                 name: c.name.clone(),
                 start: start.translation.to_array(),
-                end: now.pose.translation.to_array(),
-                turned_rad: start.rotation.angle_between(now.pose.rotation),
+                end: now[k].pose.translation.to_array(),
+                turned_rad: start.rotation.angle_between(now[k].pose.rotation),
+                settled,
+                series,
             }
         })
         .collect()
@@ -518,6 +617,17 @@ pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
         // rollback come from the command line.
         Some(path) => {
             let mut setup = crate::scene_run::setup_from_file(path)?;
+            // --solver replaces the file's solver (with its own time-step rule); the report
+            // says which ran and where it came from.
+            if let (Some(solver), Some(extras)) = (args.solver, setup.extras.as_mut()) {
+                extras.solver_replaced = Some(setup.scene.params.solver);
+                setup.scene.params.use_solver(solver);
+                setup
+                    .scene
+                    .params
+                    .validate()
+                    .map_err(|e| format!("--solver {}: {e}", solver.name()))?;
+            }
             setup.rollback = rollback(args.rollback);
             if let Some(extras) = &mut setup.extras {
                 extras.bodies = args.bodies;
@@ -654,6 +764,19 @@ mod tests {
         assert_eq!(held.body_motion.len(), 1, "{:?}", held.body_motion);
         assert_eq!(held.body_motion[0].name, "boat");
         assert_eq!(held.body_motion[0].start, held.body_motion[0].end);
+        // Sampled every 0.05 s over the 0.6 s, at rest when held.
+        let series = &held.body_motion[0].series;
+        assert!(
+            (12..=14).contains(&series.len()),
+            "{} samples",
+            series.len()
+        );
+        assert!(held.body_motion[0].settled);
+        assert!(series.iter().all(|s| s.velocity == [0.0; 3]));
+        assert!(
+            series.last().unwrap().force[1] > 0.0,
+            "the water holds it up"
+        );
         let moved = report(Bodies::Avian);
         assert_eq!(moved.health, "ok", "{moved:?}");
         assert_eq!(moved.particle_balance, 0);
@@ -663,5 +786,11 @@ mod tests {
         assert!(start.distance(end) > 0.005, "moved: {start} -> {end}");
         // Afloat: neither on the floor (0.03 m) nor above the water.
         assert!(end.y > 0.15 && end.y < 0.3, "the boat floats: {end}");
+        // The samples follow it from where it started to where it ended.
+        let first = Vec3::from(boat.series[0].position);
+        let last = Vec3::from(boat.series.last().unwrap().position);
+        assert_eq!(first, start);
+        assert!(last.distance(end) < 0.05, "{last} vs {end}");
+        assert!(boat.series.iter().any(|s| s.velocity != [0.0; 3]));
     }
 }

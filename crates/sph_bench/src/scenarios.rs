@@ -206,6 +206,8 @@ pub struct SceneExtras {
     pub colliders: Vec<SceneCollider>,
     /// What moves the dynamic and hinged colliders.
     pub bodies: Bodies,
+    /// The file's own solver when `--solver` replaced it.
+    pub solver_replaced: Option<sph_core::Solver>,
 }
 
 impl SceneExtras {

@@ -23,11 +23,14 @@ pub fn setup_from_file(path: &Path) -> Result<Setup, String> {
         container: built.container,
         blocks: built.blocks.iter().map(|(b, _)| *b).collect(),
     };
-    let emitted: u64 = built
+    // Room for the blocks and what the emitters may add (20,000 for an endless one), at most
+    // sph_core::limits::MAX_SPAWN_PARTICLES more: an emitter's `total` may be any u64.
+    let emitted = built
         .emitters
         .iter()
         .map(|e| e.total.unwrap_or(20_000))
-        .sum();
+        .fold(0u64, u64::saturating_add)
+        .min(sph_core::limits::MAX_SPAWN_PARTICLES);
     let capacity = scene.particle_count() + emitted as usize;
     Ok(Setup {
         scenario: Scenario::SceneFile,
@@ -59,6 +62,7 @@ pub fn setup_from_file(path: &Path) -> Result<Setup, String> {
             probes: built.probes.clone(),
             colliders: built.colliders.clone(),
             bodies: Bodies::Held,
+            solver_replaced: None,
         }),
         scene,
     })

@@ -462,6 +462,17 @@ impl AppSimulation {
         app.init_resource::<ProbeReadings>()
             .add_systems(Last, collect_probe_readings);
         app.update();
+        // Report what ran, not what was asked for: the plugin falls back to the CPU when the
+        // adapter cannot run its passes, and a GPU figure measured on the CPU is a wrong figure.
+        let ran = app.world().resource::<SphStats>();
+        if ran.backend != backend {
+            return Err(format!(
+                "the {backend:?} backend was asked for but the plugin runs {:?} (adapter {:?}, \
+                 probed {adapter:?}); see the log's warning for why",
+                ran.backend, ran.adapter
+            ));
+        }
+        let adapter = ran.adapter.clone();
         Ok(Self {
             app,
             backend,

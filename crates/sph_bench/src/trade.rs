@@ -444,7 +444,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
     // dt, warm starts off, a looser divergence tolerance; PBF: its iterations, vorticity, a
     // frame's dt). PBF's GPU rows are in the backend sweep below.
     let dfsph = RunArgs {
-        solver: Solver::Dfsph,
+        solver: Some(Solver::Dfsph),
         ..cpu.clone()
     };
     let derived = configured_setup(&cpu).scene.params.time_step;
@@ -474,14 +474,14 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
         (
             "PBF, own dt rule",
             RunArgs {
-                solver: Solver::Pbf,
+                solver: Some(Solver::Pbf),
                 ..cpu.clone()
             },
         ),
         (
             "PBF, 2 iterations",
             RunArgs {
-                solver: Solver::Pbf,
+                solver: Some(Solver::Pbf),
                 pbf_iterations: Some(2),
                 ..cpu.clone()
             },
@@ -489,7 +489,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
         (
             "PBF, 8 iterations",
             RunArgs {
-                solver: Solver::Pbf,
+                solver: Some(Solver::Pbf),
                 pbf_iterations: Some(8),
                 ..cpu.clone()
             },
@@ -497,7 +497,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
         (
             "PBF, vorticity confinement 0.2 m/s",
             RunArgs {
-                solver: Solver::Pbf,
+                solver: Some(Solver::Pbf),
                 pbf_vorticity: Some(0.2),
                 ..cpu.clone()
             },
@@ -505,7 +505,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
         (
             "PBF, a frame's dt: 1/60 s fixed",
             RunArgs {
-                solver: Solver::Pbf,
+                solver: Some(Solver::Pbf),
                 dt: Some(1.0 / 60.0),
                 ..cpu.clone()
             },
@@ -576,7 +576,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                     format!("about {n} particles, PBF"),
                     RunArgs {
                         particles: n,
-                        solver: Solver::Pbf,
+                        solver: Some(Solver::Pbf),
                         ..b.clone()
                     },
                 ));
@@ -641,7 +641,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                     "PBF, own dt rule".into(),
                     RunArgs {
                         scenario: Scenario::DamBreak32k,
-                        solver: Solver::Pbf,
+                        solver: Some(Solver::Pbf),
                         ..b.clone()
                     },
                 ));
@@ -679,7 +679,7 @@ fn plan(args: &TradeArgs) -> Vec<Planned> {
                     (
                         "PBF, own dt rule",
                         RunArgs {
-                            solver: Solver::Pbf,
+                            solver: Some(Solver::Pbf),
                             ..d32.clone()
                         },
                     ),
@@ -816,7 +816,10 @@ mod tests {
         );
         let on_the_gpu = |solver: Solver| {
             plan.iter()
-                .filter(|p| p.args.backend == Backend::Gpu && p.args.solver == solver)
+                .filter(|p| {
+                    p.args.backend == Backend::Gpu
+                        && p.args.solver.unwrap_or(Solver::Wcsph) == solver
+                })
                 .count()
         };
         assert_eq!(on_the_gpu(Solver::Pbf), 3);
