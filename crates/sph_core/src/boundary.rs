@@ -430,7 +430,8 @@ impl Boundary {
     }
 
     /// Places every body's samples by its pose, drops those more than h outside the container
-    /// (no particle can reach them), and sorts the rest by cell. Does nothing when nothing moved
+    /// (no particle can reach them) and a collider's behind the sampled walls (the walls' own
+    /// samples stand there), and sorts the rest by cell. Does nothing when nothing moved
     /// since the last sort; returns whether it sorted.
     pub fn sort(&mut self) -> bool {
         if self.sorted {
@@ -440,10 +441,23 @@ impl Boundary {
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let reach = self.kernels.h;
         let container = self.container;
+        let (lo, hi) = (container.min(), container.max());
+        // A collider's samples behind a sampled wall or under the floor stand where the wall's
+        // own samples stand: together they press the water with twice the wall, and a divider
+        // built through the walls kicked the water at its first step. They are left out, so a
+        // collider through a wall meets the water as one that ends at it. Above the walls' top
+        // nothing else is sampled, and a collider's samples there stay.
+        let walls_sampled = self.walls.is_some();
+        let behind_a_wall = |x: Vec3| {
+            walls_sampled
+                && x.y <= hi.y
+                && (x.x < lo.x || x.x > hi.x || x.z < lo.z || x.z > hi.z || x.y < lo.y)
+        };
         let mut place = |set: &SampleSet, index: u32, to_world: &dyn Fn(Vec3) -> (Vec3, Vec3)| {
             for (&local, &v) in set.local.iter().zip(&set.volume) {
                 let (x, u) = to_world(local);
-                if container.contains(x, reach) {
+                let doubled = index != WALLS_BODY && behind_a_wall(x);
+                if container.contains(x, reach) && !doubled {
                     position.push(x);
                     volume.push(v);
                     velocity.push(u);
