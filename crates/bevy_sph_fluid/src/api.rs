@@ -213,6 +213,10 @@ pub struct SphStats {
     /// Steps the simulation clock has counted: the solver's steps (CPU), or the GPU clock as last
     /// read back, a frame or two behind `step_count`, and no longer counting once frozen.
     pub clock_steps: u64,
+    /// Steps the clock has begun, rolled back or not: the solver's steps (CPU), or the GPU
+    /// clock's count as last read back. Unlike `clock_steps` it never goes back, so the readback
+    /// is current once it equals `step_count` (what a benchmark waits for; the game never does).
+    pub clock_steps_run: u64,
     /// Live particles.
     pub particle_count: u32,
     /// Particle slots.

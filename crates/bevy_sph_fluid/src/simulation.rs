@@ -523,6 +523,7 @@ fn sph_update_stats(
             stats.sim_time = solver.time();
             stats.time_step = solver.last_time_step();
             stats.clock_steps = solver.step_count();
+            stats.clock_steps_run = solver.step_count();
             stats.rollbacks = solver.rollbacks();
             stats.boundary_corrections = solver.boundary_corrections();
             stats.wall_corrections = solver.corrections().walls;
@@ -572,6 +573,7 @@ fn sph_update_stats(
                 stats.wall_corrections = clock.wall_corrections as u64;
                 stats.neighbor_list_overflows = clock.neighbor_list_overflows as u64;
                 stats.clock_steps = clock.step as u64;
+                stats.clock_steps_run = clock.steps_run as u64;
                 record_gpu_iterations(&mut sim.gpu_iterations, &clock, &mut stats);
                 sim.dfsph_budget.observe(&clock, sim.frame.dfsph_iterations);
                 stats.dfsph_solves_cut_short = clock.solves_cut_short();

@@ -690,6 +690,71 @@ mod tests {
         assert!(tank.speed_mean_window_mean > 0.0, "{tank:?}");
     }
 
+    /// A dam break at 3 and 10 times its derived dt, on both backends: each run ends (its 30
+    /// steps taken, with rollbacks, or reported unstable) within a wall-clock bound, so a run
+    /// that waits forever fails here instead of hanging CI.
+    #[test]
+    fn oversized_steps_finish_or_report_unstable_on_both_backends() {
+        let base = RunArgs {
+            particles: 2000,
+            integrator: Integrator::KickDriftKick,
+            ..Default::default()
+        };
+        let derived = configured_setup(&base).scene.params.time_step;
+        for backend in [Backend::Cpu, Backend::Gpu] {
+            for factor in [3.0, 10.0] {
+                let setup = configured_setup(&RunArgs {
+                    dt: Some(factor * derived),
+                    ..base.clone()
+                });
+                let (send, receive) = std::sync::mpsc::channel();
+                std::thread::spawn(move || {
+                    let report =
+                        run_setup(&setup, backend, 10, Duration::Steps(30), &Bars::new(true));
+                    let _ = send.send(report);
+                });
+                let case = format!("{backend:?} at {factor} x dt {derived}");
+                let report = receive
+                    .recv_timeout(std::time::Duration::from_secs(300))
+                    .unwrap_or_else(|_| panic!("{case}: no end after 300 s"))
+                    .unwrap_or_else(|e| panic!("{case}: {e}"));
+                let finished = report.steps >= 30 && report.health == "ok";
+                assert!(
+                    finished || report.unstable_step.is_some(),
+                    "{case}: {} steps, health {}, unstable {:?}",
+                    report.steps,
+                    report.health,
+                    report.unstable_step
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn solver_on_the_command_line_replaces_the_scene_files_and_the_report_says_so() {
+        let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../assets/scenes/dam_break.ron");
+        let args = |solver| RunArgs {
+            scene: Some(scene.clone()),
+            solver,
+            steps: Some(2),
+            ..Default::default()
+        };
+        let own = run(&args(None), &Bars::new(true)).unwrap();
+        assert_eq!(own.solver_replaced, None);
+        let other = if own.solver == "pbf" {
+            Solver::Wcsph
+        } else {
+            Solver::Pbf
+        };
+        let replaced = run(&args(Some(other)), &Bars::new(true)).unwrap();
+        assert_eq!(replaced.solver, other.name());
+        assert_eq!(
+            replaced.solver_replaced.as_deref(),
+            Some(own.solver.as_str())
+        );
+    }
+
     #[test]
     fn rollback_reaches_the_solver_and_the_report() {
         let on = too_large_a_step(true);

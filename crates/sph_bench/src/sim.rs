@@ -499,7 +499,11 @@ impl AppSimulation {
         let start = Instant::now();
         while start.elapsed() < std::time::Duration::from_secs(60) {
             let stats = self.stats();
-            if stats.clock_steps >= headless::steps_taken(&self.app) || stats.health.is_unstable() {
+            // `clock_steps_run`, not `clock_steps`: a rollback takes the clock's step back, and
+            // a wait for it to reach the steps dispatched would last the whole bound.
+            if stats.clock_steps_run >= headless::steps_taken(&self.app)
+                || stats.health.is_unstable()
+            {
                 return;
             }
             // The readback maps once the device is done: without the wait, a busy machine (CI's

@@ -213,6 +213,9 @@ pub struct GpuClock {
     /// CPU encoded for them before they converged or reached their most iterations, since the
     /// reset (see `bevy_sph_fluid`'s iteration budget).
     pub dfsph_cut_short: [u32; 2],
+    /// Steps the device has begun since the reset, rolled back or not: unlike `step`, it never
+    /// goes back, so a readback whose `steps_run` equals the steps dispatched is current.
+    pub steps_run: u32,
 }
 
 /// The unit of DFSPH's error sums on the device ([`GpuClock::dfsph_error`]): 1e-9 of ρ0 (or

@@ -129,6 +129,8 @@ struct SphClock {
     divergence_frame_max: u32,
     density_cut_short: u32,
     divergence_cut_short: u32,
+    // Steps begun since the reset, rolled back or not (never goes back; see time_step.wgsl).
+    steps_run: u32,
 }
 
 struct BitonicStep {

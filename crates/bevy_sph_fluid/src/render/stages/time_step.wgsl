@@ -46,6 +46,9 @@ fn scale() -> f32 {
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main() {
+    // Counted before anything can return: the CPU compares it with the steps it dispatched to
+    // know that a readback is current, which `step` cannot tell once a rollback took it back.
+    clock.steps_run += 1u;
     clock.checkpoint_action = 0u;
     if clock.unstable_step != 0u {
         return;
