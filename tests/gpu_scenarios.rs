@@ -213,7 +213,11 @@ fn every_snapshot_request_is_served_or_counted_as_dropped() {
         .len() as u64;
     let dropped = app.world().resource::<SphStats>().snapshot_requests_dropped;
     assert!(served >= 1, "served {served}, dropped {dropped}");
-    assert_eq!(served + dropped, requests, "served {served}, dropped {dropped}");
+    assert_eq!(
+        served + dropped,
+        requests,
+        "served {served}, dropped {dropped}"
+    );
 }
 
 /// The error `SphStats` reports, or "".
