@@ -715,8 +715,8 @@ mod tests {
                 });
                 let case = format!("{backend:?} at {factor} x dt {derived}");
                 let report = receive
-                    .recv_timeout(std::time::Duration::from_secs(300))
-                    .unwrap_or_else(|_| panic!("{case}: no end after 300 s"))
+                    .recv_timeout(std::time::Duration::from_secs(120))
+                    .unwrap_or_else(|_| panic!("{case}: no end after 120 s"))
                     .unwrap_or_else(|e| panic!("{case}: {e}"));
                 let finished = report.steps >= 30 && report.health == "ok";
                 assert!(
