@@ -296,32 +296,7 @@ fn boxes_float_and_sink_by_their_density_on_the_gpu() {
 /// A headless app on `backend` with `physics` added and the scene file `path` (under
 /// `assets/`) loaded and spawned, paused.
 fn scene_app(path: &str, backend: SphBackend, physics: impl FnOnce(&mut App)) -> App {
-    if backend == SphBackend::Gpu {
-        bevy_sph_fluid::headless::require_vulkan_adapter();
-    }
-    let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
-    let plugins = DefaultPlugins
-        .build()
-        .disable::<bevy::winit::WinitPlugin>()
-        .set(AssetPlugin {
-            file_path: assets.into(),
-            ..default()
-        });
-    let mut app =
-        bevy_sph_fluid::headless::headless_app_with(plugins, 8_000, backend, false, physics);
-    let handle = app
-        .world()
-        .resource::<AssetServer>()
-        .load::<SphSceneAsset>(path.to_owned());
-    app.world_mut().spawn(SphScene(handle));
-    for _ in 0..500 {
-        app.update();
-        if app.world().resource::<SphStats>().particle_count > 0 {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(2));
-    }
-    app
+    common::shipped_scene_app(path, backend, physics)
 }
 
 /// The entity called `name`.

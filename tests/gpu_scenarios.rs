@@ -129,12 +129,10 @@ fn emitter_spawns_exactly_the_requested_count_and_overflow_is_refused() {
     assert_eq!(snapshot(&mut app).ids.len(), 500);
 }
 
-#[test]
-fn a_runtime_parameter_change_changes_the_next_step_and_readback_returns_it() {
-    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+/// A GPU app with `params` and one particle moving at `velocity` in a 1 m box, after its first
+/// step.
+fn one_particle_app(params: sph_core::SphParams, velocity: Vec3) -> App {
     let mut app = headless_app(16, SphBackend::Gpu);
-    let mut params = sph_core::SphParams::water();
-    params.integrator = sph_core::Integrator::SymplecticEuler;
     app.insert_resource(SphParams(params));
     app.world_mut()
         .spawn(SphContainer(BoxContainer::from_min_max(
@@ -146,12 +144,18 @@ fn a_runtime_parameter_change_changes_the_next_step_and_readback_returns_it() {
         Vec3::splat(0.5 + 1.5 * params.spacing()),
         params.spacing(),
     );
-    app.world_mut().spawn(SphBlockSpawn {
-        block,
-        velocity: Vec3::new(0.1, 0.0, 0.0),
-    });
+    app.world_mut().spawn(SphBlockSpawn { block, velocity });
     app.update();
     step_to(&mut app, 1);
+    app
+}
+
+#[test]
+fn a_runtime_parameter_change_changes_the_next_step_and_readback_returns_it() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let mut params = sph_core::SphParams::water();
+    params.integrator = sph_core::Integrator::SymplecticEuler;
+    let mut app = one_particle_app(params, Vec3::new(0.1, 0.0, 0.0));
     let first = snapshot(&mut app);
     assert_eq!(first.ids, vec![0]);
     let dt = params.time_step;
@@ -175,24 +179,7 @@ fn a_runtime_parameter_change_changes_the_next_step_and_readback_returns_it() {
 #[test]
 fn every_snapshot_request_is_served_or_counted_as_dropped() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
-    let mut app = headless_app(16, SphBackend::Gpu);
-    let params = sph_core::SphParams::water();
-    app.world_mut()
-        .spawn(SphContainer(BoxContainer::from_min_max(
-            Vec3::ZERO,
-            Vec3::ONE,
-        )));
-    let block = sph_core::BlockSpawn::new(
-        Vec3::splat(0.5),
-        Vec3::splat(0.5 + 1.5 * params.spacing()),
-        params.spacing(),
-    );
-    app.world_mut().spawn(SphBlockSpawn {
-        block,
-        velocity: Vec3::ZERO,
-    });
-    app.update();
-    step_to(&mut app, 1);
+    let mut app = one_particle_app(sph_core::SphParams::water(), Vec3::ZERO);
     app.world_mut()
         .resource_mut::<bevy_sph_fluid::headless::Snapshots>()
         .0

@@ -85,3 +85,34 @@ pub fn app_with_scene_on(dir: &std::path::Path, capacity: u32, backend: SphBacke
     app.world_mut().spawn(SphScene(handle));
     app
 }
+
+/// A headless app of 8,000 slots on `backend` with `physics` added and the shipped scene file
+/// `path` (under `assets/`) loaded and spawned, paused.
+pub fn shipped_scene_app(path: &str, backend: SphBackend, physics: impl FnOnce(&mut App)) -> App {
+    if backend == SphBackend::Gpu {
+        require_vulkan_adapter();
+    }
+    let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
+    let plugins = DefaultPlugins
+        .build()
+        .disable::<bevy::winit::WinitPlugin>()
+        .set(AssetPlugin {
+            file_path: assets.into(),
+            ..default()
+        });
+    let mut app =
+        bevy_sph_fluid::headless::headless_app_with(plugins, 8_000, backend, false, physics);
+    let handle = app
+        .world()
+        .resource::<AssetServer>()
+        .load::<SphSceneAsset>(path.to_owned());
+    app.world_mut().spawn(SphScene(handle));
+    for _ in 0..500 {
+        app.update();
+        if app.world().resource::<SphStats>().particle_count > 0 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    app
+}

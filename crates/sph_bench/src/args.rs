@@ -503,6 +503,16 @@ pub struct SoakArgs {
     /// Steps to run [steps].
     #[arg(long, value_name = "N", value_parser = steps, default_value = "100000")]
     pub steps: u64,
+    /// Soak a scene file instead of the dam break, for --time of simulated time: resident
+    /// memory and the particles read back from the solver are checked every simulated minute.
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    /// A scene file's dynamic and hinged bodies: held in place, or moved by avian.
+    #[arg(long, value_enum, default_value = "held", requires = "scene")]
+    pub bodies: Bodies,
+    /// Simulated time of a scene soak [s].
+    #[arg(long, value_name = "SECONDS", value_parser = sim_time, default_value = "600", requires = "scene")]
+    pub time: f32,
     /// About how many particles in the dam break [particles].
     #[arg(long, value_name = "N", value_parser = particles, default_value = "4096")]
     pub particles: usize,

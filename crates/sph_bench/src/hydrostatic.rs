@@ -204,6 +204,7 @@ mod tests {
             velocities,
             densities: vec![setup.scene.params.rest_density; n],
             pressures: vec![0.0; n],
+            ids: (0..n as u32).collect(),
         }
     }
 

@@ -203,10 +203,19 @@ fn fuzz_command(args: &FuzzArgs, bars: &Bars) -> Result<(), String> {
 
 /// `sph-bench soak`.
 fn soak_command(args: &SoakArgs, bars: &Bars) -> Result<(), String> {
-    eprintln!(
-        "sph-bench: soak on {:?}: {} steps of a {}-particle dam break",
-        args.backend, args.steps, args.particles
-    );
+    match &args.scene {
+        Some(file) => eprintln!(
+            "sph-bench: soak on {:?}: {} for {} s of simulated time, bodies {}",
+            args.backend,
+            file.display(),
+            args.time,
+            args.bodies.name()
+        ),
+        None => eprintln!(
+            "sph-bench: soak on {:?}: {} steps of a {}-particle dam break",
+            args.backend, args.steps, args.particles
+        ),
+    }
     let report = soak::run(args, bars)?;
     write_json(&report, args.json.as_deref())?;
     eprintln!(
@@ -225,6 +234,21 @@ fn soak_command(args: &SoakArgs, bars: &Bars) -> Result<(), String> {
         report.density_error_late_pct,
         report.density_error_peak_pct
     );
+    if let Some(file) = &report.scene_file {
+        eprintln!(
+            "sph-bench: soak of {file}: {} particle checks, {} failed; resident memory {:?} MiB              at the start and the end, {:+.1} % after the first minute",
+            report.balance_checks,
+            report.balance_failures.len(),
+            (
+                report.resident_mib.first().map(|m| m[1]),
+                report.resident_mib.last().map(|m| m[1])
+            ),
+            report.resident_growth_after_first_minute_pct.unwrap_or(0.0)
+        );
+        if let Some(first) = report.balance_failures.first() {
+            return Err(format!("particles lost or duplicated: {first}"));
+        }
+    }
     Ok(())
 }
 

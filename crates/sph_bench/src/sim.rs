@@ -22,6 +22,8 @@ pub struct State {
     /// Pressures [Pa], as the solver keeps them (a DFSPH pressure is the solves' stiffness times
     /// ρ², not a function of the density).
     pub pressures: Vec<f32>,
+    /// Particle ids, as the solver (or the device) holds them.
+    pub ids: Vec<u32>,
 }
 
 /// Pressure-solver iterations summed over steps (DFSPH; zeros with WCSPH).
@@ -263,6 +265,7 @@ impl Simulation for CpuSimulation {
             velocities: p.velocity.clone(),
             densities: p.density.clone(),
             pressures: p.pressure.clone(),
+            ids: p.id.clone(),
         })
     }
 
@@ -610,6 +613,7 @@ impl Simulation for AppSimulation {
             velocities: s.velocities,
             densities: s.densities,
             pressures: s.pressures,
+            ids: s.ids,
         })
     }
 
