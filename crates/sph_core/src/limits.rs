@@ -144,8 +144,7 @@ pub fn check_shape_samples(
     spacing: f32,
 ) -> Result<(), crate::collider::ColliderError> {
     let estimate = shape_samples_estimate(shape, spacing);
-    // `!(<=)` also refuses NaN.
-    if !(estimate <= MAX_BOUNDARY_SAMPLES as f64) {
+    if estimate.is_nan() || estimate > MAX_BOUNDARY_SAMPLES as f64 {
         return Err(crate::collider::ColliderError {
             field: "shape",
             value: format!("about {estimate:.3e} boundary samples at a {spacing} m spacing"),
