@@ -8,9 +8,11 @@
 
 use crate::collider::ColliderShape;
 use crate::container::BoxContainer;
-use crate::neighbor::grid::MAX_GRID_CELLS;
 use crate::params::ParamError;
 use crate::sampling::layer_depths;
+
+/// The most cells a dense grid may have (64 Mi cells = 256 MiB of offsets); use the hash beyond.
+pub const MAX_GRID_CELLS: u64 = 1 << 26;
 
 /// The most particles one block, or a scene's blocks together, may hold: 2^22 = 4,194,304
 /// (about 200 MB of CPU solver state).

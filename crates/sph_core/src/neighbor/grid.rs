@@ -9,8 +9,7 @@ use crate::pair_lanes::wide_lanes;
 use crate::params::ParamError;
 use glam::{IVec3, UVec3, Vec3};
 
-/// The most cells a dense grid may have (64 Mi cells = 256 MiB of offsets); use the hash beyond.
-pub const MAX_GRID_CELLS: u64 = 1 << 26;
+pub use crate::limits::MAX_GRID_CELLS;
 
 /// The most particles of one cell whose neighbours [`DenseGrid::append_group_neighbors`] finds
 /// together.
