@@ -236,7 +236,8 @@ fn soak_command(args: &SoakArgs, bars: &Bars) -> Result<(), String> {
     );
     if let Some(file) = &report.scene_file {
         eprintln!(
-            "sph-bench: soak of {file}: {} particle checks, {} failed; resident memory {:?} MiB              at the start and the end, {:+.1} % after the first minute",
+            "sph-bench: soak of {file}: {} particle checks, {} failed; resident memory {:?} MiB \
+             at the start and the end, {:+.1} % after the first minute",
             report.balance_checks,
             report.balance_failures.len(),
             (

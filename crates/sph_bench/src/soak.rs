@@ -147,6 +147,16 @@ fn run_scene(args: &SoakArgs, path: &std::path::Path, bars: &Bars) -> Result<Soa
         let t = sim.time();
         if t + 1e-9 >= next_check {
             let state = sim.state()?;
+            let d = diagnostics(&setup, &state);
+            report.samples.push([
+                sim.steps() as f64,
+                t,
+                d.density_error_mean_pct as f64,
+                d.max_speed as f64,
+                d.particle_count as f64,
+            ]);
+            report.density_error_peak_pct =
+                report.density_error_peak_pct.max(d.density_error_mean_pct);
             let (emitted, drained) = sim.flow_counts();
             report.balance_checks += 1;
             report
@@ -161,11 +171,16 @@ fn run_scene(args: &SoakArgs, path: &std::path::Path, bars: &Bars) -> Result<Soa
         );
     }
     progress.finish();
+    let (early, late) = density_error_tenths(&report.samples);
+    (
+        report.density_error_early_pct,
+        report.density_error_late_pct,
+    ) = (early, late);
     let (emitted, drained) = sim.flow_counts();
     let d = finish(&mut report, sim.as_mut(), &setup, started)?;
     report.particles_lost = (initial + emitted) as i64 - drained as i64 - d.particle_count as i64;
-    // From the sample at the first minute (the second) to the last.
-    if let (Some(first), Some(last)) = (report.resident_mib.get(1), report.resident_mib.last()) {
+    // From the sample at the first minute (the second) to the last, when there is a later one.
+    if let [_, first, .., last] = report.resident_mib[..] {
         report.resident_growth_after_first_minute_pct = Some((last[1] / first[1] - 1.0) * 100.0);
     }
     Ok(report)
@@ -209,14 +224,24 @@ pub fn run(args: &SoakArgs, bars: &Bars) -> Result<SoakReport, String> {
         );
     }
     progress.finish();
-    let tenth = (report.samples.len() / 10).max(1);
-    let mean = |s: &[[f64; 5]]| s.iter().map(|x| x[2]).sum::<f64>() / s.len().max(1) as f64;
-    report.density_error_early_pct = mean(&report.samples[..tenth.min(report.samples.len())]);
-    report.density_error_late_pct =
-        mean(&report.samples[report.samples.len().saturating_sub(tenth)..]);
+    let (early, late) = density_error_tenths(&report.samples);
+    (
+        report.density_error_early_pct,
+        report.density_error_late_pct,
+    ) = (early, late);
     let d = finish(&mut report, sim.as_mut(), &setup, started)?;
     report.particles_lost = report.particles as i64 - d.particle_count as i64;
     Ok(report)
+}
+
+/// The mean density error [%] of the first and the last tenth of the samples.
+fn density_error_tenths(samples: &[[f64; 5]]) -> (f64, f64) {
+    let tenth = (samples.len() / 10).max(1);
+    let mean = |s: &[[f64; 5]]| s.iter().map(|x| x[2]).sum::<f64>() / s.len().max(1) as f64;
+    (
+        mean(&samples[..tenth.min(samples.len())]),
+        mean(&samples[samples.len().saturating_sub(tenth)..]),
+    )
 }
 
 /// The figures every soak ends with: steps, times, health, rollbacks and the final state's
@@ -277,6 +302,7 @@ mod tests {
         assert_eq!(report.balance_failures, Vec::<String>::new());
         assert_eq!(report.particles_lost, 0);
         assert_eq!(report.resident_mib.len(), 2, "{:?}", report.resident_mib);
+        assert_eq!(report.resident_growth_after_first_minute_pct, None);
         // A lost particle is seen.
         let mut state = crate::sim::State {
             ids: (0..10).collect(),
