@@ -443,8 +443,8 @@ impl Boundary {
         let container = self.container;
         let (lo, hi) = (container.min(), container.max());
         // A collider's samples behind a sampled wall or under the floor stand where the wall's
-        // own samples stand: together they press the water with twice the wall, and a divider
-        // built through the walls kicked the water at its first step. They are left out, so a
+        // own samples stand: together they would press the water with twice the wall and kick
+        // it at the first step (tests/boundary.rs). They are left out, so a
         // collider through a wall meets the water as one that ends at it. Above the walls' top
         // nothing else is sampled, and a collider's samples there stay.
         let walls_sampled = self.walls.is_some();
