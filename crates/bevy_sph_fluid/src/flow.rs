@@ -56,7 +56,9 @@ pub struct SphPump {
 /// What a probe measures, in the entity's frame.
 #[derive(Clone, Copy, Debug, PartialEq, Reflect)]
 pub enum SphProbeKind {
-    /// The water level [m, world y] of the vertical column through the entity's position.
+    /// The water level [m, world y] of the vertical column through the entity's position: the
+    /// free surface of the connected water under it, spray over an air gap left out
+    /// ([`sph_core::probe`] has the definition).
     Level {
         /// The column's radius [m] (> 0; about two spacings).
         radius: f32,
@@ -416,7 +418,12 @@ fn sph_measure_probes(
             probe: entity,
             step,
             sim_time: solver.time(),
-            reading: kind.measure(solver.params(), &p.position, &p.velocity),
+            reading: kind.measure(
+                solver.params(),
+                solver.container(),
+                &p.position,
+                &p.velocity,
+            ),
         });
     }
 }

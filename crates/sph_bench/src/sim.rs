@@ -186,9 +186,12 @@ impl CpuSimulation {
         let p = self.solver.particles();
         for (k, probe) in self.probes.iter().enumerate() {
             if self.probe_log.due(k, probe.every_steps, step) {
-                let reading = probe
-                    .kind
-                    .measure(self.solver.params(), &p.position, &p.velocity);
+                let reading = probe.kind.measure(
+                    self.solver.params(),
+                    self.solver.container(),
+                    &p.position,
+                    &p.velocity,
+                );
                 self.probe_log.record(k, step, self.solver.time(), reading);
             }
         }

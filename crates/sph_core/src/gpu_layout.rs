@@ -804,7 +804,8 @@ pub struct GpuProbe {
     /// Level: (radius, 0, 0); flux: (half width, half height, half slab thickness); count: the
     /// half extents [m].
     pub half: [f32; 4],
-    /// Flux: the unit normal (world).
+    /// Flux: the unit normal (world). Level: the column's bins
+    /// ([`crate::probe::LevelColumn`]): (floor, bin height, 0, 0) [m].
     pub normal: [f32; 4],
 }
 
@@ -827,9 +828,12 @@ pub struct GpuProbes {
     pub pad: [u32; 2],
     /// The probes.
     pub probes: [GpuProbe; MAX_GPU_PROBES],
-    /// Per probe: [highest level key, particles, Σ v·n in [`PROBE_SPEED_UNIT`] (i32 bits),
-    /// unused], summed over the frame's steps.
+    /// Per probe: [unused, particles, Σ v·n in [`PROBE_SPEED_UNIT`] (i32 bits), unused],
+    /// summed over the frame's steps.
     pub sums: [[u32; 4]; MAX_GPU_PROBES],
+    /// Per Level probe and bin: the [`float_key`] of the bin's highest particle centre over
+    /// the frame's steps (0: empty).
+    pub level_tops: [[u32; crate::probe::LEVEL_BINS]; MAX_GPU_PROBES],
 }
 
 impl Default for GpuProbes {
@@ -868,10 +872,16 @@ impl GpuProbes {
         ((self.time_ns[1] as u64) << 32 | self.time_ns[0] as u64) as f64 * 1e-9
     }
 
-    /// The GPU form of the first [`MAX_GPU_PROBES`] of `kinds` for particles of spacing
-    /// `spacing`, for frame `frame`, with zero sums.
-    pub fn of(kinds: &[crate::probe::ProbeKind], spacing: f32, frame: u32) -> Self {
-        use crate::probe::{flux_slab_thickness, ProbeKind};
+    /// The GPU form of the first [`MAX_GPU_PROBES`] of `kinds` in `container` for particles
+    /// of spacing `spacing`, for frame `frame`, with zero sums.
+    pub fn of(
+        kinds: &[crate::probe::ProbeKind],
+        container: &crate::container::BoxContainer,
+        spacing: f32,
+        frame: u32,
+    ) -> Self {
+        use crate::probe::{flux_slab_thickness, LevelColumn, ProbeKind};
+        let column = LevelColumn::of(container, spacing);
         let mut out = Self {
             count: kinds.len().min(MAX_GPU_PROBES) as u32,
             frame,
@@ -887,7 +897,7 @@ impl GpuProbes {
                     center_kind: [x, 0.0, z, 0.0],
                     to_local: [0.0, 0.0, 0.0, 1.0],
                     half: [radius, 0.0, 0.0, 0.0],
-                    normal: [0.0; 4],
+                    normal: [column.floor, column.bin, 0.0, 0.0],
                 },
                 ProbeKind::Flux { pose, half_size } => {
                     let c = pose.translation;
@@ -919,21 +929,22 @@ impl GpuProbes {
         out
     }
 
-    /// Probe `k`'s reading, averaged over the summed steps (level: the highest of them), for
-    /// particles of `params`; `None` before a step was summed.
+    /// Probe `k`'s reading, averaged over the summed steps (level: the column of all of them
+    /// together), for particles of `params`; `None` before a step was summed.
     pub fn reading(&self, k: usize, params: &SphParams) -> Option<crate::probe::ProbeReading> {
         use crate::probe::flux_slab_thickness;
         if self.samples == 0 || k >= self.count as usize {
             return None;
         }
         let samples = self.samples as f64;
-        let [top, particles, flux, _] = self.sums[k];
+        let [_, particles, flux, _] = self.sums[k];
         let mean_particles = particles as f64 / samples;
         let count = mean_particles.round() as u32;
         let spacing = params.spacing();
         Some(match self.probes[k].center_kind[3] as u32 {
             0 => crate::probe::ProbeReading {
-                value: key_float(top).map(|y| y + 0.5 * spacing),
+                value: crate::probe::column_surface(&self.level_tops[k].map(key_float))
+                    .map(|y| y + 0.5 * spacing),
                 particles: count,
                 mean_speed: None,
             },

@@ -523,6 +523,7 @@ pub(crate) fn prepare_sph_buffers(
             0,
             bytemuck::bytes_of(&sph_core::gpu_layout::GpuProbes::of(
                 &frame.probes,
+                &frame.container,
                 frame.params.spacing(),
                 frame.number,
             )),

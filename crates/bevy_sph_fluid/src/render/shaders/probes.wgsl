@@ -1,6 +1,8 @@
 // Probes (Rust twin: sph_core::probe, summed as sph_core::gpu_layout::GpuProbes): each closing
-// kick adds its particle to every probe it lies in. Level: the highest y within the radius of
-// the vertical line (atomicMax on an order-keeping key); flux: the particles in the slab and
+// kick adds its particle to every probe it lies in. Level: the particles within the radius of
+// the vertical line, binned by height (sph_core::probe::LevelColumn: floor and bin height in
+// the probe's normal.xy), each bin keeping its highest y (atomicMax on an order-keeping key);
+// the CPU finds the connected column in the bins (sph_core::probe::column_surface); flux: the particles in the slab and
 // their Σ v·n in fixed point (sph_core::gpu_layout::PROBE_SPEED_UNIT); count: the particles in
 // the box. Particle 0 counts the steps summed (the CPU averages over them) and stamps the last
 // one's step and time. Particles a drain took are left out.
@@ -11,6 +13,8 @@
 #import sph::guard::rotate
 
 const PROBE_SPEED_UNIT: f32 = 1e-4;
+// sph_core::probe::LEVEL_BINS.
+const LEVEL_BINS: u32 = 128u;
 
 // sph_core::gpu_layout::float_key.
 fn float_key(x: f32) -> u32 {
@@ -42,7 +46,13 @@ fn record_probes(i: u32, x: vec3<f32>, v: vec3<f32>) {
         let d = x - p.center_kind.xyz;
         if kind == 0u {
             if dot(d.xz, d.xz) <= p.half.x * p.half.x {
-                atomicMax(&probes.sums[4u * k], float_key(x.y));
+                // sph_core::probe::LevelColumn::bin_of: below the floor (or NaN) is bin 0.
+                let b = floor((x.y - p.normal.x) / p.normal.y);
+                var bin = 0u;
+                if b >= 0.0 {
+                    bin = u32(min(b, f32(LEVEL_BINS - 1u)));
+                }
+                atomicMax(&probes.level_tops[LEVEL_BINS * k + bin], float_key(x.y));
                 atomicAdd(&probes.sums[4u * k + 1u], 1u);
             }
             continue;

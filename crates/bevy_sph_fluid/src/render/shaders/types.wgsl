@@ -198,7 +198,8 @@ struct GpuProbe {
 }
 
 // The frame's probes and their sums (Rust twin: sph_core::gpu_layout::GpuProbes): per probe
-// [highest level key, particles, Σ v·n fixed point, unused] at sums[4k ..].
+// [unused, particles, Σ v·n fixed point, unused] at sums[4k ..]; per Level probe the highest
+// particle's key in each of its 128 height bins at level_tops[128k ..].
 struct SphProbes {
     count: u32,
     frame: u32,
@@ -210,6 +211,7 @@ struct SphProbes {
     pad_b: u32,
     probes: array<GpuProbe, 16>,
     sums: array<atomic<u32>, 64>,
+    level_tops: array<atomic<u32>, 2048>,
 }
 
 // A particle's id carries this bit once a drain took it (sph_core::gpu_layout::DRAINED_BIT).
