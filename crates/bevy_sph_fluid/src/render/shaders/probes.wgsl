@@ -2,10 +2,10 @@
 // kick adds its particle to every probe it lies in. Level: the particles within the radius of
 // the vertical line, binned by height (sph_core::probe::LevelColumn: floor and bin height in
 // the probe's normal.xy), each bin keeping its highest y (atomicMax on an order-keeping key);
-// the CPU finds the connected column in the bins (sph_core::probe::column_surface); flux: the particles in the slab and
-// their Σ v·n in fixed point (sph_core::gpu_layout::PROBE_SPEED_UNIT); count: the particles in
-// the box. Particle 0 counts the steps summed (the CPU averages over them) and stamps the last
-// one's step and time. Particles a drain took are left out.
+// the CPU finds the connected column in the bins (sph_core::probe::column_surface); flux: the
+// particles in the slab and their Σ v·n in fixed point (sph_core::gpu_layout::PROBE_SPEED_UNIT);
+// count: the particles in the box. Particle 0 counts the steps summed (the CPU averages over
+// them) and stamps the last one's step and time. Particles a drain took are left out.
 #define_import_path sph::probes
 
 #import sph::bindings::{params, probes, clock, position}
