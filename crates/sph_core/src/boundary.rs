@@ -1,4 +1,4 @@
-//! The boundary the fluid meets, as data (`docs/history/design_boundary_akinci2012.md` §4): the
+//! The boundary the fluid meets, as data (`docs/design_boundary_akinci2012.md` §4): the
 //! container's walls and every collider, each sampled once into Akinci 2012 boundary samples
 //! (local positions, volumes V_b), placed in the world by its pose and sorted into a dense grid
 //! over the container, so the density and forces passes visit them like fluid neighbours. A

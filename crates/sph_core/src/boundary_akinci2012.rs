@@ -4,7 +4,7 @@
 //! uneven sampling is compensated, and a fluid particle i gains ρ0 Σ_b V_b W(x_i − x_b) in its
 //! density. γ corrects the over-count of a thin layout (two layers, `crate::sampling`), and is
 //! calibrated on a flat wall so that the first fluid row sees the density of a full lattice
-//! (`docs/history/design_boundary_akinci2012.md` §3). Groundwork: the solver does not use it yet.
+//! (`docs/design_boundary_akinci2012.md` §3). Groundwork: the solver does not use it yet.
 
 use crate::collider::ColliderShape;
 use crate::kernel::Kernels;

@@ -1,5 +1,5 @@
 //! Solid shapes the fluid meets (the Akinci 2012 boundary model, see
-//! `docs/history/design_boundary_akinci2012.md`): primitive shapes in their own frame (y is the axis of
+//! `docs/design_boundary_akinci2012.md`): primitive shapes in their own frame (y is the axis of
 //! capsules and cylinders), a rigid pose, how a collider moves (static, kinematic, dynamic) and
 //! how the fluid slides along it (free slip or no slip), validation that names the field, the
 //! value and the allowed range, and exact signed distances (negative inside) for the guard that

@@ -76,7 +76,7 @@ pub const FACTOR_EPSILON: f32 = 1.0e-6;
 /// stiffness; SPlisHSPlasH does it only where the predicted density exceeds ρ0, and so do we).
 /// Half of it: with the whole, the tank's rows next to the mirrored walls keep the stiffness of
 /// the steps before and the tank never comes to rest (0.011 m/s against 0.0012 m/s with half;
-/// docs/history/dfsph.md, "The mirrored boundary, with the give").
+/// docs/dfsph.md, "The boundary in the solves").
 pub const DENSITY_WARM_START: f32 = 0.5;
 
 /// The free surface's stiffness in the constant-density solve, at most ρ0 |g| Δx/2 over ρ0²

@@ -1,4 +1,4 @@
-//! The last-resort guard (`docs/history/design_boundary_akinci2012.md` §4): the boundary samples should
+//! The last-resort guard (`docs/design_boundary_akinci2012.md` §4): the boundary samples should
 //! keep every particle out of the solids; a particle found inside a collider anyway is projected
 //! back onto its surface along the outward normal and loses the velocity that points into the
 //! solid (relative to the solid's own), and a particle beyond the container's box is clamped by

@@ -1,5 +1,5 @@
 //! Boundary samples of collider shapes (groundwork for the Akinci 2012 boundary model, see
-//! `docs/history/design_boundary_akinci2012.md` §4): points spaced about one particle spacing s on the
+//! `docs/design_boundary_akinci2012.md` §4): points spaced about one particle spacing s on the
 //! surfaces offset inward by dx/2 and 3dx/2, the depths of the fluid lattice mirrored into the
 //! solid, so a fluid particle at the wall sees a full kernel support. A layer that would cross the
 //! shape's medial axis is dropped; a shape too thin for any layer gets one layer on its mid

@@ -1,5 +1,5 @@
 //! Boundary samples of a triangle mesh (the Akinci 2012 boundary model for any shape, see
-//! `docs/history/design_boundary_akinci2012.md` §4), called by `sampling::sample_shape`. The layers
+//! `docs/design_boundary_akinci2012.md` §4), called by `sampling::sample_shape`. The layers
 //! follow the primitives' rule (the `depths` given, dx/2 and 3dx/2): a closed mesh gets its surface offset inward by dx/2 and
 //! 3dx/2, an open mesh (a shell of thickness t) the same depths under both of its faces, or one
 //! layer on its mid surface when t/2 ≤ dx/2. Each triangle is covered by a barycentric grid of

@@ -92,9 +92,9 @@ pub fn max_surface_pressure(params: &SphParams) -> f32 {
 /// box's convex edges (7,329 guard corrections in `sph-bench run --scenario obstacles`). It acts
 /// in WCSPH's forces only: in DFSPH's non-pressure forces it took that run's corrections from
 /// 11,086 to 312, but a body heavier than water then settled onto a trapped layer of water
-/// (docs/history/boundary.md). A short-range repulsion in
+/// (docs/boundary.md). A short-range repulsion in
 /// the spirit of Monaghan 1994's boundary force; the factor 2, the square and the stopping were
-/// chosen from measurements (docs/history/boundary.md, "The samples' contact pressure").
+/// chosen from measurements (docs/boundary.md, "The samples' contact").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundaryContact {
     /// The range Δx [m].

@@ -150,7 +150,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // Each thread with a positive term adds it to the sum itself. Reduced over the workgroup
     // first (one barrier, then thread 0's 63 additions), the pass cost 1.7 times as much on
     // lavapipe, which runs a barrier as a switch between all of the workgroup's SIMD groups
-    // (docs/history/dfsph.md, "Cheaper iterations"). Integer atomics: the sum does not
+    // (measured with `sph-bench run --backend gpu --solver dfsph`). Integer atomics: the sum does not
     // depend on the order.
     if term > 0.0 {
 #ifdef TO_B
