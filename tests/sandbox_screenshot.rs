@@ -298,3 +298,50 @@ fn the_surface_is_smoother_than_the_particles_and_covers_as_much_on_both_backend
         "the CPU backend's surface covers only {cpu_water} pixels"
     );
 }
+
+/// The command line refuses a bad value by option and value, with the allowed ones, before any
+/// window opens (exit code 2), and `--help` lists every option.
+#[test]
+fn sandbox_refuses_bad_options_by_name_and_lists_them() {
+    let binary = sandbox_binary();
+    assert!(
+        binary.exists(),
+        "{} missing: build it with `cargo build --release --example sandbox`",
+        binary.display()
+    );
+    for (option, value, allowed) in [
+        ("--solver", "sph", "pbf"),
+        ("--particles", "12", "262144"),
+        ("--render", "voxels", "surface"),
+        ("--scene", "/etc/hosts", "asset folder"),
+    ] {
+        let output = Command::new(&binary)
+            .args([option, value])
+            .output()
+            .expect("run the sandbox");
+        let text = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{option} {value}: {text}");
+        for part in [option, value, allowed] {
+            assert!(
+                text.contains(part),
+                "{option} {value}: {part:?} missing from {text}"
+            );
+        }
+    }
+    let help = Command::new(&binary).arg("--help").output().expect("run");
+    let text = String::from_utf8_lossy(&help.stdout);
+    assert!(help.status.success(), "{text}");
+    for option in [
+        "--solver",
+        "--render",
+        "--scene",
+        "--screenshot",
+        "--cpu",
+        "--real-time",
+    ] {
+        assert!(
+            text.contains(option),
+            "{option} missing from --help: {text}"
+        );
+    }
+}

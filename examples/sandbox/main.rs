@@ -2,15 +2,14 @@
 //! particles drawn straight from the GPU buffers, a runtime panel and an orbit camera. A scene
 //! file's dynamic bodies are avian bodies on the water's clock (`SphWaterTime`).
 //!
-//! `cargo run --release --example sandbox -- [--particles N] [--start] [--paused]
-//!     [--hide-particles] [--no-gpu-timings] [--debug] [--obstacles] [--render surface|particles]
-//!     [--screenshot FILE --frames N]`
+//! `cargo run --release --example sandbox -- --help` lists the options ([`cli::Cli`]).
 //! `--render surface` draws the plugin's water surface (`SphSurface` on the camera) instead of
 //! the particles; the runtime panel switches between them.
 //! `--screenshot` starts the scene at once, renders N frames, saves a PNG, prints the median
 //! frame time and exits; `--paused` and `--hide-particles` isolate the simulation's and the
 //! particle drawing's share of the frame.
 
+mod cli;
 mod config;
 mod debug;
 mod flat_material;
@@ -30,7 +29,8 @@ use bevy::render::view::screenshot::{save_to_disk, Screenshot, ScreenshotCapture
 use bevy_egui::{EguiPlugin, EguiPrimaryContextPass};
 use bevy_panorbit_camera::{EguiFocusIncludesHover, PanOrbitCamera, PanOrbitCameraPlugin};
 use bevy_sph_fluid::prelude::*;
-use std::path::PathBuf;
+use clap::Parser;
+use cli::Cli;
 
 /// Setup screen, then the running scene.
 #[derive(States, Default, Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -42,135 +42,8 @@ pub enum AppState {
     Running,
 }
 
-/// Command-line options.
-#[derive(Resource, Clone, Debug, Default)]
-struct Cli {
-    particles: Option<u32>,
-    start: bool,
-    screenshot: Option<PathBuf>,
-    frames: u32,
-    paused: bool,
-    hide_particles: bool,
-    no_gpu_timings: bool,
-    debug: bool,
-    adaptive: bool,
-    obstacles: bool,
-    /// `--real-time`: each frame advances the water by the frame's own time.
-    real_time: bool,
-    /// `--scene FILE`: a scene file under `assets/` (`scenes/dam_break.ron`,
-    /// `assets/scenes/dam_break.ron` or its absolute path), reloaded when
-    /// it changes.
-    scene: Option<String>,
-    /// `--solver wcsph|dfsph|pbf`: that solver instead of the default PBF (each runs on either
-    /// backend).
-    solver: Option<sph_core::Solver>,
-    /// `--cpu`: the CPU backend instead of the GPU.
-    cpu: bool,
-    /// `--render surface|particles`: how the water is drawn.
-    render: surface::RenderMode,
-}
-
-fn parse_cli() -> Result<Cli, String> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let mut cli = Cli {
-        frames: 60,
-        ..default()
-    };
-    let mut k = 0;
-    while k < args.len() {
-        let value = || {
-            args.get(k + 1)
-                .cloned()
-                .ok_or(format!("{} needs a value", args[k]))
-        };
-        match args[k].as_str() {
-            "--particles" => {
-                let v = value()?;
-                let n: u32 = v.parse().map_err(|_| format!("--particles = {v:?}"))?;
-                if !config::BUDGET_RANGE.contains(&n) {
-                    return Err(format!("--particles = {n}: allowed 1024 ..= 262144"));
-                }
-                cli.particles = Some(n);
-                k += 1;
-            }
-            "--frames" => {
-                let v = value()?;
-                cli.frames = v.parse().map_err(|_| format!("--frames = {v:?}"))?;
-                k += 1;
-            }
-            "--screenshot" => {
-                cli.screenshot = Some(PathBuf::from(value()?));
-                cli.start = true;
-                k += 1;
-            }
-            "--start" => cli.start = true,
-            "--paused" => cli.paused = true,
-            "--hide-particles" => cli.hide_particles = true,
-            "--no-gpu-timings" => cli.no_gpu_timings = true,
-            "--debug" => cli.debug = true,
-            "--adaptive" => cli.adaptive = true,
-            "--obstacles" => cli.obstacles = true,
-            "--real-time" => cli.real_time = true,
-            "--cpu" => cli.cpu = true,
-            "--scene" => {
-                cli.scene = Some(asset_path(&value()?)?);
-                cli.start = true;
-                k += 1;
-            }
-            "--render" => {
-                cli.render = value()?.parse()?;
-                k += 1;
-            }
-            "--solver" => {
-                cli.solver = match value()?.as_str() {
-                    "wcsph" => Some(sph_core::Solver::Wcsph),
-                    "dfsph" => Some(sph_core::Solver::Dfsph),
-                    "pbf" => Some(sph_core::Solver::Pbf),
-                    v => return Err(format!("--solver = {v:?}: allowed wcsph, dfsph, pbf")),
-                };
-                k += 1;
-            }
-            other => return Err(format!("unknown option {other:?}")),
-        }
-        k += 1;
-    }
-    Ok(cli)
-}
-
-/// The path of `file` inside the sandbox's `assets/` folder (where Bevy's asset system loads
-/// and watches it): `scenes/x.ron`, `assets/scenes/x.ron` and the absolute path all give
-/// `scenes/x.ron`; a file outside the folder is refused.
-fn asset_path(file: &str) -> Result<String, String> {
-    let assets = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"));
-    let path = std::path::Path::new(file);
-    let inside = if path.is_absolute() {
-        path.strip_prefix(assets).ok()
-    } else {
-        Some(path.strip_prefix("assets").unwrap_or(path))
-    };
-    inside
-        .map(|p| p.to_string_lossy().into_owned())
-        .ok_or_else(|| {
-            format!(
-                "--scene = {file:?}: allowed a file under {} (the asset folder Bevy loads and watches)",
-                assets.display()
-            )
-        })
-}
-
 fn main() {
-    let cli = match parse_cli() {
-        Ok(cli) => cli,
-        Err(e) => {
-            eprintln!(
-                "sandbox: {e}\nusage: sandbox [--particles N] [--start] [--paused] \
-                 [--hide-particles] [--no-gpu-timings] [--debug] [--adaptive] \
-                 [--obstacles] [--solver wcsph|dfsph|pbf] [--real-time] [--cpu] [--scene FILE] [--render surface|particles] \
-                 [--screenshot FILE --frames N]"
-            );
-            std::process::exit(2);
-        }
-    };
+    let cli = Cli::parse();
     let no_gpu_timings = cli.no_gpu_timings;
     let render_view = surface::RenderView {
         mode: cli.render,
@@ -320,7 +193,7 @@ fn spawn_camera_and_light(mut commands: Commands) {
 }
 
 fn auto_start(cli: Res<Cli>, mut next: ResMut<NextState<AppState>>) {
-    if cli.start {
+    if cli.starts_at_once() {
         next.set(AppState::Running);
     }
 }

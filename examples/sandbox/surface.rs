@@ -8,25 +8,13 @@ use bevy_egui::egui::{self, Color32, SliderClamping};
 use bevy_sph_fluid::prelude::*;
 
 /// Particles or surface.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum RenderMode {
     /// Sphere impostors coloured by density, speed, pressure or neighbours (the debug view).
     Particles,
     /// The plugin's water surface.
     #[default]
     Surface,
-}
-
-impl std::str::FromStr for RenderMode {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "particles" => Ok(Self::Particles),
-            "surface" => Ok(Self::Surface),
-            other => Err(format!("--render = {other:?}: allowed surface, particles")),
-        }
-    }
 }
 
 /// The chosen mode, and `--hide-particles` (nothing drawn, to time the simulation alone).

@@ -1,0 +1,107 @@
+//! The sandbox's command line (clap; `--help` lists it).
+
+use crate::config::BUDGET_RANGE;
+use crate::surface::RenderMode;
+use bevy::prelude::Resource;
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use clap::Parser;
+use std::path::PathBuf;
+
+/// The Aquaplay-style sandbox: a start screen, then a water box with a pipe and a block spawn.
+#[derive(Parser, Resource, Clone, Debug)]
+#[command(name = "sandbox")]
+pub struct Cli {
+    /// The particle budget (1024 ..= 262144).
+    #[arg(long, value_name = "N", value_parser = particles)]
+    pub particles: Option<u32>,
+    /// Skip the start screen.
+    #[arg(long)]
+    pub start: bool,
+    /// Start at once, render `--frames` frames, save a PNG here, print the median frame time
+    /// and exit.
+    #[arg(long, value_name = "FILE")]
+    pub screenshot: Option<PathBuf>,
+    /// Frames rendered before `--screenshot` saves.
+    #[arg(long, value_name = "N", default_value_t = 60)]
+    pub frames: u32,
+    /// Start with the simulation paused (times the drawing alone).
+    #[arg(long)]
+    pub paused: bool,
+    /// Draw no water (times the simulation alone).
+    #[arg(long)]
+    pub hide_particles: bool,
+    /// Leave out the GPU's per-pass timings.
+    #[arg(long)]
+    pub no_gpu_timings: bool,
+    /// Start with the debug view on.
+    #[arg(long)]
+    pub debug: bool,
+    /// The adaptive time step.
+    #[arg(long)]
+    pub adaptive: bool,
+    /// Colliders of every shape in the box.
+    #[arg(long)]
+    pub obstacles: bool,
+    /// Each frame advances the water by the frame's own time.
+    #[arg(long)]
+    pub real_time: bool,
+    /// A scene file under `assets/` (`scenes/dam_break.ron`, `assets/scenes/dam_break.ron` or its
+    /// absolute path), reloaded when it changes; starts at once.
+    #[arg(long, value_name = "FILE", value_parser = asset_path)]
+    pub scene: Option<String>,
+    /// That solver instead of the default PBF (each runs on either backend).
+    #[arg(long, value_name = "NAME", value_parser = solver())]
+    pub solver: Option<sph_core::Solver>,
+    /// The CPU backend instead of the GPU.
+    #[arg(long)]
+    pub cpu: bool,
+    /// How the water is drawn.
+    #[arg(long, value_enum, default_value_t = RenderMode::Surface)]
+    pub render: RenderMode,
+}
+
+impl Cli {
+    /// Whether the scene starts without the start screen (`--start`, `--scene`, `--screenshot`).
+    pub fn starts_at_once(&self) -> bool {
+        self.start || self.scene.is_some() || self.screenshot.is_some()
+    }
+}
+
+fn particles(text: &str) -> Result<u32, String> {
+    let allowed = format!("{} ..= {}", BUDGET_RANGE.start(), BUDGET_RANGE.end());
+    match text.parse::<u32>() {
+        Ok(n) if BUDGET_RANGE.contains(&n) => Ok(n),
+        _ => Err(format!("{text:?}: allowed {allowed}")),
+    }
+}
+
+/// One of `Solver::ALL` by its name.
+fn solver() -> impl TypedValueParser<Value = sph_core::Solver> {
+    PossibleValuesParser::new(sph_core::Solver::ALL.map(|s| s.name())).map(|name| {
+        sph_core::Solver::ALL
+            .into_iter()
+            .find(|s| s.name() == name)
+            .unwrap_or_default()
+    })
+}
+
+/// The path of `file` inside the sandbox's `assets/` folder (where Bevy's asset system loads
+/// and watches it): `scenes/x.ron`, `assets/scenes/x.ron` and the absolute path all give
+/// `scenes/x.ron`; a file outside the folder is refused.
+fn asset_path(file: &str) -> Result<String, String> {
+    let assets = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"));
+    let path = std::path::Path::new(file);
+    let inside = if path.is_absolute() {
+        path.strip_prefix(assets).ok()
+    } else {
+        Some(path.strip_prefix("assets").unwrap_or(path))
+    };
+    inside
+        .map(|p| p.to_string_lossy().into_owned())
+        .ok_or_else(|| {
+            format!(
+                "{file:?}: allowed a file under {} (the asset folder Bevy loads and watches)",
+                assets.display()
+            )
+        })
+}
