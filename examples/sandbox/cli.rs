@@ -1,6 +1,6 @@
 //! The sandbox's command line (clap; `--help` lists it).
 
-use crate::config::BUDGET_RANGE;
+use crate::config::{SandboxConfig, BUDGET_RANGE};
 use crate::surface::RenderMode;
 use bevy::prelude::Resource;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
@@ -61,6 +61,38 @@ pub struct Cli {
 }
 
 impl Cli {
+    /// The sandbox's settings as the options set them. A `--scene` file is read and built once
+    /// here, so that a broken one is refused before the window opens (the asset system loads
+    /// and watches it afterwards), and its solver is the sandbox's.
+    pub fn sandbox_config(&self) -> Result<SandboxConfig, String> {
+        let mut config = SandboxConfig::default();
+        if let Some(n) = self.particles {
+            config.budget = n;
+            config.apply_preset_defaults();
+        }
+        config.adaptive_time_step = self.adaptive;
+        config.real_time = self.real_time;
+        config.scene = self.scene.clone();
+        if let Some(solver) = self.solver {
+            config.solver = solver;
+        }
+        if let Some(path) = &self.scene {
+            let file = format!("{}/assets/{path}", env!("CARGO_MANIFEST_DIR"));
+            let text =
+                std::fs::read_to_string(&file).map_err(|e| format!("--scene: {file}: {e}"))?;
+            let setup = sph_core::scene_file::SceneFile::parse(&text, path)
+                .and_then(|scene| scene.build(path, &text))
+                .map_err(|e| format!("--scene: {e}"))?;
+            config.solver = setup.params.solver;
+        }
+        if self.obstacles {
+            config.sphere_obstacle = true;
+            config.box_obstacle = true;
+            config.gate = true;
+        }
+        Ok(config)
+    }
+
     /// Whether the scene starts without the start screen (`--start`, `--scene`, `--screenshot`).
     pub fn starts_at_once(&self) -> bool {
         self.start || self.scene.is_some() || self.screenshot.is_some()

@@ -2,6 +2,7 @@
 //! particles (from the periodic readback).
 
 use crate::ui::DebugView;
+use crate::{AppState, SandboxSet};
 use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
 
@@ -68,5 +69,21 @@ pub fn draw_debug(
             let p = s.positions[k];
             gizmos.arrow(p, p + s.velocities[k] * 0.05, Color::srgb(1.0, 0.5, 0.1));
         }
+    }
+}
+
+/// The debug view: a snapshot read back every few frames, drawn as gizmos.
+pub struct DebugPlugin;
+
+impl Plugin for DebugPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<LastSnapshot>().add_systems(
+            Update,
+            (
+                (request_readback, keep_snapshot).in_set(SandboxSet::Read),
+                draw_debug.in_set(SandboxSet::Draw),
+            )
+                .run_if(in_state(AppState::Running)),
+        );
     }
 }

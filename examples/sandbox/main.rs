@@ -26,11 +26,23 @@ use bevy::diagnostic::FrameTimeDiagnosticsPlugin;
 use bevy::prelude::*;
 use bevy::render::diagnostic::RenderDiagnosticsPlugin;
 use bevy::render::view::screenshot::{save_to_disk, Screenshot, ScreenshotCaptured};
-use bevy_egui::{EguiPlugin, EguiPrimaryContextPass};
+use bevy_egui::EguiPlugin;
 use bevy_panorbit_camera::{EguiFocusIncludesHover, PanOrbitCamera, PanOrbitCameraPlugin};
 use bevy_sph_fluid::prelude::*;
 use clap::Parser;
 use cli::Cli;
+
+/// The sandbox's frame, in phases: what the frame reads (the command line's toggles, the panels'
+/// inputs, readings and snapshots), then the scene brought in step with it, then what is drawn.
+#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SandboxSet {
+    /// Inputs, readings and snapshots.
+    Read,
+    /// The scene's entities in step with the settings and the plugin.
+    Scene,
+    /// The particles' draw data, the debug gizmos, the screenshot.
+    Draw,
+}
 
 /// Setup screen, then the running scene.
 #[derive(States, Default, Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -49,46 +61,18 @@ fn main() {
         mode: cli.render,
         hide_water: cli.hide_particles,
     };
-    let mut config = config::SandboxConfig::default();
-    if let Some(n) = cli.particles {
-        config.budget = n;
-        config.apply_preset_defaults();
-    }
-    config.adaptive_time_step = cli.adaptive;
-    config.real_time = cli.real_time;
-    config.scene = cli.scene.clone();
-    if let Some(solver) = cli.solver {
-        config.solver = solver;
-    }
+    let config = match cli.sandbox_config() {
+        Ok(config) => config,
+        Err(e) => {
+            eprintln!("sandbox: {e}");
+            std::process::exit(2);
+        }
+    };
     let backend = if cli.cpu {
         SphBackend::Cpu
     } else {
         SphBackend::Gpu
     };
-    if let Some(path) = &cli.scene {
-        // Read once here to refuse a broken file before the window opens; the asset system
-        // loads and watches it.
-        let file = format!("{}/assets/{path}", env!("CARGO_MANIFEST_DIR"));
-        let built = std::fs::read_to_string(&file)
-            .map_err(|e| format!("{file}: {e}"))
-            .and_then(|text| {
-                sph_core::scene_file::SceneFile::parse(&text, path)
-                    .and_then(|scene| scene.build(path, &text))
-                    .map_err(|e| e.to_string())
-            });
-        match built {
-            Ok(setup) => config.solver = setup.params.solver,
-            Err(e) => {
-                eprintln!("sandbox: --scene: {e}");
-                std::process::exit(2);
-            }
-        }
-    }
-    if cli.obstacles {
-        config.sphere_obstacle = true;
-        config.box_obstacle = true;
-        config.gate = true;
-    }
     let mut app = App::new();
     app.add_plugins(
         DefaultPlugins
@@ -116,13 +100,26 @@ fn main() {
         FrameTimeDiagnosticsPlugin::default(),
         EguiPlugin::default(),
         PanOrbitCameraPlugin,
-        MaterialPlugin::<particles::ParticleMaterial>::default(),
         MaterialPlugin::<flat_material::FlatMaterial>::default(),
         SphFluidPlugin::new(config.budget, backend),
         // Rigid bodies (a scene file's boats) on the water's clock: they float at any
         // real-time factor.
         avian3d::prelude::PhysicsPlugins::new(SphWaterTime),
     ))
+    .add_plugins((
+        scene::ScenePlugin,
+        scene_file::SceneFilesPlugin,
+        particles::ParticlesPlugin,
+        surface::RenderModePlugin,
+        obstacles::ObstaclesPlugin,
+        debug::DebugPlugin,
+        ui::PanelsPlugin,
+        scene_panel::ScenePanelPlugin,
+    ))
+    .configure_sets(
+        Update,
+        (SandboxSet::Read, SandboxSet::Scene, SandboxSet::Draw).chain(),
+    )
     .init_state::<AppState>()
     .insert_resource(config)
     .insert_resource(cli)
@@ -132,39 +129,14 @@ fn main() {
         ..default()
     })
     .insert_resource(render_view)
-    .init_resource::<ui::DebugView>()
-    .init_resource::<ui::History>()
-    .init_resource::<scene_panel::ProbeHistory>()
-    .insert_resource(scene_file::SceneFiles::find())
-    .init_resource::<debug::LastSnapshot>()
     .add_systems(Startup, (spawn_camera_and_light, auto_start))
-    .add_systems(OnEnter(AppState::Running), scene::enter_running)
-    .add_systems(OnExit(AppState::Running), scene::exit_running)
     .add_systems(
         Update,
         (
-            scene::sync_particle_mesh,
-            particles::update_particle_draw,
-            ui::record_history,
-            debug::request_readback,
-            debug::keep_snapshot,
-            debug::draw_debug,
-            take_screenshot,
-            apply_cli_toggles,
-            surface::apply_render_mode,
-            obstacles::lift_gate,
-            scene_file::dress_scene_members,
-            scene_panel::record_probe_readings,
+            apply_cli_toggles.in_set(SandboxSet::Read),
+            take_screenshot.in_set(SandboxSet::Draw),
         )
             .run_if(in_state(AppState::Running)),
-    )
-    .add_systems(
-        EguiPrimaryContextPass,
-        (
-            ui::setup_panel.run_if(in_state(AppState::Setup)),
-            ui::runtime_panel.run_if(in_state(AppState::Running)),
-            scene_panel::scene_panel.run_if(in_state(AppState::Running)),
-        ),
     )
     .run();
 }

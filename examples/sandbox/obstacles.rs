@@ -4,6 +4,7 @@
 
 use crate::config::{SandboxConfig, BLOCK_SIZE, WALL_HEIGHT};
 use crate::flat_material::FlatMaterial;
+use crate::{AppState, SandboxSet};
 use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
 use sph_core::{BoxContainer, ColliderMotion, ColliderShape};
@@ -99,5 +100,19 @@ pub fn lift_gate(
         if t.translation.y < 2.0 * WALL_HEIGHT {
             t.translation.y += GATE_SPEED * frame_time;
         }
+    }
+}
+
+/// The built-in obstacles' gate, lifted from the runtime panel.
+pub struct ObstaclesPlugin;
+
+impl Plugin for ObstaclesPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(
+            Update,
+            lift_gate
+                .in_set(SandboxSet::Read)
+                .run_if(in_state(AppState::Running)),
+        );
     }
 }

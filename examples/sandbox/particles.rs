@@ -1,6 +1,7 @@
 //! Particles drawn straight from the simulation's GPU buffers: one mesh of camera-facing quads,
 //! one per particle slot, whose vertex shader reads `positions[slot]`. No CPU copy per frame.
 
+use crate::{AppState, SandboxSet};
 use bevy::asset::RenderAssetUsages;
 use bevy::camera::visibility::NoFrustumCulling;
 use bevy::mesh::{Indices, PrimitiveTopology};
@@ -177,5 +178,20 @@ pub fn update_particle_draw(
         material.draw.count = wanted.0;
         material.draw.color_mode = wanted.1;
         material.draw.rest_density = wanted.2;
+    }
+}
+
+/// The particles drawn as sphere impostors.
+pub struct ParticlesPlugin;
+
+impl Plugin for ParticlesPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_plugins(MaterialPlugin::<ParticleMaterial>::default())
+            .add_systems(
+                Update,
+                update_particle_draw
+                    .in_set(SandboxSet::Draw)
+                    .run_if(in_state(AppState::Running)),
+            );
     }
 }

@@ -4,6 +4,7 @@
 use crate::config::{SandboxConfig, SpawnMode, BLOCK_SIZE, FLOOR_SIZE, WALL_HEIGHT};
 use crate::flat_material::FlatMaterial;
 use crate::particles::{spawn_particles, ParticleDrawing, ParticleMaterial};
+use crate::{AppState, SandboxSet};
 use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
 use sph_core::{BlockSpawn, BoxContainer, PipeEmitter};
@@ -175,4 +176,21 @@ pub fn exit_running(
     commands.remove_resource::<ParticleDrawing>();
     control.running = false;
     control.reset = true;
+}
+
+/// The running scene: built on entering [`AppState::Running`], torn down on leaving it, the
+/// particle mesh kept in step with the plugin's buffers.
+pub struct ScenePlugin;
+
+impl Plugin for ScenePlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(OnEnter(AppState::Running), enter_running)
+            .add_systems(OnExit(AppState::Running), exit_running)
+            .add_systems(
+                Update,
+                sync_particle_mesh
+                    .in_set(SandboxSet::Scene)
+                    .run_if(in_state(AppState::Running)),
+            );
+    }
 }

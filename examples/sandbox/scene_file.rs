@@ -6,6 +6,7 @@
 
 use crate::flat_material::FlatMaterial;
 use crate::scene::SceneEntity;
+use crate::{AppState, SandboxSet};
 use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
 use sph_core::ColliderShape;
@@ -136,5 +137,19 @@ impl SceneFiles {
             .collect();
         files.sort_by(|a, b| a.0.cmp(&b.0));
         Self(files)
+    }
+}
+
+/// The shipped scene files offered on the start panel, and their members dressed in meshes.
+pub struct SceneFilesPlugin;
+
+impl Plugin for SceneFilesPlugin {
+    fn build(&self, app: &mut App) {
+        app.insert_resource(SceneFiles::find()).add_systems(
+            Update,
+            dress_scene_members
+                .in_set(SandboxSet::Scene)
+                .run_if(in_state(AppState::Running)),
+        );
     }
 }

@@ -2,6 +2,7 @@
 //! (gate lift, pump crank, drain valve) and each probe's latest reading with a plot of its last
 //! readings.
 
+use crate::{AppState, SandboxSet};
 use bevy::prelude::*;
 use bevy_egui::egui::{self, Color32, SliderClamping};
 use bevy_egui::EguiContexts;
@@ -106,4 +107,23 @@ fn plot(ui: &mut egui::Ui, values: &VecDeque<f32>) {
         points,
         egui::Stroke::new(1.5, Color32::LIGHT_BLUE),
     ));
+}
+
+/// A scene file's panel: its controls and its probes' readings, plotted.
+pub struct ScenePanelPlugin;
+
+impl Plugin for ScenePanelPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<ProbeHistory>()
+            .add_systems(
+                Update,
+                record_probe_readings
+                    .in_set(SandboxSet::Read)
+                    .run_if(in_state(AppState::Running)),
+            )
+            .add_systems(
+                bevy_egui::EguiPrimaryContextPass,
+                scene_panel.run_if(in_state(AppState::Running)),
+            );
+    }
 }

@@ -3,6 +3,7 @@
 //! settings in the runtime panel.
 
 use crate::scene::ParticleMesh;
+use crate::{AppState, SandboxSet};
 use bevy::prelude::*;
 use bevy_egui::egui::{self, Color32, SliderClamping};
 use bevy_sph_fluid::prelude::*;
@@ -149,5 +150,19 @@ pub fn surface_controls(
         .collect();
     if !times.is_empty() {
         ui.label(format!("surface GPU ms: {}", times.join(", ")));
+    }
+}
+
+/// Particles or surface, as [`RenderView`] says (inserted by `main` from the command line).
+pub struct RenderModePlugin;
+
+impl Plugin for RenderModePlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(
+            Update,
+            apply_render_mode
+                .in_set(SandboxSet::Scene)
+                .run_if(in_state(AppState::Running)),
+        );
     }
 }

@@ -7,7 +7,7 @@ use crate::particles::{ColorMode, ParticleDrawing};
 use crate::ranges;
 use crate::scene_file::{SceneFileKind, SceneFiles};
 use crate::surface::{surface_controls, RenderMode, RenderView};
-use crate::AppState;
+use crate::{AppState, SandboxSet};
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
 use bevy_egui::egui::{self, Color32, SliderClamping};
@@ -546,4 +546,27 @@ pub fn runtime_panel(
             plot(ui, &history);
         });
     Ok(())
+}
+
+/// The start panel and the runtime panel, with the frame-rate history the runtime panel plots.
+pub struct PanelsPlugin;
+
+impl Plugin for PanelsPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<DebugView>()
+            .init_resource::<History>()
+            .add_systems(
+                Update,
+                record_history
+                    .in_set(SandboxSet::Read)
+                    .run_if(in_state(AppState::Running)),
+            )
+            .add_systems(
+                bevy_egui::EguiPrimaryContextPass,
+                (
+                    setup_panel.run_if(in_state(AppState::Setup)),
+                    runtime_panel.run_if(in_state(AppState::Running)),
+                ),
+            );
+    }
 }
