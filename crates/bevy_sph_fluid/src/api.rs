@@ -204,6 +204,10 @@ pub struct SphStats {
     pub backend: SphBackend,
     /// Adapter name ("cpu" for the CPU backend).
     pub adapter: String,
+    /// Why a GPU request runs on the CPU: no render device, no compute shaders, or a device
+    /// limit the pipelines need (named, with what is needed and what the device has). `None`
+    /// when the backend is the one asked for.
+    pub fallback_reason: Option<String>,
     /// Steps taken since the last reset.
     pub step_count: u64,
     /// Simulated time since the last reset [s] (GPU: read back from the GPU clock).

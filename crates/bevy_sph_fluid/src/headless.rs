@@ -138,8 +138,13 @@ pub fn ran_as_requested(app: &App) -> Result<(), String> {
         Ok(())
     } else {
         Err(format!(
-            "the {requested:?} backend was requested but the plugin runs {:?} on adapter {:?}",
-            stats.backend, stats.adapter
+            "the {requested:?} backend was requested but the plugin runs {:?} on adapter {:?}: {}",
+            stats.backend,
+            stats.adapter,
+            stats
+                .fallback_reason
+                .as_deref()
+                .unwrap_or("no reason recorded")
         ))
     }
 }

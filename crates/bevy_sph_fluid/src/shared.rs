@@ -191,6 +191,8 @@ pub struct SphSimulation {
     pub backend: SphBackend,
     /// Adapter name.
     pub adapter: String,
+    /// Why a GPU request runs on the CPU (`None` when it runs where it was asked to).
+    pub fallback_reason: Option<String>,
     /// Live particles (the main world is the authority; the CPU backend's drains report here).
     pub particle_count: u32,
     /// Particles the block spawners added since the last reset.
@@ -256,6 +258,7 @@ impl SphSimulation {
             requested,
             backend: requested,
             adapter: String::new(),
+            fallback_reason: None,
             particle_count: 0,
             initial: 0,
             emitted: 0,

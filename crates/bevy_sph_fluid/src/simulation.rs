@@ -12,7 +12,7 @@ use crate::shared::{
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy::render::render_resource::DownlevelFlags;
-use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo};
+use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo, RenderDevice};
 use bevy::render::storage::ShaderBuffer;
 use sph_core::CpuSolver;
 
@@ -41,7 +41,9 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
 #[derive(SystemSet, Clone, Debug, PartialEq, Eq, Hash)]
 pub(crate) struct StepSystem;
 
-/// Decides the backend: the GPU needs a render app on an adapter with compute shaders.
+/// Decides the backend: the GPU needs a render app on an adapter with compute shaders and the
+/// limits the pipelines need ([`crate::render::limits`]); otherwise the CPU runs, and the reason
+/// is kept for [`SphStats::fallback_reason`].
 pub(crate) fn resolve_backend(app: &mut App) {
     let world = app.world_mut();
     let adapter_name = world
@@ -53,26 +55,32 @@ pub(crate) fn resolve_backend(app: &mut App) {
             .flags
             .contains(DownlevelFlags::COMPUTE_SHADERS)
     });
+    let shortfall = world.get_resource::<RenderDevice>().and_then(|device| {
+        crate::render::limits::GpuNeeds::of_all_stages().shortfall(&device.limits())
+    });
     let mut sim = world.resource_mut::<SphSimulation>();
-    sim.backend = match (sim.requested, compute) {
-        (SphBackend::Gpu, Some(true)) => SphBackend::Gpu,
-        (SphBackend::Gpu, Some(false)) => {
-            warn!(
-                "SphFluidPlugin: the adapter {:?} has no compute shaders (e.g. WebGL2); \
-                 falling back to the sph_core CPU solver",
-                adapter_name.as_deref().unwrap_or("?")
-            );
-            SphBackend::Cpu
-        }
+    let adapter = adapter_name.as_deref().unwrap_or("?");
+    let reason = match (sim.requested, compute) {
+        (SphBackend::Cpu, _) => None,
         (SphBackend::Gpu, None) => {
-            warn!(
-                "SphFluidPlugin: no render device (rendering disabled or no GPU adapter); \
-                 falling back to the sph_core CPU solver"
-            );
-            SphBackend::Cpu
+            Some("no render device (rendering disabled or no GPU adapter)".to_string())
         }
-        (SphBackend::Cpu, _) => SphBackend::Cpu,
+        (SphBackend::Gpu, Some(false)) => Some(format!(
+            "the adapter {adapter:?} has no compute shaders (e.g. WebGL2)"
+        )),
+        (SphBackend::Gpu, Some(true)) => shortfall.map(|short| {
+            format!("the adapter {adapter:?} lacks a limit the pipelines need: {short}")
+        }),
     };
+    if let Some(reason) = &reason {
+        warn!("SphFluidPlugin: {reason}; falling back to the sph_core CPU solver");
+    }
+    sim.backend = if reason.is_some() {
+        SphBackend::Cpu
+    } else {
+        sim.requested
+    };
+    sim.fallback_reason = reason;
     sim.adapter = match sim.backend {
         SphBackend::Gpu => adapter_name.unwrap_or_default(),
         SphBackend::Cpu => "cpu".to_string(),
@@ -510,6 +518,7 @@ fn sph_update_stats(
     let sim = &mut *sim;
     stats.backend = sim.backend;
     stats.adapter = sim.adapter.clone();
+    stats.fallback_reason = sim.fallback_reason.clone();
     stats.capacity = sim.capacity;
     stats.particle_count = sim.particle_count;
     stats.refused_spawns = sim.refused;

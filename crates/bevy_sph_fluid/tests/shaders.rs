@@ -117,15 +117,14 @@ fn compose(
     }
 }
 
-#[test]
-fn every_stage_and_variant_composes_and_validates() {
+/// Calls `each(path, defs, module)` with every registered stage composed in every variant it can
+/// run in (its roles, the solvers, the searches, surface tension, viscosity, neighbour counts);
+/// returns how many.
+fn for_each_stage_variant(mut each: impl FnMut(&str, &[&str], &GpuStage, naga::Module)) -> usize {
     let mut composer = composer();
-    let mut validated = 0;
-    let mut expected = 0;
+    let mut count = 0;
     for stage in all_stages() {
         let (path, source) = stage_source(stage);
-        expected += 48 * stage.roles.len();
-        // WCSPH, PBF, PBF with vorticity confinement.
         for solver in [&[][..], &["SOLVER_PBF"], &["SOLVER_PBF", "VORTICITY"]] {
             for search in [None, Some("SEARCH_HASH")] {
                 for surface_tension in [None, Some("SURFACE_TENSION")] {
@@ -143,31 +142,107 @@ fn every_stage_and_variant_composes_and_validates() {
                             defs.extend(neighbor_count);
                             let module =
                                 compose(&mut composer, &path, &source, &defs, stage.workgroup_size);
-                            let mut validator = naga::valid::Validator::new(
-                                naga::valid::ValidationFlags::all(),
-                                naga::valid::Capabilities::default(),
-                            );
-                            if let Err(e) = validator.validate(&module) {
-                                panic!("{path} {defs:?}: {e:?}");
-                            }
-                            assert_eq!(module.entry_points.len(), 1, "{path}");
-                            let entry = &module.entry_points[0];
-                            assert_eq!(entry.stage, naga::ShaderStage::Compute);
-                            assert_eq!(
-                                entry.workgroup_size,
-                                [stage.workgroup_size, 1, 1],
-                                "{path}: the declared workgroup size reaches the shader"
-                            );
-                            validated += 1;
+                            each(&path, &defs, stage, module);
+                            count += 1;
                         }
                     }
                 }
             }
         }
     }
-    // 17 registered stages (the time step in two places), 48 common variants each, times roles.
+    count
+}
+
+#[test]
+fn every_stage_and_variant_composes_and_validates() {
+    let expected: usize = all_stages().iter().map(|s| 48 * s.roles.len()).sum();
+    let validated = for_each_stage_variant(|path, defs, stage, module| {
+        let mut validator = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        );
+        if let Err(e) = validator.validate(&module) {
+            panic!("{path} {defs:?}: {e:?}");
+        }
+        assert_eq!(module.entry_points.len(), 1, "{path}");
+        let entry = &module.entry_points[0];
+        assert_eq!(entry.stage, naga::ShaderStage::Compute);
+        assert_eq!(
+            entry.workgroup_size,
+            [stage.workgroup_size, 1, 1],
+            "{path}: the declared workgroup size reaches the shader"
+        );
+    });
     assert_eq!(validated, expected);
     assert!(validated >= 48 * 22, "{validated}");
+}
+
+/// Every stage variant, validated with the capabilities of each backend Bevy runs on and
+/// translated by naga as wgpu does: to Metal Shading Language (macOS, iOS), HLSL (DX12) and
+/// SPIR-V (Vulkan). WebGPU reads the WGSL itself, validated with the default capabilities above.
+#[test]
+fn every_stage_variant_translates_to_metal_hlsl_and_spirv() {
+    use naga::back::{hlsl, msl, spv};
+    use naga::valid::{ValidationFlags, Validator};
+    let backends = [
+        ("Metal", msl::supported_capabilities()),
+        ("DX12", hlsl::supported_capabilities()),
+        ("Vulkan", spv::supported_capabilities()),
+    ];
+    let translated = for_each_stage_variant(|path, defs, _, module| {
+        for (backend, capabilities) in backends {
+            let info = Validator::new(ValidationFlags::all(), capabilities)
+                .validate(&module)
+                .unwrap_or_else(|e| panic!("{path} {defs:?} on {backend}: {e:?}"));
+            let entry = module.entry_points[0].name.clone();
+            let written = match backend {
+                "Metal" => msl::write_string(
+                    &module,
+                    &info,
+                    &msl::Options {
+                        lang_version: (2, 4),
+                        ..Default::default()
+                    },
+                    &msl::PipelineOptions {
+                        entry_point: Some((naga::ShaderStage::Compute, entry)),
+                        ..Default::default()
+                    },
+                )
+                .map(|(text, _)| text.len())
+                .map_err(|e| format!("{e:?}")),
+                "DX12" => {
+                    let mut text = String::new();
+                    let options = hlsl::Options {
+                        shader_model: hlsl::ShaderModel::V6_0,
+                        ..Default::default()
+                    };
+                    let pipeline = hlsl::PipelineOptions {
+                        entry_point: Some((naga::ShaderStage::Compute, entry)),
+                    };
+                    hlsl::Writer::new(&mut text, &options, &pipeline)
+                        .write(&module, &info, None)
+                        .map(|_| text.len())
+                        .map_err(|e| format!("{e:?}"))
+                }
+                _ => spv::write_vec(
+                    &module,
+                    &info,
+                    &spv::Options::default(),
+                    Some(&spv::PipelineOptions {
+                        shader_stage: naga::ShaderStage::Compute,
+                        entry_point: entry,
+                    }),
+                )
+                .map(|words| 4 * words.len())
+                .map_err(|e| format!("{e:?}")),
+            };
+            match written {
+                Ok(bytes) => assert!(bytes > 0, "{path} {defs:?} on {backend}: empty"),
+                Err(e) => panic!("{path} {defs:?} on {backend}: {e}"),
+            }
+        }
+    });
+    assert!(translated >= 48 * 22, "{translated}");
 }
 
 #[test]

@@ -474,8 +474,12 @@ impl AppSimulation {
         if ran.backend != backend {
             return Err(format!(
                 "the {backend:?} backend was asked for but the plugin runs {:?} (adapter {:?}, \
-                 probed {adapter:?}); see the log's warning for why",
-                ran.backend, ran.adapter
+                 probed {adapter:?}): {}",
+                ran.backend,
+                ran.adapter,
+                ran.fallback_reason
+                    .as_deref()
+                    .unwrap_or("no reason recorded")
             ));
         }
         let adapter = ran.adapter.clone();

@@ -5,6 +5,7 @@
 
 pub mod buffers;
 pub mod extract;
+pub mod limits;
 pub mod pipelines;
 pub mod plan;
 pub mod simulate;
