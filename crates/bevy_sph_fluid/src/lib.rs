@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! # bevy_sph_fluid
 //!
 //! `SphFluidPlugin`: SPH water whose every stage is a GPU compute pass in Bevy's render graph,

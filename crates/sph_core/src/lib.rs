@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! # sph_core
 //!
 //! The physics of our GPU SPH water, with no Bevy and no wgpu: parameters and presets, Müller 2003
