@@ -92,7 +92,7 @@ fn tank_with_box(density: f32) -> (App, Entity, Entity) {
 
 fn tank_with_box_on(density: f32, clock: Clock, backend: SphBackend) -> (App, Entity, Entity) {
     if backend == SphBackend::Gpu {
-        bevy_sph_fluid::headless::require_vulkan_adapter();
+        bevy_sph_fluid::headless::require_gpu_adapter();
     }
     let plugins = DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>();
     let mut app =

@@ -14,7 +14,7 @@ use bevy_sph_fluid::prelude::*;
 /// the device has, and the water still steps.
 #[test]
 fn a_device_held_to_webgpus_default_limits_runs_the_cpu_and_names_the_limit() {
-    common::require_vulkan_adapter();
+    common::require_gpu_adapter();
     let _gpu = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
     let mut app = App::new();
     app.add_plugins(

@@ -3,16 +3,16 @@
 //! a box in orange, and the gate) and the runtime panel present; every shipped scene file drawn
 //! (the sandbox runs each on the GPU, drains included); the water surface
 //! (`--render surface`) smoother than the particles and covering at least as much, on both
-//! backends.
+//! backends. The `minimal` example's surface in its lit scene.
 
 use std::path::PathBuf;
 use std::process::Command;
 
-fn sandbox_binary() -> PathBuf {
-    // target/<profile>/deps/<this test> -> target/<profile>/examples/sandbox
+fn example_binary(name: &str) -> PathBuf {
+    // target/<profile>/deps/<this test> -> target/<profile>/examples/<name>
     let exe = std::env::current_exe().expect("test executable path");
     let profile_dir = exe.parent().and_then(|d| d.parent()).expect("target dir");
-    profile_dir.join("examples").join("sandbox")
+    profile_dir.join("examples").join(name)
 }
 
 fn decode(path: &PathBuf) -> (u32, u32, Vec<u8>) {
@@ -36,11 +36,16 @@ static SANDBOX: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// Runs the sandbox under Xvfb with `args` and `--screenshot`; returns the decoded picture.
 fn screenshot(args: &[&str]) -> (u32, u32, Vec<u8>) {
+    example_screenshot("sandbox", args)
+}
+
+/// Runs example `name` under Xvfb with `args` and `--screenshot`; returns the decoded picture.
+fn example_screenshot(name: &str, args: &[&str]) -> (u32, u32, Vec<u8>) {
     let _one_at_a_time = SANDBOX.lock().unwrap_or_else(|e| e.into_inner());
-    let binary = sandbox_binary();
+    let binary = example_binary(name);
     assert!(
         binary.exists(),
-        "{} missing: build it with `cargo build --release --example sandbox`",
+        "{} missing: build it with `cargo build --release --example {name}`",
         binary.display()
     );
     let xvfb = Command::new("xvfb-run").arg("--help").output();
@@ -49,7 +54,7 @@ fn screenshot(args: &[&str]) -> (u32, u32, Vec<u8>) {
         "xvfb-run not found: install it with `sudo apt-get install xvfb xauth` (scripts/test.sh does this)"
     );
     let shot = std::env::temp_dir().join(format!(
-        "sandbox-{}-{}.png",
+        "{name}-{}-{}.png",
         std::process::id(),
         // One file name per argument list (a path's separators become underscores).
         args.join("").replace('-', "").replace(['/', '.'], "_")
@@ -66,7 +71,7 @@ fn screenshot(args: &[&str]) -> (u32, u32, Vec<u8>) {
     let log = String::from_utf8_lossy(&output.stderr);
     assert!(
         output.status.success(),
-        "sandbox failed ({}):\n{}",
+        "{name} failed ({}):\n{}",
         output.status,
         log.lines().rev().take(30).collect::<Vec<_>>().join("\n")
     );
@@ -88,6 +93,30 @@ fn blue_pixels(w: u32, rgb: &[u8]) -> usize {
         }
     }
     blue
+}
+
+#[test]
+fn minimal_example_draws_the_water_surface_in_a_lit_scene() {
+    let (w, h, rgb) = example_screenshot("minimal", &[]);
+    assert_eq!((w, h), (1280, 720));
+    // The surface's deep colour and refraction tint the water blue-green; nothing else in the
+    // scene (stone walls and floor, a grey sky) is blue.
+    let (mut water, mut stone) = (0, 0);
+    for p in rgb.chunks(3) {
+        let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
+        if b >= 100 && b - r >= 40 {
+            water += 1;
+        } else if r >= 140 && (r - b).abs() <= 30 && (r - g).abs() <= 20 {
+            stone += 1;
+        }
+    }
+    let total = (w * h) as usize;
+    println!("minimal: {water} water pixels, {stone} lit stone pixels of {total}");
+    assert!(water >= total / 100, "only {water} water pixels of {total}");
+    assert!(
+        stone >= total / 4,
+        "only {stone} lit floor and wall pixels of {total}: the scene is not lit"
+    );
 }
 
 #[test]
@@ -303,7 +332,7 @@ fn the_surface_is_smoother_than_the_particles_and_covers_as_much_on_both_backend
 /// window opens (exit code 2), and `--help` lists every option.
 #[test]
 fn sandbox_refuses_bad_options_by_name_and_lists_them() {
-    let binary = sandbox_binary();
+    let binary = example_binary("sandbox");
     assert!(
         binary.exists(),
         "{} missing: build it with `cargo build --release --example sandbox`",

@@ -3,7 +3,7 @@
 
 use bevy::prelude::*;
 #[allow(unused_imports)]
-pub use bevy_sph_fluid::headless::{by_id, require_vulkan_adapter, steps_taken};
+pub use bevy_sph_fluid::headless::{by_id, require_gpu_adapter, steps_taken};
 use bevy_sph_fluid::prelude::*;
 use std::sync::Mutex;
 
@@ -13,7 +13,7 @@ pub static GPU: Mutex<()> = Mutex::new(());
 /// A paused headless app; GPU apps require a Vulkan adapter and fail naming the package.
 pub fn headless_app(capacity: u32, backend: SphBackend) -> App {
     if backend == SphBackend::Gpu {
-        require_vulkan_adapter();
+        require_gpu_adapter();
     }
     bevy_sph_fluid::headless::headless_app(
         DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>(),
@@ -68,7 +68,7 @@ pub fn app_with_scene(dir: &std::path::Path, capacity: u32) -> App {
 /// [`app_with_scene`] on `backend` (the GPU's requires a Vulkan adapter).
 pub fn app_with_scene_on(dir: &std::path::Path, capacity: u32, backend: SphBackend) -> App {
     if backend == SphBackend::Gpu {
-        require_vulkan_adapter();
+        require_gpu_adapter();
     }
     let plugins = DefaultPlugins
         .build()
@@ -90,7 +90,7 @@ pub fn app_with_scene_on(dir: &std::path::Path, capacity: u32, backend: SphBacke
 /// `path` (under `assets/`) loaded and spawned, paused.
 pub fn shipped_scene_app(path: &str, backend: SphBackend, physics: impl FnOnce(&mut App)) -> App {
     if backend == SphBackend::Gpu {
-        require_vulkan_adapter();
+        require_gpu_adapter();
     }
     let assets = concat!(env!("CARGO_MANIFEST_DIR"), "/assets");
     let plugins = DefaultPlugins

@@ -1,5 +1,5 @@
 //! Headless apps: the plugin with no window, driven by a manual `app.update()` loop (tests, the
-//! bench command). A missing Vulkan adapter is a clear error naming the package to install.
+//! bench command). A missing GPU adapter is a clear error naming the package to install.
 
 use crate::api::*;
 use crate::plugin::SphFluidPlugin;
@@ -11,25 +11,37 @@ use bevy::render::settings::{RenderCreation, WgpuSettings};
 use bevy::render::RenderPlugin;
 use bevy::window::ExitCondition;
 
-/// The message when no Vulkan adapter exists.
-pub const NO_ADAPTER_HELP: &str = "The GPU backend here runs on Vulkan; without a GPU, Mesa's \
-software Vulkan driver works: install it with `sudo apt-get install mesa-vulkan-drivers` \
-(scripts/test.sh does this)";
+/// The message when no GPU adapter exists.
+pub const NO_ADAPTER_HELP: &str = "The GPU backend needs a Vulkan, Metal or DX12 adapter; on \
+Linux without a GPU, Mesa's software Vulkan driver works: install it with \
+`sudo apt-get install mesa-vulkan-drivers` (scripts/test.sh does this)";
 
-/// The Vulkan adapter's name, or an error naming the package to install.
-pub fn vulkan_adapter() -> Result<String, String> {
+/// The name of the adapter Bevy's renderer would take, chosen as Bevy chooses it (its default
+/// `WgpuSettings`: the backends Bevy is built with or those in `WGPU_BACKEND`, the power
+/// preference in `WGPU_POWER_PREF`), or an error naming the package to install.
+pub fn gpu_adapter() -> Result<String, String> {
+    let settings = WgpuSettings::default();
+    let Some(backends) = settings.backends else {
+        return Err(format!("no backend is enabled. {NO_ADAPTER_HELP}"));
+    };
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-    desc.backends = wgpu::Backends::VULKAN;
+    desc.backends = backends;
+    desc.flags = settings.instance_flags;
     let instance = wgpu::Instance::new(desc);
-    match bevy::tasks::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default())) {
+    let options = wgpu::RequestAdapterOptions {
+        power_preference: settings.power_preference,
+        force_fallback_adapter: settings.force_fallback_adapter,
+        compatible_surface: None,
+    };
+    match bevy::tasks::block_on(instance.request_adapter(&options)) {
         Ok(adapter) => Ok(adapter.get_info().name),
-        Err(e) => Err(format!("no Vulkan adapter ({e}). {NO_ADAPTER_HELP}")),
+        Err(e) => Err(format!("no GPU adapter on {backends:?} ({e}). {NO_ADAPTER_HELP}")),
     }
 }
 
-/// Panics with [`vulkan_adapter`]'s error when no Vulkan adapter exists (for tests).
-pub fn require_vulkan_adapter() -> String {
-    vulkan_adapter().unwrap_or_else(|e| panic!("{e}"))
+/// Panics with [`gpu_adapter`]'s error when no adapter exists (for tests).
+pub fn require_gpu_adapter() -> String {
+    gpu_adapter().unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Collects every snapshot the plugin delivers.
@@ -43,7 +55,7 @@ fn collect_snapshots(mut reader: MessageReader<SphSnapshot>, mut out: ResMut<Sna
 /// A headless app with the plugin on `backend`, paused, ready for `update()`. `default_plugins`
 /// is `DefaultPlugins.build()` without the windowing backend (the caller names it, e.g.
 /// `.disable::<bevy::winit::WinitPlugin>()`, since only apps enable Bevy's `bevy_winit`).
-/// The GPU backend needs a Vulkan adapter (see [`vulkan_adapter`]); `timed` adds GPU timestamps
+/// The GPU backend needs an adapter (see [`gpu_adapter`]); `timed` adds GPU timestamps
 /// per stage.
 pub fn headless_app(
     default_plugins: PluginGroupBuilder,

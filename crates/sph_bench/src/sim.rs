@@ -373,7 +373,7 @@ impl AppSimulation {
             );
         }
         let adapter = match backend {
-            SphBackend::Gpu => headless::vulkan_adapter()?,
+            SphBackend::Gpu => headless::gpu_adapter()?,
             SphBackend::Cpu => "cpu".into(),
         };
         let extras = setup.extras.clone().unwrap_or_default();
