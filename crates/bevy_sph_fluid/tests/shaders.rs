@@ -8,6 +8,8 @@ use naga_oil::compose::{
 };
 use std::collections::HashMap;
 
+mod translate;
+
 const LIBRARY: [(&str, &str); 13] = [
     (
         "types.wgsl",
@@ -182,64 +184,9 @@ fn every_stage_and_variant_composes_and_validates() {
 /// SPIR-V (Vulkan). WebGPU reads the WGSL itself, validated with the default capabilities above.
 #[test]
 fn every_stage_variant_translates_to_metal_hlsl_and_spirv() {
-    use naga::back::{hlsl, msl, spv};
-    use naga::valid::{ValidationFlags, Validator};
-    let backends = [
-        ("Metal", msl::supported_capabilities()),
-        ("DX12", hlsl::supported_capabilities()),
-        ("Vulkan", spv::supported_capabilities()),
-    ];
     let translated = for_each_stage_variant(|path, defs, _, module| {
-        for (backend, capabilities) in backends {
-            let info = Validator::new(ValidationFlags::all(), capabilities)
-                .validate(&module)
-                .unwrap_or_else(|e| panic!("{path} {defs:?} on {backend}: {e:?}"));
-            let entry = module.entry_points[0].name.clone();
-            let written = match backend {
-                "Metal" => msl::write_string(
-                    &module,
-                    &info,
-                    &msl::Options {
-                        lang_version: (2, 4),
-                        ..Default::default()
-                    },
-                    &msl::PipelineOptions {
-                        entry_point: Some((naga::ShaderStage::Compute, entry)),
-                        ..Default::default()
-                    },
-                )
-                .map(|(text, _)| text.len())
-                .map_err(|e| format!("{e:?}")),
-                "DX12" => {
-                    let mut text = String::new();
-                    let options = hlsl::Options {
-                        shader_model: hlsl::ShaderModel::V6_0,
-                        ..Default::default()
-                    };
-                    let pipeline = hlsl::PipelineOptions {
-                        entry_point: Some((naga::ShaderStage::Compute, entry)),
-                    };
-                    hlsl::Writer::new(&mut text, &options, &pipeline)
-                        .write(&module, &info, None)
-                        .map(|_| text.len())
-                        .map_err(|e| format!("{e:?}"))
-                }
-                _ => spv::write_vec(
-                    &module,
-                    &info,
-                    &spv::Options::default(),
-                    Some(&spv::PipelineOptions {
-                        shader_stage: naga::ShaderStage::Compute,
-                        entry_point: entry,
-                    }),
-                )
-                .map(|words| 4 * words.len())
-                .map_err(|e| format!("{e:?}")),
-            };
-            match written {
-                Ok(bytes) => assert!(bytes > 0, "{path} {defs:?} on {backend}: empty"),
-                Err(e) => panic!("{path} {defs:?} on {backend}: {e}"),
-            }
+        if let Err(e) = translate::translate_for_every_backend(&module) {
+            panic!("{path} {defs:?}: {e}");
         }
     });
     assert!(translated >= 48 * 22, "{translated}");

@@ -1,6 +1,7 @@
 //! The water surface's shaders (`src/surface/*.wgsl`): every entry shader composes with the
 //! surface library in every variant the plugin queues and validates with naga, and the uniform
-//! block's WGSL layout matches the Rust one. No GPU needed.
+//! block's WGSL layout matches the Rust one; each variant translates to MSL, HLSL and SPIR-V.
+//! No GPU needed.
 
 use bevy::render::render_resource::ShaderType;
 use bevy_sph_fluid::surface::view::GpuSurfaceUniform;
@@ -8,6 +9,8 @@ use naga_oil::compose::{
     ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue,
 };
 use std::collections::HashMap;
+
+mod translate;
 
 const LIBRARY: [(&str, &str); 2] = [
     (
@@ -108,6 +111,22 @@ fn every_surface_shader_and_variant_composes_and_validates() {
         }
     }
     assert_eq!(validated, 7);
+}
+
+#[test]
+fn every_surface_shader_variant_translates_to_metal_hlsl_and_spirv() {
+    let mut composer = composer();
+    let mut translated = 0;
+    for (path, variants, _) in ENTRIES {
+        for defs in variants {
+            let module = compose(&mut composer, path, defs);
+            if let Err(e) = translate::translate_for_every_backend(&module) {
+                panic!("{path} {defs:?}: {e}");
+            }
+            translated += 1;
+        }
+    }
+    assert_eq!(translated, 7);
 }
 
 #[test]
