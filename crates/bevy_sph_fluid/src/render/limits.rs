@@ -3,6 +3,10 @@
 //! was created with; a device short of a limit runs the CPU solver instead, with the reason in
 //! [`crate::SphStats::fallback_reason`]. WebGPU's defaults (`wgpu::Limits::default()`) allow 8
 //! storage buffers per shader stage, fewer than the solvers' largest passes bind.
+//!
+//! The plugin asks for no limit in `WgpuSettings` itself: under Bevy's default priority
+//! (`WgpuSettingsPriority::Functionality`) the device already gets all the adapter has, and a
+//! request beyond the adapter would fail the device's creation, where the check here falls back.
 
 use crate::render::stages::all_stages;
 use bevy::render::render_resource::WgpuLimits;
@@ -102,5 +106,15 @@ mod tests {
             ..WgpuLimits::default()
         };
         assert_eq!(needs.shortfall(&enough), None);
+    }
+
+    #[test]
+    fn bevy_creates_its_device_with_the_adapters_own_limits_by_default() {
+        // What the module relies on instead of requesting limits (see the module docs).
+        let settings = bevy::render::settings::WgpuSettings::default();
+        assert!(matches!(
+            settings.priority,
+            bevy::render::settings::WgpuSettingsPriority::Functionality
+        ));
     }
 }
