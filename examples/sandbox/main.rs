@@ -16,6 +16,7 @@ mod flat_material;
 mod obstacles;
 mod particles;
 mod ranges;
+mod runtime_panel;
 mod scene;
 mod scene_file;
 mod scene_panel;

@@ -32,7 +32,6 @@ pub fn enter_running(
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<FlatMaterial>>,
 ) {
-    let params = config.params();
     commands.insert_resource(SphCapacity(config.budget));
     commands.insert_resource(SphControl {
         running: true,
@@ -45,11 +44,43 @@ pub fn enter_running(
         commands.spawn((SphScene(assets.load(path.clone())), SceneEntity));
         return;
     }
+    let params = config.params();
     commands.insert_resource(SphParams(params));
     let container = BoxContainer::from_floor(Vec3::ZERO, FLOOR_SIZE, WALL_HEIGHT);
     commands.spawn((SphContainer(container), SceneEntity));
+    spawn_tank(&mut commands, &container, &mut meshes, &mut materials);
+    spawn_water(&mut commands, &config, &container, params.spacing());
+    for entity in crate::obstacles::spawn_obstacles(
+        &mut commands,
+        &config,
+        &container,
+        &mut meshes,
+        &mut materials,
+    ) {
+        commands.entity(entity).insert(SceneEntity);
+    }
+    // The pipe itself, a cylinder ending at the mouth.
+    let (mouth, direction) = pipe(&container);
+    let length = 0.3;
+    commands.spawn((
+        Mesh3d(meshes.add(Cylinder::new(PIPE_RADIUS + 0.01, length))),
+        MeshMaterial3d(materials.add(FlatMaterial::new(Color::srgb(0.7, 0.7, 0.72)))),
+        Transform::from_translation(mouth - direction * (length / 2.0 + 0.01))
+            .with_rotation(Quat::from_rotation_arc(Vec3::Y, direction)),
+        SceneEntity,
+    ));
+}
 
-    // Floor plate and walls computed from it.
+/// The pipe's inner radius [m].
+const PIPE_RADIUS: f32 = 0.06;
+
+/// The floor plate and the glass walls, computed from the container.
+fn spawn_tank(
+    commands: &mut Commands,
+    container: &BoxContainer,
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<FlatMaterial>,
+) {
     let (lo, hi) = (container.min(), container.max());
     let size = hi - lo;
     let t = 0.02;
@@ -62,23 +93,12 @@ pub fn enter_running(
     // Back faces are culled, so each glass wall blends one layer over the water.
     let glass = materials.add(FlatMaterial::new(Color::srgba(0.8, 0.9, 1.0, 0.18)));
     let centre = (lo + hi) / 2.0;
+    let (x_wall, z_wall) = (Vec3::new(t, size.y, size.z), Vec3::new(size.x, size.y, t));
     for (offset, dims) in [
-        (
-            Vec3::new(-size.x / 2.0 - t / 2.0, 0.0, 0.0),
-            Vec3::new(t, size.y, size.z),
-        ),
-        (
-            Vec3::new(size.x / 2.0 + t / 2.0, 0.0, 0.0),
-            Vec3::new(t, size.y, size.z),
-        ),
-        (
-            Vec3::new(0.0, 0.0, -size.z / 2.0 - t / 2.0),
-            Vec3::new(size.x, size.y, t),
-        ),
-        (
-            Vec3::new(0.0, 0.0, size.z / 2.0 + t / 2.0),
-            Vec3::new(size.x, size.y, t),
-        ),
+        (Vec3::X * -(size.x + t) / 2.0, x_wall),
+        (Vec3::X * (size.x + t) / 2.0, x_wall),
+        (Vec3::Z * -(size.z + t) / 2.0, z_wall),
+        (Vec3::Z * (size.z + t) / 2.0, z_wall),
     ] {
         commands.spawn((
             Mesh3d(meshes.add(Cuboid::from_size(dims))),
@@ -87,8 +107,16 @@ pub fn enter_running(
             SceneEntity,
         ));
     }
+}
 
-    let spacing = params.spacing();
+/// The block and the pipe's emitter, sharing the particle budget as the spawn mode says.
+fn spawn_water(
+    commands: &mut Commands,
+    config: &SandboxConfig,
+    container: &BoxContainer,
+    spacing: f32,
+) {
+    let lo = container.min();
     let pipe_budget = match config.spawn {
         SpawnMode::Block => 0,
         SpawnMode::Pipe => config.budget,
@@ -107,31 +135,12 @@ pub fn enter_running(
             SceneEntity,
         ));
     }
-    let (mouth, direction) = pipe(&container);
-    let radius = 0.06;
     if pipe_budget > 0 {
-        let mut emitter = PipeEmitter::new(mouth, direction, radius, 2.0, spacing);
+        let (mouth, direction) = pipe(container);
+        let mut emitter = PipeEmitter::new(mouth, direction, PIPE_RADIUS, 2.0, spacing);
         emitter.total = Some(pipe_budget as u64);
         commands.spawn((SphEmitter(emitter), SceneEntity));
     }
-    for entity in crate::obstacles::spawn_obstacles(
-        &mut commands,
-        &config,
-        &container,
-        &mut meshes,
-        &mut materials,
-    ) {
-        commands.entity(entity).insert(SceneEntity);
-    }
-    // The pipe itself, a cylinder ending at the mouth.
-    let length = 0.3;
-    commands.spawn((
-        Mesh3d(meshes.add(Cylinder::new(radius + 0.01, length))),
-        MeshMaterial3d(materials.add(FlatMaterial::new(Color::srgb(0.7, 0.7, 0.72)))),
-        Transform::from_translation(mouth - direction * (length / 2.0 + 0.01))
-            .with_rotation(Quat::from_rotation_arc(Vec3::Y, direction)),
-        SceneEntity,
-    ));
 }
 
 /// (Re)builds the particle mesh whenever the plugin's buffers change (e.g. a new capacity).

@@ -81,6 +81,25 @@ pub fn surface_controls(
         return;
     };
     let mut s = surface.clone();
+    surface_settings(ui, &mut s);
+    if s != *surface {
+        *surface = s;
+    }
+    if let Some(error) = status.and_then(|s| s.error.as_ref()) {
+        ui.colored_label(Color32::RED, error);
+    }
+    let times: Vec<String> = stats
+        .surface_ms
+        .iter()
+        .map(|(name, ms)| format!("{} {ms:.2}", name.trim_start_matches("sph_surface_")))
+        .collect();
+    if !times.is_empty() {
+        ui.label(format!("surface GPU ms: {}", times.join(", ")));
+    }
+}
+
+/// The surface's settings, edited on a copy (`s`) that replaces the component when it changed.
+fn surface_settings(ui: &mut egui::Ui, s: &mut SphSurface) {
     ui.add(f32_slider(
         &mut s.resolution_scale,
         0.1..=1.0,
@@ -137,20 +156,6 @@ pub fn surface_controls(
             ui.radio_value(&mut s.debug_view, view, label);
         }
     });
-    if s != *surface {
-        *surface = s;
-    }
-    if let Some(error) = status.and_then(|s| s.error.as_ref()) {
-        ui.colored_label(Color32::RED, error);
-    }
-    let times: Vec<String> = stats
-        .surface_ms
-        .iter()
-        .map(|(name, ms)| format!("{} {ms:.2}", name.trim_start_matches("sph_surface_")))
-        .collect();
-    if !times.is_empty() {
-        ui.label(format!("surface GPU ms: {}", times.join(", ")));
-    }
 }
 
 /// Particles or surface, as [`RenderView`] says (inserted by `main` from the command line).
