@@ -35,7 +35,9 @@ pub fn gpu_adapter() -> Result<String, String> {
     };
     match bevy::tasks::block_on(instance.request_adapter(&options)) {
         Ok(adapter) => Ok(adapter.get_info().name),
-        Err(e) => Err(format!("no GPU adapter on {backends:?} ({e}). {NO_ADAPTER_HELP}")),
+        Err(e) => Err(format!(
+            "no GPU adapter on {backends:?} ({e}). {NO_ADAPTER_HELP}"
+        )),
     }
 }
 

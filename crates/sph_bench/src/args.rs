@@ -37,6 +37,10 @@ pub enum Command {
     /// Mutates scene files (truncations, flips, numeric extremes, deleted and duplicated keys)
     /// and loads each mutant: counts what loads, what is refused and what panics.
     FuzzScenes(FuzzArgs),
+    /// Converts a scene file into a scene for a larger offline engine (SPlisHSPlasH or
+    /// DualSPHysics) in the directory OUT; what the engine cannot express is refused by name and
+    /// nothing is written (see docs/export.md).
+    Export(ExportArgs),
 }
 
 /// Which solver runs the scenario.
@@ -543,6 +547,39 @@ pub struct FuzzArgs {
     /// Write the JSON report here [default: stdout].
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+}
+
+/// The engines `sph-bench export` writes for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ExportTarget {
+    /// SPlisHSPlasH: scene.json with OBJ geometry, run by `SPHSimulator scene.json`.
+    #[value(name = "splishsplash")]
+    Splishsplash,
+    /// DualSPHysics: Case_Def.xml with STL geometry, run by GenCase then DualSPHysics.
+    #[value(name = "dualsphysics")]
+    Dualsphysics,
+}
+
+/// Options of `sph-bench export`.
+#[derive(Clone, Debug, PartialEq, Args)]
+pub struct ExportArgs {
+    /// The engine to write for.
+    #[arg(long = "to", value_enum, value_name = "ENGINE")]
+    pub to: ExportTarget,
+    /// The scene file (`assets/scenes/*.ron`).
+    #[arg(value_name = "SCENE")]
+    pub scene: PathBuf,
+    /// The directory to write: new, or empty. It gets the whole export or nothing.
+    #[arg(value_name = "OUT")]
+    pub out: PathBuf,
+    /// Simulated time the exported scene runs for (SPlisHSPlasH's stopAt, DualSPHysics's
+    /// TimeMax) [s] (the default of `run --scene`).
+    #[arg(long, value_name = "SECONDS", value_parser = sim_time, default_value = "2")]
+    pub time: f32,
+    /// Leave the scene's probes out instead of refusing it (neither engine's scene file has
+    /// probes; measure their output instead).
+    #[arg(long)]
+    pub drop_probes: bool,
 }
 
 #[cfg(test)]

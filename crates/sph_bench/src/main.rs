@@ -3,10 +3,11 @@
 //! accuracy trade into a table and a plot; soaks. See the README, or `sph-bench --help`.
 //!
 //! The modules, top down (each imports only modules below it; `tests/module_imports.rs` fails on
-//! any import cycle): fuzz, trade, soak, validate, run, hydrostatic, sim, plot, progress, args,
-//! martin_moyce, report, scenarios.
+//! any import cycle): export, fuzz, trade, soak, validate, run, hydrostatic, sim, plot, progress,
+//! args, martin_moyce, report, scenarios.
 
 mod args;
+mod export;
 mod fuzz;
 mod hydrostatic;
 mod martin_moyce;
@@ -21,7 +22,7 @@ mod soak;
 mod trade;
 mod validate;
 
-use args::{Cli, Command, FuzzArgs, RunArgs, SoakArgs, TradeArgs, ValidateArgs};
+use args::{Cli, Command, ExportArgs, FuzzArgs, RunArgs, SoakArgs, TradeArgs, ValidateArgs};
 use clap::Parser;
 use progress::Bars;
 use std::path::Path;
@@ -253,6 +254,29 @@ fn soak_command(args: &SoakArgs, bars: &Bars) -> Result<(), String> {
     Ok(())
 }
 
+/// `sph-bench export`: writes the scene for the engine, or refuses it and writes nothing.
+fn export_command(args: &ExportArgs) -> Result<(), String> {
+    let done = export::run(args)?;
+    eprintln!(
+        "sph-bench: {} for {}: wrote {} in {}",
+        args.scene.display(),
+        export::engine_name(args.to),
+        export::count(done.written.len(), "file"),
+        args.out.display()
+    );
+    for path in &done.written {
+        println!("{}", path.display());
+    }
+    for note in &done.notes {
+        eprintln!("sph-bench: note: {note}");
+    }
+    eprintln!("sph-bench: run it with:");
+    for line in &done.commands {
+        eprintln!("  {line}");
+    }
+    Ok(())
+}
+
 fn main() {
     // Wrong arguments: clap prints the error (option, value, what is allowed) and exits with 2.
     let cli = Cli::parse();
@@ -263,6 +287,7 @@ fn main() {
         Command::Trade(args) => trade_command(args, &bars),
         Command::Soak(args) => soak_command(args, &bars),
         Command::FuzzScenes(args) => fuzz_command(args, &bars),
+        Command::Export(args) => export_command(args),
     };
     if let Err(e) = result {
         eprintln!("sph-bench: error: {e}");
