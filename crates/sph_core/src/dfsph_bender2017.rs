@@ -36,9 +36,9 @@
 //! predicted density excess s_i = ρ*_i - ρ0 in one step is κ_i = s_i / (dt² D_i), and the one
 //! that removes a compression rate d_i = Dρ_i/Dt is κ_i = d_i / (dt D_i).
 
-use crate::boundary::{BodyForceSum, Boundary};
+use crate::boundary::samples::{BodyForceSum, Boundary};
 use crate::kernel::CubicSpline;
-use crate::neighbor_lists::{NeighborLists, PairsOf};
+use crate::neighbor::lists::{NeighborLists, PairsOf};
 use crate::params::SphParams;
 use crate::stability::viscous_limit;
 use glam::Vec3;

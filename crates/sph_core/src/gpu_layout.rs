@@ -111,7 +111,7 @@ pub struct GpuSphParams {
     /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m],
     /// its pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa]
     /// ([`crate::stage::max_surface_pressure`]); the speculative contact's margin from the
-    /// solids' surfaces [m] ([`crate::speculative_contact::SURFACE_MARGIN`] Δx).
+    /// solids' surfaces [m] ([`crate::boundary::speculative_contact::SURFACE_MARGIN`] Δx).
     pub boundary_contact: [f32; 4],
 }
 
@@ -161,7 +161,7 @@ pub struct GpuClock {
     /// The rule's dt at the checkpoint [s], f32 bits (a retry takes half of it).
     pub checkpoint_rule_dt_bits: u32,
     /// Particles the guard moved out of a collider or back into the box since the reset (see
-    /// [`crate::guard`]).
+    /// [`crate::boundary::guard`]).
     pub boundary_corrections: u32,
     /// Of those, the particles clamped back into the box.
     pub wall_corrections: u32,
@@ -373,7 +373,7 @@ impl GpuSphParams {
                     contact.radius,
                     contact.modulus,
                     crate::stage::max_surface_pressure(params),
-                    crate::speculative_contact::SURFACE_MARGIN * contact.radius,
+                    crate::boundary::speculative_contact::SURFACE_MARGIN * contact.radius,
                 ]
             },
         }
@@ -445,7 +445,7 @@ pub fn w_to_id(w: f32) -> u32 {
 }
 
 /// A collider as the GPU guard reads it (WGSL `GpuCollider`): where it is, its shape and its
-/// velocity. Rust twin: [`crate::collider::Collider`].
+/// velocity. Rust twin: [`crate::boundary::collider::Collider`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuCollider {
@@ -458,7 +458,7 @@ pub struct GpuCollider {
     /// thickness or -1 when closed); w = bounding radius.
     pub size: [f32; 4],
     /// Linear velocity [m/s] (zero for static colliders); w = the collider's body index in
-    /// the reactions (slot + 1, [`crate::boundary::WALLS_BODY`] being 0), as u32 bits.
+    /// the reactions (slot + 1, [`crate::boundary::samples::WALLS_BODY`] being 0), as u32 bits.
     pub linear_velocity: [f32; 4],
     /// Angular velocity [rad/s].
     pub angular_velocity: [f32; 4],
@@ -467,8 +467,8 @@ pub struct GpuCollider {
 impl GpuCollider {
     /// The GPU form of `c`, body `body` in the reactions; a mesh's words start at `mesh_offset`
     /// in [`GpuBoundarySamples::meshes`].
-    pub fn of(c: &crate::collider::Collider, mesh_offset: u32, body: u32) -> Self {
-        use crate::collider::{ColliderMotion, ColliderShape};
+    pub fn of(c: &crate::boundary::collider::Collider, mesh_offset: u32, body: u32) -> Self {
+        use crate::boundary::collider::{ColliderMotion, ColliderShape};
         let (kind, size) = match c.shape {
             ColliderShape::Cuboid { half_extents } => (0.0, half_extents),
             ColliderShape::Sphere { radius } => (1.0, Vec3::new(radius, 0.0, 0.0)),
@@ -529,7 +529,7 @@ pub struct GpuBoundarySamples {
     pub body: Vec<u32>,
     /// Whether the samples mirror DFSPH's stiffness and hold the hydrostatic rise
     /// (`crate::dfsph_bender2017`): unless a dynamic collider is in the boundary. The GPU does not
-    /// let a body give way in the solves ([`crate::free_bodies`]), so it follows
+    /// let a body give way in the solves ([`crate::boundary::free_bodies`]), so it follows
     /// [`crate::Boundary::mirrors`] as if no mass were known. The plugin passes it on in
     /// [`GpuSphParams::dfsph_c`]'s w.
     pub mirrors: bool,
@@ -560,7 +560,7 @@ impl GpuBoundarySamples {
             .colliders()
             .map(|(id, c)| {
                 let offset = meshes.len() as u32;
-                if let crate::collider::ColliderShape::TriMesh(mesh) = &c.shape {
+                if let crate::boundary::collider::ColliderShape::TriMesh(mesh) = &c.shape {
                     meshes.extend(mesh.gpu_words());
                 }
                 GpuCollider::of(c, offset, id.0 + 1)
@@ -715,7 +715,7 @@ mod body_force_tests {
 /// Most pumps the GPU applies (the rest are left out and reported).
 pub const MAX_GPU_PUMPS: usize = 16;
 
-/// A pump as the GPU reads it (WGSL `GpuPump`). Rust twin: [`crate::pump::Pump`].
+/// A pump as the GPU reads it (WGSL `GpuPump`). Rust twin: [`crate::flow::pump::Pump`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuPump {
@@ -746,7 +746,7 @@ pub struct GpuPumps {
 impl GpuPumps {
     /// The GPU form of the first [`MAX_GPU_PUMPS`] of `pumps` (validated ones: a zero direction
     /// stays zero and pushes nothing).
-    pub fn of(pumps: &[crate::pump::Pump]) -> Self {
+    pub fn of(pumps: &[crate::flow::pump::Pump]) -> Self {
         let mut out = Self::default();
         for (slot, p) in out.pumps.iter_mut().zip(pumps) {
             let c = p.region.pose.translation;
@@ -766,9 +766,9 @@ impl GpuPumps {
 
     /// [`Self::of`] `pumps`, then the open ones of `sinks` in the slots left (a pump's box with
     /// no strength); returns the drains that found no slot.
-    pub fn with_sinks(pumps: &[crate::pump::Pump], sinks: &[crate::sink::Sink]) -> (Self, usize) {
+    pub fn with_sinks(pumps: &[crate::flow::pump::Pump], sinks: &[crate::flow::sink::Sink]) -> (Self, usize) {
         let mut out = Self::of(pumps);
-        let open: Vec<&crate::sink::Sink> = sinks.iter().filter(|s| s.open).collect();
+        let open: Vec<&crate::flow::sink::Sink> = sinks.iter().filter(|s| s.open).collect();
         let first = out.count as usize;
         for (slot, sink) in out.pumps[first..].iter_mut().zip(&open) {
             let c = sink.region.pose.translation;
@@ -792,7 +792,7 @@ pub const MAX_GPU_PROBES: usize = 16;
 /// The flux sums' fixed-point unit [m/s]: Σ v·n is summed as i32 multiples of it.
 pub const PROBE_SPEED_UNIT: f32 = 1e-4;
 
-/// A probe as the GPU reads it (WGSL `GpuProbe`). Rust twin: [`crate::probe::ProbeKind`].
+/// A probe as the GPU reads it (WGSL `GpuProbe`). Rust twin: [`crate::flow::probe::ProbeKind`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuProbe {
@@ -805,7 +805,7 @@ pub struct GpuProbe {
     /// half extents [m].
     pub half: [f32; 4],
     /// Flux: the unit normal (world). Level: the column's bins
-    /// ([`crate::probe::LevelColumn`]): (floor, bin height, 0, 0) [m].
+    /// ([`crate::flow::probe::LevelColumn`]): (floor, bin height, 0, 0) [m].
     pub normal: [f32; 4],
 }
 
@@ -833,7 +833,7 @@ pub struct GpuProbes {
     pub sums: [[u32; 4]; MAX_GPU_PROBES],
     /// Per Level probe and bin: the [`float_key`] of the bin's highest particle centre over
     /// the frame's steps (0: empty).
-    pub level_tops: [[u32; crate::probe::LEVEL_BINS]; MAX_GPU_PROBES],
+    pub level_tops: [[u32; crate::flow::probe::LEVEL_BINS]; MAX_GPU_PROBES],
 }
 
 impl Default for GpuProbes {
@@ -875,12 +875,12 @@ impl GpuProbes {
     /// The GPU form of the first [`MAX_GPU_PROBES`] of `kinds` in `container` for particles
     /// of spacing `spacing`, for frame `frame`, with zero sums.
     pub fn of(
-        kinds: &[crate::probe::ProbeKind],
+        kinds: &[crate::flow::probe::ProbeKind],
         container: &crate::container::BoxContainer,
         spacing: f32,
         frame: u32,
     ) -> Self {
-        use crate::probe::{flux_slab_thickness, LevelColumn, ProbeKind};
+        use crate::flow::probe::{flux_slab_thickness, LevelColumn, ProbeKind};
         let column = LevelColumn::of(container, spacing);
         let mut out = Self {
             count: kinds.len().min(MAX_GPU_PROBES) as u32,
@@ -931,8 +931,8 @@ impl GpuProbes {
 
     /// Probe `k`'s reading, averaged over the summed steps (level: the column of all of them
     /// together), for particles of `params`; `None` before a step was summed.
-    pub fn reading(&self, k: usize, params: &SphParams) -> Option<crate::probe::ProbeReading> {
-        use crate::probe::flux_slab_thickness;
+    pub fn reading(&self, k: usize, params: &SphParams) -> Option<crate::flow::probe::ProbeReading> {
+        use crate::flow::probe::flux_slab_thickness;
         if self.samples == 0 || k >= self.count as usize {
             return None;
         }
@@ -942,8 +942,8 @@ impl GpuProbes {
         let count = mean_particles.round() as u32;
         let spacing = params.spacing();
         Some(match self.probes[k].center_kind[3] as u32 {
-            0 => crate::probe::ProbeReading {
-                value: crate::probe::column_surface(&self.level_tops[k].map(key_float))
+            0 => crate::flow::probe::ProbeReading {
+                value: crate::flow::probe::column_surface(&self.level_tops[k].map(key_float))
                     .map(|y| y + 0.5 * spacing),
                 particles: count,
                 mean_speed: None,
@@ -951,7 +951,7 @@ impl GpuProbes {
             1 => {
                 let sum = flux as i32 as f64 * PROBE_SPEED_UNIT as f64;
                 let volume = (params.particle_mass / params.rest_density) as f64;
-                crate::probe::ProbeReading {
+                crate::flow::probe::ProbeReading {
                     value: Some(
                         (sum / samples * volume / flux_slab_thickness(spacing) as f64) as f32,
                     ),
@@ -959,7 +959,7 @@ impl GpuProbes {
                     mean_speed: (particles > 0).then(|| (sum / particles as f64) as f32),
                 }
             }
-            _ => crate::probe::ProbeReading {
+            _ => crate::flow::probe::ProbeReading {
                 value: Some(mean_particles as f32),
                 particles: count,
                 mean_speed: None,

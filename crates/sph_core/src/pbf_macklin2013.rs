@@ -10,10 +10,10 @@
 //! lattice), so the rest lattice satisfies the constraint exactly. Boundary samples (Akinci 2012)
 //! take part in the density and push with the particle's own λ_i.
 
-use crate::boundary::{BodyForceSum, Boundary};
+use crate::boundary::samples::{BodyForceSum, Boundary};
 use crate::kernel::CubicSpline;
-use crate::neighbor_lists::IndexLists;
-use crate::pair_lanes::{lane_sum, wide_lanes, Lanes, LANES};
+use crate::neighbor::lists::IndexLists;
+use crate::neighbor::pair_lanes::{lane_sum, wide_lanes, Lanes, LANES};
 use crate::params::SphParams;
 use crate::solvers::PbfSettings;
 use glam::Vec3;
@@ -813,7 +813,7 @@ mod tests {
     /// sums, with a ball on the floor so that some particles see two bodies.
     #[test]
     fn reactions_summed_per_particle_match_the_pair_by_pair_sums() {
-        use crate::collider::{Collider, ColliderShape, Pose, Slip};
+        use crate::boundary::collider::{Collider, ColliderShape, Pose, Slip};
         let params = SphParams::water();
         let (h, dx) = (params.smoothing_radius, params.spacing());
         let ctx = PbfContext::of(&params);

@@ -107,7 +107,7 @@ pub struct BoundaryContact {
     /// previous step's: the state alone decides the step.
     pub time_step: f32,
     /// The share of this evaluation's acceleration that the velocity of the next drift takes
-    /// (the solids' speculative contact, [`crate::speculative_contact`]): 1 where the drift
+    /// (the solids' speculative contact, [`crate::boundary::speculative_contact`]): 1 where the drift
     /// starts from v + a dt (kick-drift-kick's closing evaluation, symplectic Euler), 1/2 where
     /// it starts from v + a dt/2 (the leapfrog's first evaluation, kick-drift-kick's first when
     /// its forces were stale; [`StageContext::with_half_kick_drift`]).
@@ -200,7 +200,7 @@ pub enum CpuStage {
     /// Integration phases ([`crate::integrate`]).
     Integrate,
     /// The step's neighbour lists (PBF: the pairs within h at the predicted positions,
-    /// [`crate::neighbor_lists::NeighborLists::rebuild`]).
+    /// [`crate::neighbor::lists::NeighborLists::rebuild`]).
     NeighborLists,
     /// PBF: the constraint's λ_i at the predicted positions
     /// ([`crate::pbf_macklin2013::compute_lambdas`]).
@@ -218,7 +218,7 @@ pub enum CpuStage {
     /// PBF: vorticity confinement ([`crate::pbf_macklin2013::confine_vorticity`]).
     PbfConfinement,
     /// DFSPH: the cubic-spline densities and the factors 1/D_i
-    /// ([`crate::neighbor_lists::NeighborLists::rebuild`]'s densities,
+    /// ([`crate::neighbor::lists::NeighborLists::rebuild`]'s densities,
     /// [`crate::dfsph_bender2017::compute_factors`]).
     DfsphFactors,
     /// DFSPH: the predicted velocities v* = v + dt a_np (step 3 of `CpuSolver`'s DFSPH step).

@@ -3,7 +3,7 @@
 //! and the extremes stay finite.
 
 use sph_core::glam::Vec3;
-use sph_core::neighbor_lists::IndexLists;
+use sph_core::neighbor::lists::IndexLists;
 use sph_core::pbf_macklin2013::{
     compute_corrections, compute_lambdas, constraint_violation, vorticity, Constraint, Correction,
     PbfContext,

@@ -8,7 +8,7 @@
 //!    ([`crate::dfsph_bender2017::BoundaryRise`]);
 //! 4. the constant-density solve corrects v* until the predicted density error is small;
 //! 5. the solids' speculative contact bounds v* so that the drift ends a tenth of a spacing from
-//!    every surface ([`crate::speculative_contact::stop_before_drift`]), x += dt v*, the guard;
+//!    every surface ([`crate::boundary::speculative_contact::stop_before_drift`]), x += dt v*, the guard;
 //! 6. neighbour sort, densities, lists and factors at the new positions;
 //! 7. the divergence-free solve corrects v until Dρ/Dt is small.
 //!
@@ -17,8 +17,8 @@
 //! two dispatches per iteration will be.
 
 use super::state::{timed, ParticleData, SolverParts};
-use crate::boundary::BodyForceSum;
-use crate::boundary::Boundary;
+use crate::boundary::samples::BodyForceSum;
+use crate::boundary::samples::Boundary;
 use crate::dfsph_bender2017::{
     apply_stiffness, boundary_reactions, compute_factors, density_source, dfsph_time_step,
     divergence_source, rest_lattice_factor, stiffness_from_source, BoundaryRise, OverRelaxation,
@@ -26,14 +26,14 @@ use crate::dfsph_bender2017::{
 };
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::frame_budget::StepDt;
-use crate::free_bodies::{FreeBodies, GivingSolve};
-use crate::guard::Corrections;
-use crate::guard::Guard;
+use crate::boundary::free_bodies::{FreeBodies, GivingSolve};
+use crate::boundary::guard::Corrections;
+use crate::boundary::guard::Guard;
 use crate::kernel::CubicSpline;
-use crate::neighbor_lists::{ListSource, NeighborLists};
+use crate::neighbor::lists::{ListSource, NeighborLists};
 use crate::params::SphParams;
 use crate::solvers::SolverStats;
-use crate::speculative_contact::{stop_before_drift, SURFACE_MARGIN};
+use crate::boundary::speculative_contact::{stop_before_drift, SURFACE_MARGIN};
 use crate::stability::largest_magnitude;
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::compute_normals;
@@ -53,7 +53,7 @@ pub(super) struct DfsphScratch {
     kernel: CubicSpline,
     /// D_i of the rest lattice for `kernel`.
     rest_factor: f32,
-    /// The dynamic bodies' give across the frame's steps ([`crate::free_bodies`]).
+    /// The dynamic bodies' give across the frame's steps ([`crate::boundary::free_bodies`]).
     pub(super) free_bodies: FreeBodies,
 }
 
@@ -161,7 +161,7 @@ impl DfsphStep<'_> {
 
     /// One of the two solves on the current velocities (Bender & Koschier 2017: the
     /// constant-density solve on v*, the divergence-free solve on v). `base`: the step's forces
-    /// on each body before the solve, for the bodies that give way ([`crate::free_bodies`]).
+    /// on each body before the solve, for the bodies that give way ([`crate::boundary::free_bodies`]).
     fn solve(&mut self, solve: Solve, dt: f32, base: &[BodyForceSum]) -> SolveOutcome {
         let start = std::time::Instant::now();
         let settings = self.parts.params.dfsph;

@@ -11,10 +11,10 @@
 //! viscosity); the boundary's reactions are summed for the colliders every iteration.
 
 use super::state::{timed, ParticleData, SolverParts};
-use crate::boundary::{BodyForceSum, Boundary};
+use crate::boundary::samples::{BodyForceSum, Boundary};
 use crate::frame_budget::StepDt;
-use crate::guard::{Corrections, Guard};
-use crate::neighbor_lists::IndexLists;
+use crate::boundary::guard::{Corrections, Guard};
+use crate::neighbor::lists::IndexLists;
 use crate::params::SphParams;
 use crate::pbf_macklin2013::{
     apply_corrections, compute_corrections, compute_lambdas, confine_vorticity,

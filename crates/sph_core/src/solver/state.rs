@@ -1,7 +1,7 @@
 //! The solver's particle arrays and stage timings, shared by the WCSPH step (`solver/mod.rs`)
 //! and the DFSPH step (`solver/dfsph.rs`).
 
-use crate::boundary::Boundary;
+use crate::boundary::samples::Boundary;
 use crate::neighbor::Neighbors;
 use crate::params::SphParams;
 use glam::Vec3;

@@ -89,7 +89,7 @@ struct SphClock {
     rule_dt: f32,
     checkpoint_rule_dt: f32,
     // Particles the guard moved out of a collider or back into the box since the reset, and of
-    // those the ones clamped back into the box (sph_core::guard).
+    // those the ones clamped back into the box (sph_core::boundary::guard).
     boundary_corrections: atomic<u32>,
     wall_corrections: atomic<u32>,
     // Real-time mode: the frame whose budget is being spent, its time left [s], its steps left.

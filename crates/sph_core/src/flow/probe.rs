@@ -13,10 +13,10 @@
 //!   a full rectangle of area A gives Q = u A: the slab holds A d / V particles.
 //! - **Count** of the particles inside a box.
 
-use crate::collider::Pose;
+use crate::boundary::collider::Pose;
 use crate::container::BoxContainer;
 use crate::params::{ParamError, SphParams};
-use crate::region::Region;
+use crate::flow::region::Region;
 use glam::Vec3;
 
 /// What a probe measures.

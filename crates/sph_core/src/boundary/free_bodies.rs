@@ -30,9 +30,9 @@
 //! solve's force on body B is Σ_i m κ_i G_iB with G_iB = Σ_{b ∈ B} g_ib, and Δv_B enters particle
 //! i's rate of density change through the samples' flux Σ_b v_b·g_ib as Δv_B·G_iB.
 
-use crate::boundary::{BodyForceSum, Boundary};
+use crate::boundary::samples::{BodyForceSum, Boundary};
 use crate::dfsph_bender2017::ParticleFactor;
-use crate::neighbor_lists::NeighborLists;
+use crate::neighbor::lists::NeighborLists;
 use glam::Vec3;
 
 /// One body's state across the frame's steps.

@@ -19,11 +19,11 @@
 //! another, so in a wedge the later one sees the earlier one's stop. The reaction -m n Δv/(κ dt)
 //! goes to the surface's body at the particle (Akinci 2012's two-way coupling). This is the
 //! speculative contact of rigid-body engines (Catto, Box2D) applied to the particles; the guard
-//! ([`crate::guard`]) still counts any particle that ends up inside. WCSPH applies it at the end
+//! ([`crate::boundary::guard`]) still counts any particle that ends up inside. WCSPH applies it at the end
 //! of each force evaluation ([`crate::forces::compute_accelerations`]), DFSPH to the velocity
 //! its move takes ([`stop_before_drift`]); PBF does not use it.
 
-use crate::boundary::{BodyForceSum, Boundary, WALLS_BODY};
+use crate::boundary::samples::{BodyForceSum, Boundary, WALLS_BODY};
 use glam::Vec3;
 use rayon::prelude::*;
 

@@ -3,15 +3,15 @@
 //! (local positions, volumes V_b), placed in the world by its pose and sorted into a dense grid
 //! over the container, so the density and forces passes visit them like fluid neighbours. A
 //! shape is sampled again only when it is added; a pose or velocity change only re-places and
-//! re-sorts the samples. The physics of the samples is in [`crate::boundary_akinci2012`].
+//! re-sorts the samples. The physics of the samples is in [`crate::boundary::akinci2012`].
 
-use crate::boundary_akinci2012::{boundary_volumes, calibrate_gamma};
-use crate::collider::{Collider, ColliderError, ColliderMotion, Pose, Slip};
+use crate::boundary::akinci2012::{boundary_volumes, calibrate_gamma};
+use crate::boundary::collider::{Collider, ColliderError, ColliderMotion, Pose, Slip};
 use crate::container::BoxContainer;
 use crate::kernel::Kernels;
 use crate::neighbor::grid::DenseGrid;
 use crate::params::{ParamError, SphParams};
-use crate::sampling::{container_shell, sample_shape};
+use crate::boundary::sampling::{container_shell, sample_shape};
 use glam::{DVec3, Vec3};
 
 /// A collider's handle in a solver's boundary.
@@ -159,7 +159,7 @@ impl Boundary {
     /// The volumes V_b of a shape's samples: the lattice cell of each sample where the sampling
     /// is a lattice (cuboids: exact at faces, edges and corners, as for the walls), otherwise
     /// Akinci's γ / Σ W; both scaled to the fluid particle's volume.
-    fn volumes(&self, samples: &crate::sampling::ShapeSamples) -> Vec<f32> {
+    fn volumes(&self, samples: &crate::boundary::sampling::ShapeSamples) -> Vec<f32> {
         if samples.cell_volume.len() == samples.len() {
             samples
                 .cell_volume
@@ -315,7 +315,7 @@ impl Boundary {
 
     /// Tells the boundary the mass of the body behind a dynamic collider (`None`: unknown, the
     /// default), so that DFSPH's solves let the body give way to the water's pressure within a
-    /// frame (`crate::free_bodies`). Refused unless finite and positive; nothing changes on
+    /// frame (`crate::boundary::free_bodies`). Refused unless finite and positive; nothing changes on
     /// error. A static or kinematic collider keeps the mass but ignores it.
     pub fn set_mass(&mut self, id: ColliderId, mass: Option<f32>) -> Result<(), ColliderError> {
         if let Some(m) = mass {
@@ -341,7 +341,7 @@ impl Boundary {
     /// Whether the samples mirror DFSPH's stiffness κ_i (`crate::dfsph_bender2017`), all of them
     /// or none: only while every dynamic collider's
     /// mass is known ([`Self::set_mass`]), so that it gives way in the solves
-    /// ([`crate::free_bodies`]).
+    /// ([`crate::boundary::free_bodies`]).
     /// - A body that cannot give way must not answer twice: with the mirror the water threw a
     ///   heavy one (`tests/free_bodies.rs`: 2,400 m/s against 0.25 m/s without).
     /// - Nor may the walls around it: a heavy box resting on the floor, with the floor
@@ -480,7 +480,7 @@ impl Boundary {
                 .push(slot.as_ref().map_or(0.0, |b| b.collider.slip.friction()));
             let dynamic = slot
                 .as_ref()
-                .is_some_and(|b| b.collider.motion == crate::collider::ColliderMotion::Dynamic);
+                .is_some_and(|b| b.collider.motion == crate::boundary::collider::ColliderMotion::Dynamic);
             self.dynamic.push(dynamic);
             self.origin.push(
                 slot.as_ref()

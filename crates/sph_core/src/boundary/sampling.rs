@@ -5,7 +5,7 @@
 //! shape's medial axis is dropped; a shape too thin for any layer gets one layer on its mid
 //! surface. Each sample carries its outward normal. Samples are in the shape's frame.
 
-use crate::collider::ColliderShape;
+use crate::boundary::collider::ColliderShape;
 use crate::container::BoxContainer;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -55,7 +55,7 @@ pub fn sample_shape(shape: &ColliderShape, spacing: f32) -> ShapeSamples {
         | ColliderShape::Capsule { radius, .. }
         | ColliderShape::Cylinder { radius, .. } => radius,
         ColliderShape::TriMesh(ref mesh) => {
-            let m = crate::sampling_mesh::sample_mesh(mesh, spacing, depths);
+            let m = crate::boundary::sampling_mesh::sample_mesh(mesh, spacing, depths);
             for (p, n) in m.position.into_iter().zip(m.normal) {
                 out.push(p, n);
             }

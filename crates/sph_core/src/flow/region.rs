@@ -1,6 +1,6 @@
 //! An oriented box in the world: the volume of a sink, a pump or a counting probe.
 
-use crate::collider::Pose;
+use crate::boundary::collider::Pose;
 use crate::params::ParamError;
 use glam::Vec3;
 

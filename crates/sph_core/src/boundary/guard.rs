@@ -5,7 +5,7 @@
 //! [`Walls::collide`]. Every such correction is counted: the count is the measure of whether the
 //! boundary model holds.
 
-use crate::collider::Collider;
+use crate::boundary::collider::Collider;
 use crate::container::Walls;
 use glam::Vec3;
 

@@ -5,12 +5,12 @@
 //! weighted pseudonormal") or **open** (a sheet, a channel's floor, a terrain: a shell of a
 //! given thickness around the surface, φ = |x − c| − t/2). Closest points come from Ericson's
 //! region test (Real-Time Collision Detection §5.1.5) over a bounding-volume hierarchy
-//! ([`crate::trimesh_bvh`]); the GPU guard walks the same hierarchy in the same order
+//! ([`crate::boundary::trimesh_bvh`]); the GPU guard walks the same hierarchy in the same order
 //! ([`TriMesh::gpu_words`]).
 
-use crate::collider_error::{ColliderError, MAX_COLLIDER_SIZE};
-pub use crate::triangle::{closest_on_triangle, Feature, MeshTriangle};
-use crate::trimesh_bvh::{Bvh, BvhNode};
+use crate::boundary::collider_error::{ColliderError, MAX_COLLIDER_SIZE};
+pub use crate::boundary::triangle::{closest_on_triangle, Feature, MeshTriangle};
+use crate::boundary::trimesh_bvh::{Bvh, BvhNode};
 use glam::Vec3;
 use std::collections::HashMap;
 use std::sync::Arc;

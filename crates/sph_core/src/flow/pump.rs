@@ -8,7 +8,7 @@
 //! step's dt, u' = s − (s − u) e^(−k dt), so any strength is stable at any dt.
 
 use crate::params::ParamError;
-use crate::region::Region;
+use crate::flow::region::Region;
 use glam::Vec3;
 use rayon::prelude::*;
 

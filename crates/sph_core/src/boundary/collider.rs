@@ -3,10 +3,10 @@
 //! capsules and cylinders), a rigid pose, how a collider moves (static, kinematic, dynamic) and
 //! how the fluid slides along it (free slip or no slip), validation that names the field, the
 //! value and the allowed range, and exact signed distances (negative inside) for the guard that
-//! projects particles out of solids. Triangle meshes live in [`crate::trimesh`].
+//! projects particles out of solids. Triangle meshes live in [`crate::boundary::trimesh`].
 
-pub use crate::collider_error::{ColliderError, MAX_COLLIDER_SIZE};
-use crate::trimesh::SharedTriMesh;
+pub use crate::boundary::collider_error::{ColliderError, MAX_COLLIDER_SIZE};
+use crate::boundary::trimesh::SharedTriMesh;
 use glam::{Quat, Vec3};
 
 /// A solid in its own frame: a primitive centred on the origin, or a triangle mesh.
@@ -313,8 +313,8 @@ impl Collider {
     /// The signed distance [m] (negative inside) and the outward normal in the world of the
     /// surface seen from the world point `x`, when it is closer than `reach` [m]; `None` beyond,
     /// found without a distance where the bounding sphere or a mesh's root box is farther. The
-    /// guard (reach: minus its tolerance, [`crate::guard`]) and the speculative contact
-    /// ([`crate::speculative_contact`]) share it; WGSL twin `collider_surface` in guard.wgsl.
+    /// guard (reach: minus its tolerance, [`crate::boundary::guard`]) and the speculative contact
+    /// ([`crate::boundary::speculative_contact`]) share it; WGSL twin `collider_surface` in guard.wgsl.
     pub fn surface_within(&self, x: Vec3, reach: f32) -> Option<(f32, Vec3)> {
         let local = self.pose.to_local(x);
         let bound = (self.bounding_radius() + reach).max(0.0);

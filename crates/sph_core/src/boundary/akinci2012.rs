@@ -2,13 +2,13 @@
 //! incompressible SPH" (§3.1): a boundary sample b stands for the volume
 //! V_b = γ / Σ_k W(x_b − x_k), summed over the samples k of its own set (itself included), so
 //! uneven sampling is compensated, and a fluid particle i gains ρ0 Σ_b V_b W(x_i − x_b) in its
-//! density. γ corrects the over-count of a thin layout (two layers, `crate::sampling`), and is
+//! density. γ corrects the over-count of a thin layout (two layers, `crate::boundary::sampling`), and is
 //! calibrated on a flat wall so that the first fluid row sees the density of a full lattice
 //! (`docs/design_boundary_akinci2012.md` §3). Groundwork: the solver does not use it yet.
 
-use crate::collider::ColliderShape;
+use crate::boundary::collider::ColliderShape;
 use crate::kernel::Kernels;
-use crate::sampling::sample_shape;
+use crate::boundary::sampling::sample_shape;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -97,7 +97,7 @@ pub fn lattice_density_ratio(spacing: f32, kernels: &Kernels, min_dy: f32) -> f3
     sum * spacing.powi(3)
 }
 
-/// The layout factor γ of [`crate::sampling`]'s two-layer samples at `spacing` for smoothing
+/// The layout factor γ of [`crate::boundary::sampling`]'s two-layer samples at `spacing` for smoothing
 /// radius h: on a flat slab (wider than 6 h), the first fluid row (dx/2 above the surface) gets
 /// the density of a full lattice from the fluid half-lattice plus the boundary.
 pub fn calibrate_gamma(spacing: f32, kernels: &Kernels) -> f32 {

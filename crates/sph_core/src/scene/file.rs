@@ -13,7 +13,7 @@
 //!     colliders: [(name: "ball", shape: Sphere(radius: 0.06), position: (0.5, 0.06, 0.15))],
 //!     blocks: [(min: (0.0, 0.0, 0.0), max: (0.2, 0.3, 0.3))],
 //! )"#;
-//! let scene = sph_core::scene_file::SceneFile::parse(text, "doc.ron").unwrap();
+//! let scene = sph_core::scene::file::SceneFile::parse(text, "doc.ron").unwrap();
 //! let setup = scene.build("doc.ron", text).unwrap();
 //! assert_eq!(setup.colliders.len(), 1);
 //! ```
@@ -22,18 +22,18 @@
 //! ([`SceneError`]); the parser refuses unknown fields, so a misspelt key is an error too.
 //! Optional values are written bare (RON's `implicit_some`): `spacing: 0.02`, `total: 8000`.
 
-use crate::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
+use crate::boundary::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 use crate::container::BoxContainer;
-use crate::paddle_wheel::PaddleWheel;
+use crate::boundary::paddle_wheel::PaddleWheel;
 use crate::params::{ParamError, SpacingDerivation, SphParams};
-use crate::probe::ProbeKind;
-use crate::pump::Pump;
-use crate::region::Region;
-use crate::scene_controls::{ControlBinding, ControlSpec, ControlTarget, SceneControl};
-use crate::sink::Sink;
+use crate::flow::probe::ProbeKind;
+use crate::flow::pump::Pump;
+use crate::flow::region::Region;
+use crate::scene::controls::{ControlBinding, ControlSpec, ControlTarget, SceneControl};
+use crate::flow::sink::Sink;
 use crate::solvers::{DfsphSettings, PbfSettings, Solver};
 use crate::spawn::{BlockSpawn, PipeEmitter};
-use crate::trimesh::TriMesh;
+use crate::boundary::trimesh::TriMesh;
 use glam::{EulerRot, Quat, Vec3};
 use serde::Deserialize;
 
@@ -156,7 +156,7 @@ pub enum ShapeSpec {
         #[serde(default)]
         thickness: Option<f32>,
     },
-    /// A paddle wheel about the collider's local z axis ([`crate::paddle_wheel::PaddleWheel`]):
+    /// A paddle wheel about the collider's local z axis ([`crate::boundary::paddle_wheel::PaddleWheel`]):
     /// `paddles` boxes from `inner` to `outer` [m] from the axle, `thickness` [m] thick and
     /// `width` [m] wide along it; a closed mesh for the water.
     PaddleWheel {
@@ -211,7 +211,7 @@ pub enum MotionSpec {
         #[serde(default)]
         damping: f32,
     },
-    /// Moved by a named control (see [`crate::scene_controls`]): at `position` at the start of
+    /// Moved by a named control (see [`crate::scene::controls`]): at `position` at the start of
     /// the control's range, at `to` at its end, linear between.
     Controlled {
         /// The control's name.
@@ -391,7 +391,7 @@ pub struct SceneFile {
     /// Probes.
     #[serde(default)]
     pub probes: Vec<ProbeEntry>,
-    /// Named controls (see [`crate::scene_controls`]).
+    /// Named controls (see [`crate::scene::controls`]).
     #[serde(default)]
     pub controls: Vec<ControlSpec>,
 }

@@ -9,7 +9,7 @@
 //! Poisson-disc set, about one sample per dx², shared edges sampled once). The samples'
 //! volumes come from Akinci's Σ W as for curved primitives.
 
-use crate::trimesh::TriMesh;
+use crate::boundary::trimesh::TriMesh;
 use glam::{IVec3, Vec3};
 use std::collections::HashMap;
 

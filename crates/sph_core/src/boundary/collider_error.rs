@@ -1,5 +1,5 @@
 //! The error of a collider shape, pose or mesh outside its allowed range, and the largest size a
-//! collider may have (shared by [`crate::collider`] and [`crate::trimesh`]).
+//! collider may have (shared by [`crate::boundary::collider`] and [`crate::boundary::trimesh`]).
 
 use std::fmt;
 

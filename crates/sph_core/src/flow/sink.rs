@@ -3,7 +3,7 @@
 //! = live, at every step.
 
 use crate::params::ParamError;
-use crate::region::Region;
+use crate::flow::region::Region;
 use glam::Vec3;
 
 /// A drain: while open, every particle inside its box is removed.

@@ -1,6 +1,6 @@
 //! One mesh triangle with the pseudo-normals a signed distance needs, and the closest point on
-//! it (Ericson, Real-Time Collision Detection §5.1.5): shared by [`crate::trimesh`] and its
-//! hierarchy [`crate::trimesh_bvh`].
+//! it (Ericson, Real-Time Collision Detection §5.1.5): shared by [`crate::boundary::trimesh`] and its
+//! hierarchy [`crate::boundary::trimesh_bvh`].
 
 use glam::Vec3;
 

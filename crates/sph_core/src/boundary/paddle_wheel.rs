@@ -2,8 +2,8 @@
 //! along the local z axis, each a box apart from the others, given to the fluid as one closed
 //! [`TriMesh`] of several closed parts (a physics engine can take each part as a convex box).
 
-use crate::collider_error::{ColliderError, MAX_COLLIDER_SIZE};
-use crate::trimesh::TriMesh;
+use crate::boundary::collider_error::{ColliderError, MAX_COLLIDER_SIZE};
+use crate::boundary::trimesh::TriMesh;
 use glam::{Quat, Vec3};
 
 /// The most paddles a wheel may have.

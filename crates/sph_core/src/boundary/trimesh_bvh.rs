@@ -4,7 +4,7 @@
 //! depth stays below 2 + log2(n) and a fixed stack of [`MAX_DEPTH`] suffices (the GPU guard's
 //! too). The query visits the nearer child first and skips a box farther than the best point.
 
-use crate::triangle::{closest_on_triangle, Feature, MeshTriangle};
+use crate::boundary::triangle::{closest_on_triangle, Feature, MeshTriangle};
 use glam::Vec3;
 
 /// Most triangles in a leaf.

@@ -8,12 +8,12 @@
 //! passes evaluate the kernel at positions that move every iteration: 4 bytes a pair to read
 //! instead of 16).
 
-use crate::boundary::Boundary;
+use crate::boundary::samples::Boundary;
 use crate::gpu_dfsph_pairs;
 use crate::kernel::CubicSpline;
 use crate::neighbor::grid::GROUP;
 use crate::neighbor::Neighbors;
-use crate::pair_lanes::{lane_sum, wide_lanes, Lanes, LANES};
+use crate::neighbor::pair_lanes::{lane_sum, wide_lanes, Lanes, LANES};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -343,7 +343,7 @@ impl NeighborLists {
     }
 
     /// [`Self::rebuild`] with the cubic spline `kernel` (DFSPH's), the fluid pairs evaluated
-    /// eight at a time ([`crate::pair_lanes`], in the AVX2 copy where the CPU has it) with the
+    /// eight at a time ([`crate::neighbor::pair_lanes`], in the AVX2 copy where the CPU has it) with the
     /// fused [`CubicSpline::value_and_gradient_factor`]: the same pairs, W and ∇W to rounding.
     /// The fluid pairs' m ∇W_ij are rounded as the GPU packs them ([`gpu_dfsph_pairs::round`]),
     /// so that both backends' DFSPH solve with the same g_ij.
