@@ -210,10 +210,10 @@ fn sph_avian_scene_bodies(
         }
         let mut e = commands.entity(entity);
         match body.map(|b| b.0) {
-            Some(sph_core::scene::file::BodyMass::Density(d)) => {
+            Some(sph_core::scene::BodyMass::Density(d)) => {
                 e.insert(ColliderDensity(d));
             }
-            Some(sph_core::scene::file::BodyMass::Mass(m)) => {
+            Some(sph_core::scene::BodyMass::Mass(m)) => {
                 e.insert(Mass(m));
             }
             None => {}

@@ -4,7 +4,7 @@
 use crate::report::ProbeSeries;
 use crate::scenarios::{Bodies, Scenario, ScenarioCollider, SceneExtras, Setup};
 use sph_core::scenario::Scene;
-use sph_core::scene::file::{SceneFile, SceneProbe};
+use sph_core::scene::{SceneFile, SceneProbe};
 use sph_core::{ProbeKind, ProbeReading, Rollback};
 use std::path::Path;
 

@@ -105,7 +105,7 @@ impl ControlTarget {
 /// pump or drain (by the target's kind).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ControlBinding {
-    /// The control's index in [`crate::scene::file::SceneSetup::controls`].
+    /// The control's index in [`crate::scene::SceneSetup::controls`].
     pub control: usize,
     /// The collider's, pump's or drain's index in its section.
     pub index: usize,

@@ -2,12 +2,12 @@
 //! flips, numeric extremes, and deleted and duplicated keys.
 //!
 //! A scene file is user data, hot-reloaded while a person types: every mutation of a valid file
-//! must load or be refused by [`crate::scene::file`], never panic and never allocate without
+//! must load or be refused by [`crate::scene`], never panic and never allocate without
 //! bound. The CI test (`tests/scene_fuzz.rs`) runs a few thousand of these; `sph-bench
 //! fuzz-scenes --seed S --count N` runs as many as asked with the same generator.
 
 use crate::rng::SplitMix64;
-use crate::scene::file::{SceneError, SceneFile, SceneSetup};
+use crate::scene::{SceneError, SceneFile, SceneSetup};
 
 /// Numbers that break naive arithmetic: infinities, NaN, the extremes of f32 and of the
 /// integer types, negative zero, and values just past the loader's own bounds.
