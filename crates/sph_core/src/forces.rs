@@ -5,8 +5,8 @@
 //! boundary body.
 
 use crate::boundary::samples::{BodyForceSum, Boundary};
-use crate::neighbor::Neighbors;
 use crate::boundary::speculative_contact::{speculative_contact_at, NextDrift, SURFACE_MARGIN};
+use crate::neighbor::Neighbors;
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::surface_tension_pair;
 use glam::Vec3;

@@ -23,7 +23,6 @@
 pub mod boundary;
 pub mod container;
 pub mod density;
-pub mod dfsph_bender2017;
 pub mod diagnostics;
 pub mod eos;
 pub mod flow;
@@ -38,7 +37,6 @@ pub mod kernel;
 pub mod limits;
 pub mod neighbor;
 pub mod params;
-pub mod pbf_macklin2013;
 pub mod rng;
 pub mod rollback;
 pub mod scenario;
@@ -50,28 +48,28 @@ pub mod stability;
 pub mod stage;
 pub mod surface_tension_akinci2013;
 
-pub use boundary::samples::{BodyForce, Boundary, ColliderId};
 pub use boundary::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
+pub use boundary::samples::{BodyForce, Boundary, ColliderId};
+pub use boundary::trimesh::{SharedTriMesh, TriMesh};
 pub use container::{BoxContainer, Walls};
 pub use diagnostics::Diagnostics;
 pub use eos::Eos;
+pub use flow::probe::{ProbeKind, ProbeReading};
+pub use flow::pump::Pump;
+pub use flow::region::Region;
+pub use flow::sink::Sink;
 pub use frame_budget::StepDt;
 pub use kernel::Kernels;
 pub use neighbor::Neighbors;
 pub use params::{
     EquationOfState, Integrator, NeighborSearch, ParamError, SpacingDerivation, SphParams,
 };
-pub use flow::probe::{ProbeKind, ProbeReading};
-pub use flow::pump::Pump;
-pub use flow::region::Region;
 pub use rollback::Rollback;
-pub use flow::sink::Sink;
 pub use solver::{CpuSolver, FrameAdvance, ParticleData, SpawnReport, StageTimings};
 pub use solvers::{DfsphSettings, PbfSettings, Solver, SolverStats};
 pub use spawn::{BlockSpawn, Emission, PipeEmitter};
 pub use stability::StepExtremes;
 pub use stage::{CpuStage, StageContext};
-pub use boundary::trimesh::{SharedTriMesh, TriMesh};
 
 /// Re-export of the vector math crate used in the public API.
 pub use glam;

@@ -7,9 +7,9 @@
 //! far above what a real-time scene holds and far below what exhausts a machine's memory.
 
 use crate::boundary::collider::ColliderShape;
+use crate::boundary::sampling::layer_depths;
 use crate::container::BoxContainer;
 use crate::params::ParamError;
-use crate::boundary::sampling::layer_depths;
 
 /// The most cells a dense grid may have (64 Mi cells = 256 MiB of offsets); use the hash beyond.
 pub const MAX_GRID_CELLS: u64 = 1 << 26;

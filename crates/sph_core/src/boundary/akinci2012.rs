@@ -7,8 +7,8 @@
 //! (`docs/design_boundary_akinci2012.md` §3). Groundwork: the solver does not use it yet.
 
 use crate::boundary::collider::ColliderShape;
-use crate::kernel::Kernels;
 use crate::boundary::sampling::sample_shape;
+use crate::kernel::Kernels;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::collections::HashMap;

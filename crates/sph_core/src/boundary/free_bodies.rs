@@ -26,13 +26,13 @@
 //! "Interlinked SPH pressure solvers for strong fluid-rigid coupling" do for the full rigid
 //! motion, here by a fixed-point update between the Jacobi sweeps).
 //!
-//! The reaction of a pair is m κ_i g_ib (`crate::dfsph_bender2017::boundary_reactions`), so the
+//! The reaction of a pair is m κ_i g_ib (`crate::solver::dfsph::bender2017::boundary_reactions`), so the
 //! solve's force on body B is Σ_i m κ_i G_iB with G_iB = Σ_{b ∈ B} g_ib, and Δv_B enters particle
 //! i's rate of density change through the samples' flux Σ_b v_b·g_ib as Δv_B·G_iB.
 
 use crate::boundary::samples::{BodyForceSum, Boundary};
-use crate::dfsph_bender2017::ParticleFactor;
 use crate::neighbor::lists::NeighborLists;
+use crate::solver::dfsph::bender2017::ParticleFactor;
 use glam::Vec3;
 
 /// One body's state across the frame's steps.

@@ -7,11 +7,11 @@
 
 use crate::boundary::akinci2012::{boundary_volumes, calibrate_gamma};
 use crate::boundary::collider::{Collider, ColliderError, ColliderMotion, Pose, Slip};
+use crate::boundary::sampling::{container_shell, sample_shape};
 use crate::container::BoxContainer;
 use crate::kernel::Kernels;
 use crate::neighbor::grid::DenseGrid;
 use crate::params::{ParamError, SphParams};
-use crate::boundary::sampling::{container_shell, sample_shape};
 use glam::{DVec3, Vec3};
 
 /// A collider's handle in a solver's boundary.
@@ -338,7 +338,7 @@ impl Boundary {
         Ok(())
     }
 
-    /// Whether the samples mirror DFSPH's stiffness κ_i (`crate::dfsph_bender2017`), all of them
+    /// Whether the samples mirror DFSPH's stiffness κ_i (`crate::solver::dfsph::bender2017`), all of them
     /// or none: only while every dynamic collider's
     /// mass is known ([`Self::set_mass`]), so that it gives way in the solves
     /// ([`crate::boundary::free_bodies`]).
@@ -478,9 +478,9 @@ impl Boundary {
         for (k, slot) in self.slots.iter().enumerate() {
             self.friction
                 .push(slot.as_ref().map_or(0.0, |b| b.collider.slip.friction()));
-            let dynamic = slot
-                .as_ref()
-                .is_some_and(|b| b.collider.motion == crate::boundary::collider::ColliderMotion::Dynamic);
+            let dynamic = slot.as_ref().is_some_and(|b| {
+                b.collider.motion == crate::boundary::collider::ColliderMotion::Dynamic
+            });
             self.dynamic.push(dynamic);
             self.origin.push(
                 slot.as_ref()

@@ -15,8 +15,8 @@
 
 use crate::boundary::collider::Pose;
 use crate::container::BoxContainer;
-use crate::params::{ParamError, SphParams};
 use crate::flow::region::Region;
+use crate::params::{ParamError, SphParams};
 use glam::Vec3;
 
 /// What a probe measures.

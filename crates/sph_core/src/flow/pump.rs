@@ -7,8 +7,8 @@
 //! components are never touched. Each step applies the exact solution of that equation over the
 //! step's dt, u' = s − (s − u) e^(−k dt), so any strength is stable at any dt.
 
-use crate::params::ParamError;
 use crate::flow::region::Region;
+use crate::params::ParamError;
 use glam::Vec3;
 use rayon::prelude::*;
 

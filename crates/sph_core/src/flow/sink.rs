@@ -2,8 +2,8 @@
 //! ([`crate::CpuSolver::drain`]). Particles are conserved otherwise: initial + emitted − drained
 //! = live, at every step.
 
-use crate::params::ParamError;
 use crate::flow::region::Region;
+use crate::params::ParamError;
 use glam::Vec3;
 
 /// A drain: while open, every particle inside its box is removed.

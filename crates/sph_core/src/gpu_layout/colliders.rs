@@ -87,7 +87,7 @@ pub struct GpuBoundarySamples {
     /// Each sample's body: 0 the walls, k + 1 the collider slot k ([`crate::ColliderId`]).
     pub body: Vec<u32>,
     /// Whether the samples mirror DFSPH's stiffness and hold the hydrostatic rise
-    /// (`crate::dfsph_bender2017`): unless a dynamic collider is in the boundary. The GPU does not
+    /// (`crate::solver::dfsph::bender2017`): unless a dynamic collider is in the boundary. The GPU does not
     /// let a body give way in the solves ([`crate::boundary::free_bodies`]), so it follows
     /// [`crate::Boundary::mirrors`] as if no mass were known. The plugin passes it on in
     /// [`GpuSphParams::dfsph_c`](crate::gpu_layout::GpuSphParams::dfsph_c)'s w.

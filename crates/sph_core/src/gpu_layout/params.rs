@@ -1,14 +1,14 @@
 //! The uniform block every pass reads (WGSL `SphUniforms`), built from the parameters.
 
 use crate::container::BoxContainer;
-use crate::dfsph_bender2017::rest_lattice_factor;
 use crate::gpu_layout::particles::*;
 use crate::gpu_layout::sizes::*;
 use crate::kernel::Kernels;
 use crate::neighbor::grid::DenseGrid;
 use crate::neighbor::hash::hash_table_size;
 use crate::params::{EquationOfState, ParamError, SphParams};
-use crate::pbf_macklin2013::PbfContext;
+use crate::solver::dfsph::bender2017::rest_lattice_factor;
+use crate::solver::pbf::macklin2013::PbfContext;
 use bytemuck::{Pod, Zeroable};
 use glam::{UVec3, Vec3};
 
@@ -55,24 +55,24 @@ pub struct GpuSphParams {
     /// planned for it, the frame's number (a new number starts a new budget), 0. All zero (off)
     /// until [`Self::with_frame_budget`].
     pub frame_budget: [u32; 4],
-    /// PBF ([`crate::pbf_macklin2013::PbfContext`]): the cubic spline's value and gradient
+    /// PBF ([`crate::solver::pbf::macklin2013::PbfContext`]): the cubic spline's value and gradient
     /// constants k and l, the relaxation ε [1/m²], s_corr's k in λ's units.
     pub pbf_kernel: [f32; 4],
     /// PBF: 1 / W(Δq), XSPH c, vorticity ε [m/s], the correction cap before the step's
-    /// gravity term ([`crate::pbf_macklin2013::MAX_CORRECTION`] h) [m].
+    /// gravity term ([`crate::solver::pbf::macklin2013::MAX_CORRECTION`] h) [m].
     pub pbf: [f32; 4],
     /// PBF: s_corr's n, the Jacobi iterations per step, [`PBF_MAX_NEIGHBORS`], the
     /// over-relaxation ω as f32 bits.
     pub pbf_counts: [u32; 4],
-    /// DFSPH ([`crate::dfsph_bender2017`]): the largest mean density error (fraction of ρ0),
+    /// DFSPH ([`crate::solver::dfsph::bender2017`]): the largest mean density error (fraction of ρ0),
     /// the largest mean divergence error [1/s], the cut-off of an isolated particle's factor
     /// (a fraction of the rest lattice's D), warm start (1) or not (0).
     pub dfsph: [f32; 4],
     /// DFSPH: min and max constant-density iterations, min and max divergence-free iterations.
     pub dfsph_counts: [u32; 4],
     /// DFSPH: the spacing Δx [m] (the CFL rule's length), the warm starts' fractions
-    /// ([`crate::dfsph_bender2017::DENSITY_WARM_START`], [`crate::dfsph_bender2017::DIVERGENCE_WARM_START`]),
-    /// [`crate::dfsph_bender2017::MAX_CORRECTION`].
+    /// ([`crate::solver::dfsph::bender2017::DENSITY_WARM_START`], [`crate::solver::dfsph::bender2017::DIVERGENCE_WARM_START`]),
+    /// [`crate::solver::dfsph::bender2017::MAX_CORRECTION`].
     pub dfsph_b: [f32; 4],
     /// Drains: the main world's frame number (recorded with each sort's tail), the open drains
     /// in [`GpuPumps`] (0 = none), 0, 0.
@@ -179,7 +179,7 @@ impl GpuSphParams {
             dfsph: [
                 d.max_density_error,
                 d.max_divergence_error,
-                crate::dfsph_bender2017::FACTOR_EPSILON * rest_lattice_factor(params),
+                crate::solver::dfsph::bender2017::FACTOR_EPSILON * rest_lattice_factor(params),
                 d.warm_start as u32 as f32,
             ],
             dfsph_counts: [
@@ -190,9 +190,9 @@ impl GpuSphParams {
             ],
             dfsph_b: [
                 params.spacing(),
-                crate::dfsph_bender2017::DENSITY_WARM_START,
-                crate::dfsph_bender2017::DIVERGENCE_WARM_START,
-                crate::dfsph_bender2017::MAX_CORRECTION,
+                crate::solver::dfsph::bender2017::DENSITY_WARM_START,
+                crate::solver::dfsph::bender2017::DIVERGENCE_WARM_START,
+                crate::solver::dfsph::bender2017::MAX_CORRECTION,
             ],
             drains: [0; 4],
             dfsph_c: [

@@ -12,8 +12,8 @@ use crate::boundary::samples::Boundary;
 use crate::gpu_dfsph_pairs;
 use crate::kernel::CubicSpline;
 use crate::neighbor::grid::GROUP;
-use crate::neighbor::Neighbors;
 use crate::neighbor::pair_lanes::{lane_sum, wide_lanes, Lanes, LANES};
+use crate::neighbor::Neighbors;
 use glam::Vec3;
 use rayon::prelude::*;
 

@@ -3,21 +3,21 @@
 //! with the container's walls and the colliders as Akinci 2012 boundary samples
 //! ([`crate::boundary::samples`]).
 
-use crate::boundary::samples::{BodyForce, BodyForceSum, Boundary, ColliderId};
 use crate::boundary::collider::{Collider, ColliderError, Pose, Slip};
+use crate::boundary::guard::{Corrections, Guard};
+use crate::boundary::samples::{BodyForce, BodyForceSum, Boundary, ColliderId};
 use crate::container::BoxContainer;
 use crate::density::compute_density_pressure;
 use crate::diagnostics::{Diagnostics, DiagnosticsInput};
+use crate::flow::pump::{apply_pumps, Pump};
+use crate::flow::sink::{drained_by_any, Sink};
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::frame_budget::{StepDt, FRAME_DONE};
 use crate::free_surface_pressure::extrapolate_free_surface_pressure;
-use crate::boundary::guard::{Corrections, Guard};
 use crate::integrate;
 use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
-use crate::flow::pump::{apply_pumps, Pump};
 use crate::rollback::{Rollback, RollbackState, Verdict};
-use crate::flow::sink::{drained_by_any, Sink};
 use crate::solvers::{Solver, SolverStats};
 use crate::stability::{adaptive_time_step, StepExtremes};
 use crate::stage::{evaluation_stages, CpuStage, StageContext};
@@ -25,8 +25,8 @@ use crate::surface_tension_akinci2013::compute_normals;
 use glam::Vec3;
 use rayon::prelude::*;
 
-mod dfsph;
-mod pbf;
+pub mod dfsph;
+pub mod pbf;
 mod state;
 
 use state::{timed, SolverParts};

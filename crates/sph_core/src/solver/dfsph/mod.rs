@@ -1,11 +1,11 @@
 //! `CpuSolver`'s DFSPH step ([`DfsphStep`]), the simulation loop of Bender & Koschier 2017 over the stages of
-//! [`crate::dfsph_bender2017`]:
+//! [`crate::solver::dfsph::bender2017`]:
 //!
 //! 1. non-pressure accelerations a_np (viscosity, surface tension, gravity, boundary friction)
 //!    at the step's start, where densities, factors and lists are already known;
 //! 2. dt from the flow speed ([`dfsph_time_step`]);
 //! 3. predicted velocities v* = v + dt (a_np + a_rise), with the boundary's hydrostatic rise
-//!    ([`crate::dfsph_bender2017::BoundaryRise`]);
+//!    ([`crate::solver::dfsph::bender2017::BoundaryRise`]);
 //! 4. the constant-density solve corrects v* until the predicted density error is small;
 //! 5. the solids' speculative contact bounds v* so that the drift ends a tenth of a spacing from
 //!    every surface ([`crate::boundary::speculative_contact::stop_before_drift`]), x += dt v*, the guard;
@@ -16,24 +16,26 @@
 //! and runs iterations of two passes (apply the stiffness, predict the error), what the GPU's
 //! two dispatches per iteration will be.
 
+pub mod bender2017;
+
 use super::state::{timed, ParticleData, SolverParts};
+use crate::boundary::free_bodies::{FreeBodies, GivingSolve};
+use crate::boundary::guard::Corrections;
+use crate::boundary::guard::Guard;
 use crate::boundary::samples::BodyForceSum;
 use crate::boundary::samples::Boundary;
-use crate::dfsph_bender2017::{
+use crate::boundary::speculative_contact::{stop_before_drift, SURFACE_MARGIN};
+use crate::forces::{compute_accelerations, ForceInputs};
+use crate::frame_budget::StepDt;
+use crate::kernel::CubicSpline;
+use crate::neighbor::lists::{ListSource, NeighborLists};
+use crate::params::SphParams;
+use crate::solver::dfsph::bender2017::{
     apply_stiffness, boundary_reactions, compute_factors, density_source, dfsph_time_step,
     divergence_source, rest_lattice_factor, stiffness_from_source, BoundaryRise, OverRelaxation,
     ParticleFactor, TopRowStiffness, DENSITY_WARM_START, DIVERGENCE_WARM_START,
 };
-use crate::forces::{compute_accelerations, ForceInputs};
-use crate::frame_budget::StepDt;
-use crate::boundary::free_bodies::{FreeBodies, GivingSolve};
-use crate::boundary::guard::Corrections;
-use crate::boundary::guard::Guard;
-use crate::kernel::CubicSpline;
-use crate::neighbor::lists::{ListSource, NeighborLists};
-use crate::params::SphParams;
 use crate::solvers::SolverStats;
-use crate::boundary::speculative_contact::{stop_before_drift, SURFACE_MARGIN};
 use crate::stability::largest_magnitude;
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::compute_normals;

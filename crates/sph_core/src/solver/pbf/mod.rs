@@ -1,5 +1,5 @@
 //! `CpuSolver`'s PBF step ([`PbfStep`]), the simulation loop of Macklin & Müller 2013
-//! (Algorithm 1) over the passes of [`crate::pbf_macklin2013`]:
+//! (Algorithm 1) over the passes of [`crate::solver::pbf::macklin2013`]:
 //!
 //! 1. v += dt g; predicted positions x* = x + dt v; the guard;
 //! 2. neighbour sort and lists on the predicted positions;
@@ -10,13 +10,15 @@
 //! Viscosity and surface tension of the WCSPH forces pass are not applied (XSPH stands for the
 //! viscosity); the boundary's reactions are summed for the colliders every iteration.
 
+pub mod macklin2013;
+
 use super::state::{timed, ParticleData, SolverParts};
+use crate::boundary::guard::{Corrections, Guard};
 use crate::boundary::samples::{BodyForceSum, Boundary};
 use crate::frame_budget::StepDt;
-use crate::boundary::guard::{Corrections, Guard};
 use crate::neighbor::lists::IndexLists;
 use crate::params::SphParams;
-use crate::pbf_macklin2013::{
+use crate::solver::pbf::macklin2013::{
     apply_corrections, compute_corrections, compute_lambdas, confine_vorticity,
     constraint_violation, vorticity, xsph_and_densities, Constraint, Correction, CorrectionStep,
     PbfContext,
