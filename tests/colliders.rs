@@ -11,7 +11,7 @@ mod common;
 use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
 use common::*;
-use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
+use sph_core::boundary::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Solver};
 
 /// The scene with `solver` at its own time-step rule.
@@ -132,7 +132,7 @@ fn one_gpu_step_with_colliders_matches_the_cpu_solver() {
 
 /// The block thrown down at 20 m/s: the floor's row and the particles over the colliders would
 /// come closer than a tenth of a spacing to them within the step, and WCSPH's forces stop them
-/// with the solids' speculative contact (`sph_core::speculative_contact`, on the GPU
+/// with the solids' speculative contact (`sph_core::boundary::speculative_contact`, on the GPU
 /// `shaders/speculative_contact.wgsl`), whose reactions join the colliders' forces. Without the
 /// contact in forces.wgsl (checked), the accelerations differ by 0.6 of the largest.
 #[test]
@@ -328,7 +328,7 @@ fn run_and_edit(backend: SphBackend) {
     let capsule = app.world().get::<Transform>(entities[2]).unwrap();
     let moved = as_solver_collider(&colliders()[2].0, capsule);
     // Deeper than the guard's tolerance (a particle resting on an edge rounds a few ulps in).
-    let depth = -sph_core::guard::tolerance(sph_core::SphParams::water().spacing());
+    let depth = -sph_core::boundary::guard::tolerance(sph_core::SphParams::water().spacing());
     let inside = s
         .positions
         .iter()

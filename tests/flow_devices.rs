@@ -282,7 +282,7 @@ fn one_step_drains_exactly_the_particles_inside_on_both_backends() {
     );
 }
 
-/// The GPU's pumps (applied in the closing kick) against the CPU solver's (`sph_core::pump`):
+/// The GPU's pumps (applied in the closing kick) against the CPU solver's (`sph_core::flow::pump`):
 /// five steps of a block pushed along a turned pump's direction give the same velocities.
 #[test]
 fn gpu_pumps_match_the_cpu_solver() {
@@ -342,7 +342,7 @@ fn gpu_pumps_match_the_cpu_solver() {
 }
 
 /// The GPU's probes (summed in the closing kick, read back a frame or two later) against
-/// `sph_core::probe` on the CPU solver's state after the same three steps. Four drops of spray
+/// `sph_core::flow::probe` on the CPU solver's state after the same three steps. Four drops of spray
 /// over the level probe's column are not its level on either side.
 #[test]
 fn gpu_probes_match_the_cpu_solver() {

@@ -11,7 +11,7 @@ use bevy::prelude::*;
 use bevy_sph_fluid::mesh_collider::trimesh_from_mesh;
 use bevy_sph_fluid::prelude::*;
 use common::*;
-use sph_core::collider::{Collider, ColliderShape, Pose};
+use sph_core::boundary::collider::{Collider, ColliderShape, Pose};
 use sph_core::{BlockSpawn, BoxContainer};
 
 #[test]
@@ -82,7 +82,7 @@ fn solids() -> Vec<Collider> {
 
 /// Particles deeper inside a mesh than the guard's tolerance.
 fn inside(s: &SphSnapshot) -> usize {
-    let depth = -sph_core::guard::tolerance(sph_core::SphParams::water().spacing());
+    let depth = -sph_core::boundary::guard::tolerance(sph_core::SphParams::water().spacing());
     let solids = solids();
     s.positions
         .iter()

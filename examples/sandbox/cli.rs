@@ -80,7 +80,7 @@ impl Cli {
             let file = format!("{}/assets/{path}", env!("CARGO_MANIFEST_DIR"));
             let text =
                 std::fs::read_to_string(&file).map_err(|e| format!("--scene: {file}: {e}"))?;
-            let setup = sph_core::scene_file::SceneFile::parse(&text, path)
+            let setup = sph_core::scene::SceneFile::parse(&text, path)
                 .and_then(|scene| scene.build(path, &text))
                 .map_err(|e| format!("--scene: {e}"))?;
             config.solver = setup.params.solver;

@@ -120,7 +120,7 @@ impl SceneFiles {
                 let cpu_only = std::fs::read_to_string(&path)
                     .map_err(|e| e.to_string())
                     .and_then(|text| {
-                        sph_core::scene_file::SceneFile::parse(&text, &name)
+                        sph_core::scene::SceneFile::parse(&text, &name)
                             .and_then(|scene| scene.build(&name, &text))
                             .map(|setup| SceneFileKind {
                                 solver: setup.params.solver,

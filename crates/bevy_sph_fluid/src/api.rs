@@ -398,7 +398,7 @@ pub struct SphColliderForce {
 
 /// The mass [kg] of the body behind a dynamic [`SphCollider`]. With it, DFSPH's solves on the
 /// CPU backend let the body give way to the water's pressure within a frame
-/// (`sph_core::free_bodies`): a body that the game or a physics engine moves once a frame would
+/// (`sph_core::boundary::free_bodies`): a body that the game or a physics engine moves once a frame would
 /// otherwise be an unstoppable solid to the water's several steps in that frame, and a heavy body
 /// resting on water rattles (measured: a 1,500 kg/m³ box at ±0.1 m/s without its mass, 0.02 m/s
 /// with it). The avian integration keeps it equal to avian's mass for free dynamic bodies; a game

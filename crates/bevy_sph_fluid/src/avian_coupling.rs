@@ -13,7 +13,7 @@
 //!
 //! Mass: a free dynamic body (not on a scene's hinge, no locked translation axis) carries
 //! [`SphColliderMass`], kept equal to avian's mass, so that DFSPH's solves on the CPU let it give
-//! way to the water within a frame (`sph_core::free_bodies`): a heavy box resting on water no
+//! way to the water within a frame (`sph_core::boundary::free_bodies`): a heavy box resting on water no
 //! longer rattles between frames.
 //!
 //! Time: by default avian steps in its fixed schedule by the game's time, the water by its own
@@ -210,10 +210,10 @@ fn sph_avian_scene_bodies(
         }
         let mut e = commands.entity(entity);
         match body.map(|b| b.0) {
-            Some(sph_core::scene_file::BodyMass::Density(d)) => {
+            Some(sph_core::scene::BodyMass::Density(d)) => {
                 e.insert(ColliderDensity(d));
             }
-            Some(sph_core::scene_file::BodyMass::Mass(m)) => {
+            Some(sph_core::scene::BodyMass::Mass(m)) => {
                 e.insert(Mass(m));
             }
             None => {}

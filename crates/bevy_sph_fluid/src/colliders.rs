@@ -9,7 +9,7 @@ use crate::api::*;
 use crate::shared::{BodyForceReadback, SphSimulation};
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
-use sph_core::collider::ColliderError;
+use sph_core::boundary::collider::ColliderError;
 use sph_core::gpu_layout::GPU_BODY_SLOTS;
 use sph_core::{Collider, ColliderId, ColliderMotion, ColliderShape, Pose};
 

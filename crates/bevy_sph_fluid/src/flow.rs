@@ -5,7 +5,7 @@
 //!   ([`SphStats::particles_drained`]); the balance initial + emitted − drained = live holds at
 //!   every frame ([`SphStats::particle_balance`]).
 //! - [`SphPump`]: pushes the water inside its box along a direction toward a target speed
-//!   ([`sph_core::pump`]), every step.
+//!   ([`sph_core::flow::pump`]), every step.
 //! - [`SphProbe`]: the water level, the flux through a rectangle or the particles in a box,
 //!   sent as [`SphProbeReading`] messages every `every_steps` steps.
 //!
@@ -38,7 +38,7 @@ pub struct SphSink {
 }
 
 /// A pump: inside the box of `half_extents`, the water's velocity along `direction` (in the
-/// entity's frame) relaxes toward `speed` at the rate `strength` (see [`sph_core::pump`]).
+/// entity's frame) relaxes toward `speed` at the rate `strength` (see [`sph_core::flow::pump`]).
 #[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
 #[reflect(Component)]
 #[require(Transform)]
@@ -58,7 +58,7 @@ pub struct SphPump {
 pub enum SphProbeKind {
     /// The water level [m, world y] of the vertical column through the entity's position: the
     /// free surface of the connected water under it, spray over an air gap left out
-    /// ([`sph_core::probe`] has the definition).
+    /// ([`sph_core::flow::probe`] has the definition).
     Level {
         /// The column's radius [m] (> 0; about two spacings).
         radius: f32,

@@ -7,7 +7,7 @@ use crate::api::SphCollider;
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
 use bevy::prelude::*;
-use sph_core::collider::ColliderError;
+use sph_core::boundary::collider::ColliderError;
 use sph_core::{ColliderShape, TriMesh};
 
 fn mesh_error(field: &'static str, value: String, allowed: &'static str) -> ColliderError {

@@ -1,4 +1,4 @@
-//! Water scenes as assets: a RON file of `sph_core::scene_file` loaded through Bevy's asset
+//! Water scenes as assets: a RON file of `sph_core::scene::file` loaded through Bevy's asset
 //! system becomes the parameters, the container, the colliders, the blocks, the emitters, the
 //! drains, the pumps and the probes of the simulation. Spawn an entity with [`SphScene`]; when the file changes on disk (with Bevy's
 //! `file_watcher` feature) the scene is rebuilt, and a file that fails to load or validate is
@@ -19,8 +19,8 @@ use crate::flow::{SphProbe, SphPump, SphSink};
 use bevy::asset::io::Reader;
 use bevy::asset::{AssetLoadError, AssetLoadFailedEvent, AssetLoader, LoadContext};
 use bevy::prelude::*;
-use sph_core::scene_controls::{ControlBinding, ControlTarget, SceneControl};
-use sph_core::scene_file::{SceneError, SceneFile, SceneSetup};
+use sph_core::scene::controls::{ControlBinding, ControlTarget, SceneControl};
+use sph_core::scene::{SceneError, SceneFile, SceneSetup};
 
 /// A water scene read from a RON file (`assets/scenes/*.ron`), validated.
 #[derive(Asset, TypePath, Clone, Debug, PartialEq)]
@@ -78,17 +78,17 @@ pub struct SphSceneMember(pub Entity);
 /// rigid body of that density or mass; without it, game code moves the collider (reading
 /// [`SphColliderForce`]).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
-pub struct SphDynamicBody(pub sph_core::scene_file::BodyMass);
+pub struct SphDynamicBody(pub sph_core::scene::BodyMass);
 
 /// A hinged collider's hinge from a scene file (`motion: Hinged(...)`): an axle through the
 /// entity's position. With the `avian` feature it becomes an avian revolute joint to the world
 /// with the hinge's angular damping; without it, game code turns the collider.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
-pub struct SphHinge(pub sph_core::scene_file::Hinge);
+pub struct SphHinge(pub sph_core::scene::Hinge);
 
 /// The named controls of a scene file, on its [`SphScene`] entity: set a value (within its
 /// range) and the colliders, pumps and drains bound to it follow on the next frame (see
-/// [`sph_core::scene_controls`]).
+/// [`sph_core::scene::controls`]).
 #[derive(Component, Clone, Debug, PartialEq)]
 pub struct SphSceneControls(pub Vec<SceneControl>);
 
@@ -106,7 +106,7 @@ pub struct SphControlBinding(pub ControlBinding);
 /// A kinematic collider's path from a scene file: `(time, position)` waypoints, followed by
 /// simulated time ([`SphStats::sim_time`]).
 #[derive(Component, Clone, Debug, PartialEq)]
-pub struct SphColliderPath(pub sph_core::scene_file::SceneCollider);
+pub struct SphColliderPath(pub sph_core::scene::SceneCollider);
 
 pub(crate) fn add_systems(app: &mut App, schedule: bevy::ecs::schedule::InternedScheduleLabel) {
     app.init_asset::<SphSceneAsset>()

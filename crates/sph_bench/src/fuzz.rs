@@ -1,10 +1,10 @@
-//! `sph-bench fuzz-scenes`: the scene-file fuzzer of `sph_core::scene_mutations` (the one CI
+//! `sph-bench fuzz-scenes`: the scene-file fuzzer of `sph_core::scene::mutations` (the one CI
 //! runs in `crates/sph_core/tests/scene_fuzz.rs`), for as many mutants as asked.
 
 use crate::args::FuzzArgs;
 use crate::progress::Bars;
 use serde::Serialize;
-use sph_core::scene_mutations::{load, mutant};
+use sph_core::scene::mutations::{load, mutant};
 use std::time::Instant;
 
 /// What a fuzzing run found.

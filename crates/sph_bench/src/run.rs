@@ -314,7 +314,7 @@ pub fn run_setup(
     let speeds: Vec<f32> = state.velocities.iter().map(|v| v.length()).collect();
     let colliders_now = sim.colliders_now(&setup.colliders);
     // Deeper than the guard's tolerance (a particle resting on an edge rounds a few ulps in).
-    let depth = sph_core::guard::tolerance(setup.scene.params.spacing());
+    let depth = sph_core::boundary::guard::tolerance(setup.scene.params.spacing());
     let inside_collider_count = state
         .positions
         .iter()
@@ -596,7 +596,7 @@ fn body_motion(setup: &Setup, now: &[sph_core::Collider], track: BodyTrack) -> V
 fn buoyancy(setup: &Setup, forces: &[ColliderForceReport]) -> Option<BuoyancyFigures> {
     let c = setup.colliders.first()?;
     let f = forces.first()?;
-    let sph_core::collider::ColliderShape::Cuboid { half_extents } = c.collider.shape else {
+    let sph_core::boundary::collider::ColliderShape::Cuboid { half_extents } = c.collider.shape else {
         return None;
     };
     let p = &setup.scene.params;

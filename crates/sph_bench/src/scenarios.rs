@@ -1,9 +1,9 @@
 //! The scenarios of `sph-bench`: their scenes, emitters and default durations.
 
-use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose};
+use sph_core::boundary::collider::{Collider, ColliderMotion, ColliderShape, Pose};
 use sph_core::glam::{Quat, Vec3};
 use sph_core::scenario::{dam_break, hydrostatic, Scene};
-use sph_core::scene_file::{SceneCollider, SceneProbe};
+use sph_core::scene::{SceneCollider, SceneProbe};
 use sph_core::{
     BlockSpawn, BoxContainer, PipeEmitter, Pump, Rollback, Sink, SpacingDerivation, SphParams,
 };

@@ -1,10 +1,10 @@
-//! `sph-bench run --scene FILE`: a scene file (`sph_core::scene_file`) as a setup, with its
+//! `sph-bench run --scene FILE`: a scene file (`sph_core::scene::file`) as a setup, with its
 //! emitters, drains, pumps and probes; the probes' readings go into the report.
 
 use crate::report::ProbeSeries;
 use crate::scenarios::{Bodies, Scenario, ScenarioCollider, SceneExtras, Setup};
 use sph_core::scenario::Scene;
-use sph_core::scene_file::{SceneFile, SceneProbe};
+use sph_core::scene::{SceneFile, SceneProbe};
 use sph_core::{ProbeKind, ProbeReading, Rollback};
 use std::path::Path;
 

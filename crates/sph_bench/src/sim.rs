@@ -114,7 +114,7 @@ pub struct CpuSimulation {
     emitters: Vec<PipeEmitter>,
     /// The scene file's drains and probes.
     sinks: Vec<sph_core::Sink>,
-    probes: Vec<sph_core::scene_file::SceneProbe>,
+    probes: Vec<sph_core::scene::SceneProbe>,
     probe_log: ProbeLog,
     /// Particles emitted and drained since the start.
     flow_counts: (u64, u64),

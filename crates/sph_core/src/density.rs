@@ -2,7 +2,7 @@
 //! included) plus the boundary samples' ρ0 Σ_b V_b W_poly6(x_i - x_b) (Akinci 2012), then
 //! p_i from the equation of state.
 
-use crate::boundary::Boundary;
+use crate::boundary::samples::Boundary;
 use crate::neighbor::Neighbors;
 use crate::stage::StageContext;
 use glam::Vec3;

@@ -4,9 +4,9 @@
 //! pressure mirrored onto the sample). Writes accelerations a_i and the fluid's reaction on every
 //! boundary body.
 
-use crate::boundary::{BodyForceSum, Boundary};
+use crate::boundary::samples::{BodyForceSum, Boundary};
+use crate::boundary::speculative_contact::{speculative_contact_at, NextDrift, SURFACE_MARGIN};
 use crate::neighbor::Neighbors;
-use crate::speculative_contact::{speculative_contact_at, NextDrift, SURFACE_MARGIN};
 use crate::stage::StageContext;
 use crate::surface_tension_akinci2013::surface_tension_pair;
 use glam::Vec3;
@@ -263,7 +263,7 @@ fn contact_shares(
 /// Fills `acceleration` for every (sorted) particle; returns the fluid's force and torque on
 /// every boundary body (indexed like [`Boundary::friction`]; empty without a boundary). With the
 /// pressure terms (WCSPH), each particle's acceleration ends with the solids' speculative contact
-/// ([`crate::speculative_contact`]), which keeps its next drift a tenth of a spacing from every
+/// ([`crate::boundary::speculative_contact`]), which keeps its next drift a tenth of a spacing from every
 /// surface.
 pub fn compute_accelerations(
     ctx: &StageContext,

@@ -30,7 +30,7 @@
 //! with the unbounded interpolant, against 14. Bounded at ρ0 |g| Δx, 26 there and 1 in
 //! `obstacles` (a jet's leading particle driven into the floor); at ρ0 |g| Δx/2, 15 and 0.
 //! With this average, `obstacles` has 2 guard corrections (floor grazes) without the solids'
-//! speculative contact ([`crate::speculative_contact`]), which stops such particles.
+//! speculative contact ([`crate::boundary::speculative_contact`]), which stops such particles.
 
 use crate::neighbor::Neighbors;
 use crate::stage::StageContext;

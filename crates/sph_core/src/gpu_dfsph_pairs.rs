@@ -6,7 +6,7 @@
 //! fixed point (to 3e-5 of the largest |g_ij|) and at most 2^18 particles on GPU DFSPH.
 //!
 //! The CPU solver rounds its fluid pairs' g_ij the same way ([`round`], in
-//! [`crate::neighbor_lists::NeighborLists::rebuild_cubic_spline`]), so both backends solve with
+//! [`crate::neighbor::lists::NeighborLists::rebuild_cubic_spline`]), so both backends solve with
 //! the same g_ij. Without it a violent impact (a block at 20 m/s into colliders, 28 %
 //! compressed) differed by 3.6e-3 in density between them: the pressure accelerations
 //! Σ_j (κ_i + κ_j) g_ij of a compressed particle cancel to a small part of their terms, and the

@@ -2,7 +2,7 @@
 //! translations of these loops. The phases that move particles run the [`Guard`] and return how
 //! many particles it corrected; the closing kicks only reflect velocities at the box's walls.
 
-use crate::guard::{Corrections, Guard};
+use crate::boundary::guard::{Corrections, Guard};
 use glam::Vec3;
 use rayon::prelude::*;
 

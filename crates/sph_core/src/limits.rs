@@ -6,10 +6,10 @@
 //! with the field, the value and the limit, not discovered by the allocator. Each bound here is
 //! far above what a real-time scene holds and far below what exhausts a machine's memory.
 
-use crate::collider::ColliderShape;
+use crate::boundary::collider::ColliderShape;
+use crate::boundary::sampling::layer_depths;
 use crate::container::BoxContainer;
 use crate::params::ParamError;
-use crate::sampling::layer_depths;
 
 /// The most cells a dense grid may have (64 Mi cells = 256 MiB of offsets); use the hash beyond.
 pub const MAX_GRID_CELLS: u64 = 1 << 26;
@@ -144,10 +144,10 @@ pub fn shape_samples_estimate(shape: &ColliderShape, spacing: f32) -> f64 {
 pub fn check_shape_samples(
     shape: &ColliderShape,
     spacing: f32,
-) -> Result<(), crate::collider::ColliderError> {
+) -> Result<(), crate::boundary::collider::ColliderError> {
     let estimate = shape_samples_estimate(shape, spacing);
     if estimate.is_nan() || estimate > MAX_BOUNDARY_SAMPLES as f64 {
-        return Err(crate::collider::ColliderError {
+        return Err(crate::boundary::collider::ColliderError {
             field: "shape",
             value: format!("about {estimate:.3e} boundary samples at a {spacing} m spacing"),
             allowed: "at most 2^24 boundary samples: a smaller shape or a larger spacing",
@@ -176,7 +176,7 @@ mod tests {
     fn the_shell_estimate_counts_what_the_sampler_lays() {
         let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.4, 0.3, 0.2));
         let spacing = 0.02;
-        let (laid, _) = crate::sampling::container_shell(&container, spacing);
+        let (laid, _) = crate::boundary::sampling::container_shell(&container, spacing);
         assert_eq!(
             container_shell_samples(&container, spacing),
             Some(laid.len() as u64)
@@ -200,7 +200,7 @@ mod tests {
                 half_length: 0.2,
             },
         ] {
-            let laid = crate::sampling::sample_shape(&shape, spacing).len() as f64;
+            let laid = crate::boundary::sampling::sample_shape(&shape, spacing).len() as f64;
             let estimate = shape_samples_estimate(&shape, spacing);
             assert!(
                 laid <= estimate && estimate <= 8.0 * laid,

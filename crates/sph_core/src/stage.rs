@@ -107,7 +107,7 @@ pub struct BoundaryContact {
     /// previous step's: the state alone decides the step.
     pub time_step: f32,
     /// The share of this evaluation's acceleration that the velocity of the next drift takes
-    /// (the solids' speculative contact, [`crate::speculative_contact`]): 1 where the drift
+    /// (the solids' speculative contact, [`crate::boundary::speculative_contact`]): 1 where the drift
     /// starts from v + a dt (kick-drift-kick's closing evaluation, symplectic Euler), 1/2 where
     /// it starts from v + a dt/2 (the leapfrog's first evaluation, kick-drift-kick's first when
     /// its forces were stale; [`StageContext::with_half_kick_drift`]).
@@ -200,37 +200,37 @@ pub enum CpuStage {
     /// Integration phases ([`crate::integrate`]).
     Integrate,
     /// The step's neighbour lists (PBF: the pairs within h at the predicted positions,
-    /// [`crate::neighbor_lists::NeighborLists::rebuild`]).
+    /// [`crate::neighbor::lists::NeighborLists::rebuild`]).
     NeighborLists,
     /// PBF: the constraint's λ_i at the predicted positions
-    /// ([`crate::pbf_macklin2013::compute_lambdas`]).
+    /// ([`crate::solver::pbf::macklin2013::compute_lambdas`]).
     PbfLambda,
     /// PBF: the position corrections Δp_i and the bodies' reactions
-    /// ([`crate::pbf_macklin2013::compute_corrections`], [`crate::pbf_macklin2013::apply_corrections`]).
+    /// ([`crate::solver::pbf::macklin2013::compute_corrections`], [`crate::solver::pbf::macklin2013::apply_corrections`]).
     PbfCorrection,
     /// PBF: velocities from the positions, the guard (step 4 of `CpuSolver`'s PBF step).
     PbfVelocity,
     /// PBF: XSPH viscosity and the final densities
-    /// ([`crate::pbf_macklin2013::xsph_and_densities`]), then the pumps.
+    /// ([`crate::solver::pbf::macklin2013::xsph_and_densities`]), then the pumps.
     PbfXsph,
-    /// PBF: the vorticity ω_i ([`crate::pbf_macklin2013::vorticity`]).
+    /// PBF: the vorticity ω_i ([`crate::solver::pbf::macklin2013::vorticity`]).
     PbfVorticity,
-    /// PBF: vorticity confinement ([`crate::pbf_macklin2013::confine_vorticity`]).
+    /// PBF: vorticity confinement ([`crate::solver::pbf::macklin2013::confine_vorticity`]).
     PbfConfinement,
     /// DFSPH: the cubic-spline densities and the factors 1/D_i
-    /// ([`crate::neighbor_lists::NeighborLists::rebuild`]'s densities,
-    /// [`crate::dfsph_bender2017::compute_factors`]).
+    /// ([`crate::neighbor::lists::NeighborLists::rebuild`]'s densities,
+    /// [`crate::solver::dfsph::bender2017::compute_factors`]).
     DfsphFactors,
     /// DFSPH: the predicted velocities v* = v + dt a_np (step 3 of `CpuSolver`'s DFSPH step).
     DfsphPredict,
     /// DFSPH: v += dt a_p of the iteration's stiffness
-    /// ([`crate::dfsph_bender2017::apply_stiffness`]).
+    /// ([`crate::solver::dfsph::bender2017::apply_stiffness`]).
     DfsphApply,
     /// DFSPH: the solve's source and the next stiffness
-    /// ([`crate::dfsph_bender2017::density_source`], [`crate::dfsph_bender2017::divergence_source`],
-    /// [`crate::dfsph_bender2017::stiffness_from_source`]).
+    /// ([`crate::solver::dfsph::bender2017::density_source`], [`crate::solver::dfsph::bender2017::divergence_source`],
+    /// [`crate::solver::dfsph::bender2017::stiffness_from_source`]).
     DfsphSource,
-    /// DFSPH: the bodies' reactions of a solve ([`crate::dfsph_bender2017::boundary_reactions`]);
+    /// DFSPH: the bodies' reactions of a solve ([`crate::solver::dfsph::bender2017::boundary_reactions`]);
     /// after the divergence-free solve, the pressures and the pumps.
     DfsphReactions,
 }

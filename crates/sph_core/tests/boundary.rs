@@ -4,12 +4,12 @@
 //! settling tank keeps every particle in the box; the floor holds a column at rest.
 
 use glam::{Quat, Vec3};
-use sph_core::boundary::{BodyForceSum, Boundary};
-use sph_core::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
+use sph_core::boundary::samples::{BodyForceSum, Boundary};
+use sph_core::boundary::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 use sph_core::density::density_at;
 use sph_core::forces::{boundary_acceleration_at, compute_accelerations, ForceInputs};
 use sph_core::free_surface_pressure::extrapolate_free_surface_pressure;
-use sph_core::guard::Guard;
+use sph_core::boundary::guard::Guard;
 use sph_core::scenario::hydrostatic;
 use sph_core::stage::StageContext;
 use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Neighbors, SphParams};
@@ -449,7 +449,7 @@ fn fast_particles_are_stopped_before_the_wall() {
 /// Lone particles thrown at the walls' exact surface between the samples, where the nearest
 /// sample is 0.87 Δx from the wall and the samples' contact is weakest, and at a sphere and a
 /// rotated box, at up to 16 m/s (kick-drift-kick): the speculative contact
-/// (`sph_core::speculative_contact`) stops each one at a tenth of a spacing from the surface,
+/// (`sph_core::boundary::speculative_contact`) stops each one at a tenth of a spacing from the surface,
 /// and the guard corrects nothing. Without it (checked by switching it off), the particles at 4
 /// m/s and faster reached the floor between the samples, and at 8 m/s and faster the sphere; the
 /// rotated box stopped the particle at 16 m/s 0.02 Δx from its face.
@@ -517,7 +517,7 @@ fn particles_aimed_between_the_samples_stop_short_of_the_surface() {
 /// along the floor.
 #[test]
 fn the_speculative_contact_stops_at_the_margin_and_never_pushes() {
-    use sph_core::speculative_contact::{speculative_contact_at, NextDrift, SURFACE_MARGIN};
+    use sph_core::boundary::speculative_contact::{speculative_contact_at, NextDrift, SURFACE_MARGIN};
     let (params, container, _) = tank();
     let boundary = Boundary::new(&container, &params, Slip::Free).unwrap();
     let dx = params.spacing();
@@ -531,7 +531,7 @@ fn the_speculative_contact_stops_at_the_margin_and_never_pushes() {
         let drift = NextDrift { dt, kick, margin };
         let mut force = Vec3::ZERO;
         let a_s = speculative_contact_at(&boundary, x, v, g, drift, m, |body, f, _| {
-            assert_eq!(body, sph_core::boundary::WALLS_BODY);
+            assert_eq!(body, sph_core::boundary::samples::WALLS_BODY);
             force += f;
         });
         let v_next = v + (g + a_s) * (kick * dt);

@@ -3,8 +3,8 @@
 //! between neighbours.
 
 use glam::{Quat, Vec3};
-use sph_core::collider::{ColliderShape, PlacedShape, Pose};
-use sph_core::sampling::{layer_depths, sample_shape};
+use sph_core::boundary::collider::{ColliderShape, PlacedShape, Pose};
+use sph_core::boundary::sampling::{layer_depths, sample_shape};
 
 const DX: f32 = 0.02;
 
@@ -218,11 +218,11 @@ fn bad_sizes_and_poses_are_named() {
 mod akinci2012 {
     use super::DX;
     use glam::Vec3;
-    use sph_core::boundary_akinci2012::{
+    use sph_core::boundary::akinci2012::{
         boundary_density_ratio, boundary_volumes, calibrate_gamma, lattice_density_ratio,
     };
-    use sph_core::collider::ColliderShape;
-    use sph_core::sampling::sample_shape;
+    use sph_core::boundary::collider::ColliderShape;
+    use sph_core::boundary::sampling::sample_shape;
     use sph_core::Kernels;
 
     fn kernels() -> Kernels {

@@ -1,4 +1,4 @@
-//! A dynamic body gives way in DFSPH's solves when its mass is known (`sph_core::free_bodies`): a
+//! A dynamic body gives way in DFSPH's solves when its mass is known (`sph_core::boundary::free_bodies`): a
 //! heavy box moved once per frame, as a physics engine moves it, rests on the water under it
 //! instead of rattling; and the mass is validated.
 

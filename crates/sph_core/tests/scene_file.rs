@@ -2,7 +2,7 @@
 //! refused with the file, the line, the field, the value and what is allowed.
 
 use sph_core::glam::Vec3;
-use sph_core::scene_file::{SceneError, SceneFile, SceneSetup};
+use sph_core::scene::{SceneError, SceneFile, SceneSetup};
 use sph_core::{ColliderShape, Solver};
 
 fn load(name: &str) -> (String, Result<SceneSetup, SceneError>) {
@@ -328,7 +328,7 @@ fn a_dynamic_body_needs_one_positive_density_or_mass() {
     );
     assert_eq!(
         boat.colliders[0].body,
-        Some(sph_core::scene_file::BodyMass::Density(400.0))
+        Some(sph_core::scene::BodyMass::Density(400.0))
     );
     for (motion, field) in [
         ("Dynamic(mass: 0.0)", "motion.mass"),
@@ -360,7 +360,7 @@ fn a_hinged_paddle_wheel_is_built_and_bad_ones_are_refused_by_field() {
     let wheel = with(good_shape, good_motion).unwrap();
     let c = &wheel.colliders[0];
     assert_eq!(c.collider.motion, sph_core::ColliderMotion::Dynamic);
-    assert_eq!(c.body, Some(sph_core::scene_file::BodyMass::Density(900.0)));
+    assert_eq!(c.body, Some(sph_core::scene::BodyMass::Density(900.0)));
     let hinge = c.hinge.unwrap();
     assert_eq!(
         (hinge.axis, hinge.damping),

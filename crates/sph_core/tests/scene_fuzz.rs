@@ -4,7 +4,7 @@
 //!
 //! `sph-bench fuzz-scenes --seed S --count N` runs the same generator for longer.
 
-use sph_core::scene_mutations::{load, mutant};
+use sph_core::scene::mutations::{load, mutant};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc;

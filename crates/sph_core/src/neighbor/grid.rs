@@ -5,7 +5,7 @@
 use super::group_avx2::append_hits;
 use super::group_avx2::WIDTH;
 use crate::container::BoxContainer;
-use crate::pair_lanes::wide_lanes;
+use crate::neighbor::pair_lanes::wide_lanes;
 use crate::params::ParamError;
 use glam::{IVec3, UVec3, Vec3};
 

@@ -5,6 +5,8 @@
 pub mod grid;
 mod group_avx2;
 pub mod hash;
+pub mod lists;
+pub mod pair_lanes;
 
 pub use grid::DenseGrid;
 pub use hash::SpatialHash;

@@ -1,23 +1,23 @@
 //! The CPU reference solver: structure-of-arrays f32 particle data, rayon-parallel passes, and the
 //! same stage order as the GPU pipeline (sort -> density -> [normals] -> forces -> integrate),
 //! with the container's walls and the colliders as Akinci 2012 boundary samples
-//! ([`crate::boundary`]).
+//! ([`crate::boundary::samples`]).
 
-use crate::boundary::{BodyForce, BodyForceSum, Boundary, ColliderId};
-use crate::collider::{Collider, ColliderError, Pose, Slip};
+use crate::boundary::collider::{Collider, ColliderError, Pose, Slip};
+use crate::boundary::guard::{Corrections, Guard};
+use crate::boundary::samples::{BodyForce, BodyForceSum, Boundary, ColliderId};
 use crate::container::BoxContainer;
 use crate::density::compute_density_pressure;
 use crate::diagnostics::{Diagnostics, DiagnosticsInput};
+use crate::flow::pump::{apply_pumps, Pump};
+use crate::flow::sink::{drained_by_any, Sink};
 use crate::forces::{compute_accelerations, ForceInputs};
 use crate::frame_budget::{StepDt, FRAME_DONE};
 use crate::free_surface_pressure::extrapolate_free_surface_pressure;
-use crate::guard::{Corrections, Guard};
 use crate::integrate;
 use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
-use crate::pump::{apply_pumps, Pump};
 use crate::rollback::{Rollback, RollbackState, Verdict};
-use crate::sink::{drained_by_any, Sink};
 use crate::solvers::{Solver, SolverStats};
 use crate::stability::{adaptive_time_step, StepExtremes};
 use crate::stage::{evaluation_stages, CpuStage, StageContext};
@@ -25,8 +25,8 @@ use crate::surface_tension_akinci2013::compute_normals;
 use glam::Vec3;
 use rayon::prelude::*;
 
-mod dfsph;
-mod pbf;
+pub mod dfsph;
+pub mod pbf;
 mod state;
 
 use state::{timed, SolverParts};
@@ -94,7 +94,7 @@ pub struct CpuSolver {
     solver_stats: SolverStats,
     /// What is left of the frame [s] while [`CpuSolver::advance_by`] steps.
     frame_remaining: Option<f32>,
-    /// The pumps every step applies ([`crate::pump`]).
+    /// The pumps every step applies ([`crate::flow::pump`]).
     pumps: Vec<Pump>,
 }
 
@@ -302,7 +302,7 @@ impl CpuSolver {
     }
 
     /// Tells the solver the mass of the body behind dynamic collider `id` (`None`: unknown), so
-    /// that DFSPH's solves let the body give way within a frame ([`crate::free_bodies`]); see
+    /// that DFSPH's solves let the body give way within a frame ([`crate::boundary::free_bodies`]); see
     /// [`Boundary::set_mass`]. Refused unless finite and positive; nothing changes on error.
     pub fn set_collider_mass(
         &mut self,
@@ -343,7 +343,7 @@ impl CpuSolver {
 
     /// Every collider's averaged force (see [`Self::collider_force`]); starts a new average.
     /// The forces taken are what the engine that moves the dynamic bodies receives: DFSPH's
-    /// solves measure a body's give against them ([`crate::free_bodies`]).
+    /// solves measure a body's give against them ([`crate::boundary::free_bodies`]).
     pub fn take_collider_forces(&mut self) -> Vec<(ColliderId, BodyForce)> {
         let forces: Vec<(ColliderId, BodyForce)> = self
             .colliders()
@@ -374,7 +374,7 @@ impl CpuSolver {
         Guard {
             walls: self.container.walls(self.params.wall_damping),
             colliders,
-            tolerance: crate::guard::tolerance(self.params.spacing()),
+            tolerance: crate::boundary::guard::tolerance(self.params.spacing()),
         }
     }
 

@@ -1,7 +1,7 @@
 //! The solver's particle arrays and stage timings, shared by the WCSPH step (`solver/mod.rs`)
 //! and the DFSPH step (`solver/dfsph.rs`).
 
-use crate::boundary::Boundary;
+use crate::boundary::samples::Boundary;
 use crate::neighbor::Neighbors;
 use crate::params::SphParams;
 use glam::Vec3;
@@ -58,7 +58,7 @@ pub struct ParticleData {
     /// Stable particle identifiers (spawn order), so sorted states can be compared.
     pub id: Vec<u32>,
     /// DFSPH: the constant-density solve's stiffness κ of the last step [m⁵/(kg s²)], its warm
-    /// start (see [`crate::dfsph_bender2017`]); zero with WCSPH.
+    /// start (see [`crate::solver::dfsph::bender2017`]); zero with WCSPH.
     pub stiffness_density: Vec<f32>,
     /// DFSPH: the divergence-free solve's stiffness of the last step, likewise.
     pub stiffness_divergence: Vec<f32>,

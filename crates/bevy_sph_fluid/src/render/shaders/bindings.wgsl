@@ -51,7 +51,7 @@
 @group(0) @binding(31) var<storage, read_write> pumps: SphPumps;
 // The frame's probes and their sums (see shaders/probes.wgsl), read back every frame.
 @group(0) @binding(32) var<storage, read_write> probes: SphProbes;
-// The mesh colliders' hierarchies and triangles (sph_core::trimesh::TriMesh::gpu_words), for
+// The mesh colliders' hierarchies and triangles (sph_core::boundary::trimesh::TriMesh::gpu_words), for
 // the guard.
 @group(0) @binding(33) var<storage, read_write> meshes: array<vec4<f32>>;
 // PBF: each particle's neighbours of the step, neighbour k of particle i at list_slot(i, k)

@@ -1,5 +1,5 @@
 // Divergence-free SPH (Bender & Koschier 2015, 2017) on the GPU: where each DFSPH pass finds
-// its arrays, and the solves' shared sums. Rust twin: sph_core::dfsph_bender2017 and
+// its arrays, and the solves' shared sums. Rust twin: sph_core::solver::dfsph::bender2017 and
 // sph_core::solver::dfsph.
 //
 // Notation as in the Rust twin: g_ij = m ∇W(x_i - x_j) (W the cubic spline normalised on the
@@ -30,7 +30,7 @@
 #import sph::neighbors::tiled_slot
 
 // Isolated particles: fewer neighbours than this is a free surface, left out of the
-// divergence-free solve (sph_core::dfsph_bender2017::INTERIOR_NEIGHBORS).
+// divergence-free solve (sph_core::solver::dfsph::bender2017::INTERIOR_NEIGHBORS).
 const INTERIOR_NEIGHBORS: f32 = 20.0;
 
 // 2^32 in units of the error sums' fixed point (sph_core::gpu_layout::DFSPH_ERROR_UNIT = 1e-9).
@@ -92,7 +92,7 @@ fn rise_floor(i: u32) -> f32 {
 }
 
 // p_b^rise/ρ0² of a particle at x_i with floor p̂ and a sample at x_b: the hydrostatic rise
-// ρ0 g·(x_b - x_i), no lower than -p̂ (Rust twin: sph_core::dfsph_bender2017::BoundaryRise).
+// ρ0 g·(x_b - x_i), no lower than -p̂ (Rust twin: sph_core::solver::dfsph::bender2017::BoundaryRise).
 fn rise_over_rho0_squared(x_i: vec3<f32>, x_b: vec3<f32>, p_floor: f32) -> f32 {
     let rho0 = rest_density();
     let rise = max(rho0 * dot(params.gravity.xyz, x_b - x_i), -p_floor);
@@ -111,7 +111,7 @@ fn set_stiffness(i: u32, k: f32) {
 
 // The stiffness to apply from a Jacobi iteration's κ and the one applied before it (a solve's
 // iterations after its first): ω κ + (ω - 1) κ', with the solve's ω. Rust twin: the
-// over-relaxation of sph_core::dfsph_bender2017::stiffness_from_source.
+// over-relaxation of sph_core::solver::dfsph::bender2017::stiffness_from_source.
 fn over_relaxed(k: f32, previous: f32) -> f32 {
 #ifdef DIVERGENCE_SOLVE
     let omega = params.dfsph_c.x;

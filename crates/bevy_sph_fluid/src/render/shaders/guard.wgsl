@@ -1,4 +1,4 @@
-// The last-resort guard (Rust twin: sph_core::guard): a particle found inside a collider after a
+// The last-resort guard (Rust twin: sph_core::boundary::guard): a particle found inside a collider after a
 // drift is projected onto its surface along the outward normal (central differences of the
 // exact signed distance; for a mesh the exact gradient, see `mesh_distance`) and loses its
 // velocity into the solid, relative to the solid's; a
@@ -38,7 +38,7 @@ fn shape_distance(kind: u32, s: vec3<f32>, p: vec3<f32>) -> f32 {
 }
 
 // The closest point to p on the triangle (a, b, c), w = its feature: corners 0-2, edges ab, bc,
-// ca 3-5, the face 6 (Ericson's region test; Rust twin: sph_core::trimesh::closest_on_triangle).
+// ca 3-5, the face 6 (Ericson's region test; Rust twin: sph_core::boundary::trimesh::closest_on_triangle).
 fn closest_on_triangle(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec4<f32> {
     let ab = b - a;
     let ac = c - a;
@@ -89,7 +89,7 @@ fn node_distance2(nodes: u32, node: u32, p: vec3<f32>) -> f32 {
 // normal there, as (normal, distance): the hierarchy walked nearer child first with a fixed
 // stack, the sign from the closest feature's angle-weighted pseudo-normal when closed
 // (half_thickness < 0), |x - c| - t/2 for an open shell. Rust twin:
-// sph_core::trimesh::TriMesh::distance_and_normal.
+// sph_core::boundary::trimesh::TriMesh::distance_and_normal.
 fn mesh_distance(nodes: u32, tris: u32, half_thickness: f32, p: vec3<f32>) -> vec4<f32> {
     var stack: array<u32, 32>;
     var top = 1u;
@@ -208,7 +208,7 @@ fn guard(x_in: vec3<f32>, v_in: vec3<f32>) -> PositionVelocity {
     var x = x_in;
     var v = v_in;
     var corrected = false;
-    // A thousandth of the spacing (h / 2) deep before it counts (sph_core::guard::tolerance).
+    // A thousandth of the spacing (h / 2) deep before it counts (sph_core::boundary::guard::tolerance).
     let tolerance = 5e-4 * params.kernel_a.x;
     for (var k = 0u; k < params.flags.w; k++) {
         let surface = collider_surface(k, x, -tolerance);

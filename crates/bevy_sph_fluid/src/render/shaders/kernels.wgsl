@@ -129,7 +129,7 @@ fn collide(x: vec3<f32>, v: vec3<f32>) -> PositionVelocity {
     return PositionVelocity(vec3<f32>(cx.x, cy.x, cz.x), vec3<f32>(cx.y, cy.y, cz.y));
 }
 
-// Whether x lies beyond the box (the guard's clamp then counts a correction; sph_core::guard).
+// Whether x lies beyond the box (the guard's clamp then counts a correction; sph_core::boundary::guard).
 fn outside_box(x: vec3<f32>) -> bool {
     return any(x < params.box_min.xyz) || any(x > params.box_max.xyz);
 }

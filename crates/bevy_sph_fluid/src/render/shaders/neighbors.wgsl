@@ -110,7 +110,7 @@ fn accepts(c: vec3<i32>, q: u32, x_j: vec3<f32>) -> bool {
 }
 
 // The q-th (of 9) range of sorted boundary samples around the grid cell c: the boundary samples
-// are sorted over the dense grid in both search modes (Rust twin: sph_core::boundary).
+// are sorted over the dense grid in both search modes (Rust twin: sph_core::boundary::samples).
 fn boundary_range(c: vec3<i32>, q: u32) -> vec2<u32> {
     let cells = grid_row_cells(c, q);
     if cells.x > cells.y {

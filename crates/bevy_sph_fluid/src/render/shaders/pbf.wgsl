@@ -1,5 +1,5 @@
 // Position-based fluids (Macklin & Müller 2013) on the GPU: where each PBF pass finds its
-// arrays. Rust twin: sph_core::pbf_macklin2013 and sph_core::solver::pbf.
+// arrays. Rust twin: sph_core::solver::pbf::macklin2013 and sph_core::solver::pbf.
 //
 // The sort leaves the predicted positions x* in `position`, the positions at the step's start
 // in `acceleration_start` (the prediction keeps them there; the sort carries them along). The
@@ -49,7 +49,7 @@ fn over_relaxation() -> f32 {
 
 // Particle i's next position from its corrected one, x_k + Δp_k: over-relaxed against x_{k-1}
 // after the first iteration; the first keeps x_0 in B, where iteration 1 finds it.
-// Rust twin: sph_core::pbf_macklin2013::over_relax (as moves u_k = x_{k+1} - x_k).
+// Rust twin: sph_core::solver::pbf::macklin2013::over_relax (as moves u_k = x_{k+1} - x_k).
 fn relaxed_position(i: u32, corrected: vec3<f32>) -> vec3<f32> {
 #ifdef PBF_FROM_A
     let before = sorted_velocity_predicted[i].xyz;
@@ -66,7 +66,7 @@ fn relaxed_position(i: u32, corrected: vec3<f32>) -> vec3<f32> {
 }
 
 // The share of the iteration under way's correction in the step's moves (the bodies'
-// reactions are weighted by it). Rust twin: sph_core::pbf_macklin2013::correction_weight.
+// reactions are weighted by it). Rust twin: sph_core::solver::pbf::macklin2013::correction_weight.
 fn correction_weight() -> f32 {
     let k = clock.pbf_iteration;
     let omega = over_relaxation();

@@ -1,8 +1,8 @@
-// Probes (Rust twin: sph_core::probe, summed as sph_core::gpu_layout::GpuProbes): each closing
+// Probes (Rust twin: sph_core::flow::probe, summed as sph_core::gpu_layout::GpuProbes): each closing
 // kick adds its particle to every probe it lies in. Level: the particles within the radius of
-// the vertical line, binned by height (sph_core::probe::LevelColumn: floor and bin height in
+// the vertical line, binned by height (sph_core::flow::probe::LevelColumn: floor and bin height in
 // the probe's normal.xy), each bin keeping its highest y (atomicMax on an order-keeping key);
-// the CPU finds the connected column in the bins (sph_core::probe::column_surface); flux: the
+// the CPU finds the connected column in the bins (sph_core::flow::probe::column_surface); flux: the
 // particles in the slab and their Σ v·n in fixed point (sph_core::gpu_layout::PROBE_SPEED_UNIT);
 // count: the particles in the box. Particle 0 counts the steps summed (the CPU averages over
 // them) and stamps the last one's step and time. Particles a drain took are left out.
@@ -13,7 +13,7 @@
 #import sph::guard::rotate
 
 const PROBE_SPEED_UNIT: f32 = 1e-4;
-// sph_core::probe::LEVEL_BINS.
+// sph_core::flow::probe::LEVEL_BINS.
 const LEVEL_BINS: u32 = 128u;
 
 // sph_core::gpu_layout::float_key.
@@ -46,7 +46,7 @@ fn record_probes(i: u32, x: vec3<f32>, v: vec3<f32>) {
         let d = x - p.center_kind.xyz;
         if kind == 0u {
             if dot(d.xz, d.xz) <= p.half.x * p.half.x {
-                // sph_core::probe::LevelColumn::bin_of: below the floor (or NaN) is bin 0.
+                // sph_core::flow::probe::LevelColumn::bin_of: below the floor (or NaN) is bin 0.
                 let b = floor((x.y - p.normal.x) / p.normal.y);
                 var bin = 0u;
                 if b >= 0.0 {

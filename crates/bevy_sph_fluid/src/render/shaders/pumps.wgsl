@@ -1,4 +1,4 @@
-// Pumps (Rust twin: sph_core::pump): inside a pump's box the velocity component u along its
+// Pumps (Rust twin: sph_core::flow::pump): inside a pump's box the velocity component u along its
 // direction d relaxes toward the target speed s at the rate k, du/dt = k (s - u), integrated
 // exactly over the step, u' = s - (s - u) e^(-k dt); faster water and the other components are
 // left alone. Applied to the step's final velocity by the closing kicks and by integrate.
@@ -30,7 +30,7 @@ fn pumped(x: vec3<f32>, v: vec3<f32>, dt: f32) -> vec3<f32> {
 }
 
 // Whether x lies inside an open drain (the boxes after the pumps; Rust twin:
-// sph_core::sink::drained_by_any).
+// sph_core::flow::sink::drained_by_any).
 fn in_open_sink(x: vec3<f32>) -> bool {
     let first = min(pumps.count, 16u);
     let end = min(first + pumps.sink_count, 16u);

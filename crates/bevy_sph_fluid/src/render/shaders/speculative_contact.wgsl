@@ -1,4 +1,4 @@
-// The solids' speculative contact (Rust twin: sph_core::speculative_contact): the next drift may
+// The solids' speculative contact (Rust twin: sph_core::boundary::speculative_contact): the next drift may
 // bring a particle no closer than the margin (params.boundary_contact.w, a tenth of a spacing) to
 // the exact surface of a collider or of the box. For each surface within reach, taken one after
 // another, the velocity the drift starts from, v' = v_c + (a + a_s) dt, may approach it at most

@@ -31,14 +31,14 @@ struct SphUniforms {
     // real-time mode (sph_core::frame_budget): the frame's time [s] as f32 bits, the steps
     // planned for it, the frame's number, 0; all zero when off
     frame_budget: vec4<u32>,
-    // PBF (sph_core::pbf_macklin2013::PbfContext): the cubic spline's k and l, the relaxation
+    // PBF (sph_core::solver::pbf::macklin2013::PbfContext): the cubic spline's k and l, the relaxation
     // ε [1/m²], s_corr's k in λ's units
     pbf_kernel: vec4<f32>,
     // PBF: 1 / W(Δq), XSPH c, vorticity ε [m/s], the correction cap before gravity's term [m]
     pbf: vec4<f32>,
     // PBF: s_corr's n, iterations per step, the neighbour lists' length, 0
     pbf_counts: vec4<u32>,
-    // DFSPH (sph_core::dfsph_bender2017): the largest mean density error (fraction of ρ0), the
+    // DFSPH (sph_core::solver::dfsph::bender2017): the largest mean density error (fraction of ρ0), the
     // largest mean divergence error [1/s], the factor's cut-off, warm start (1) or not (0)
     dfsph: vec4<f32>,
     // DFSPH: min and max constant-density iterations, min and max divergence-free iterations
@@ -89,7 +89,7 @@ struct SphClock {
     rule_dt: f32,
     checkpoint_rule_dt: f32,
     // Particles the guard moved out of a collider or back into the box since the reset, and of
-    // those the ones clamped back into the box (sph_core::guard).
+    // those the ones clamped back into the box (sph_core::boundary::guard).
     boundary_corrections: atomic<u32>,
     wall_corrections: atomic<u32>,
     // Real-time mode: the frame whose budget is being spent, its time left [s], its steps left.

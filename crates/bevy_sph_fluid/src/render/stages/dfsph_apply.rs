@@ -1,6 +1,6 @@
 //! The first pass of a DFSPH Jacobi iteration: the device's decision to go on, then the
 //! stiffness applied to the velocities (`dfsph_apply.wgsl`; CPU twin
-//! `sph_core::dfsph_bender2017::apply_stiffness` and the loop of `sph_core::solver::dfsph`).
+//! `sph_core::solver::dfsph::bender2017::apply_stiffness` and the loop of `sph_core::solver::dfsph`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{dfsph_parity, DfsphPhase, DfsphSolve, EvaluationPlan};

@@ -9,7 +9,7 @@
 // the next source.
 // DFSPH_WARM: the warm start's stiffness, applied without a decision (it is the sum already).
 // Constant density by default, DIVERGENCE_SOLVE the divergence-free solve's limits.
-// Rust twins: sph_core::dfsph_bender2017::apply_stiffness and the loop of
+// Rust twins: sph_core::solver::dfsph::bender2017::apply_stiffness and the loop of
 // sph_core::solver::dfsph.
 #import sph::bindings::{params, clock, velocity, neighbor_count}
 #import sph::clock::{step_dt, frozen}

@@ -1,6 +1,6 @@
 //! DFSPH's densities and factors after each sort (`dfsph_density.wgsl`; CPU twins
-//! `sph_core::neighbor_lists::NeighborLists::rebuild_cubic_spline`, pairs rounded as packed, and
-//! `sph_core::dfsph_bender2017::compute_factors`).
+//! `sph_core::neighbor::lists::NeighborLists::rebuild_cubic_spline`, pairs rounded as packed, and
+//! `sph_core::solver::dfsph::bender2017::compute_factors`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{DfsphPhase, EvaluationPlan};

@@ -9,8 +9,8 @@
 // p̂_i = max((κ_i^ρ + κ_i^v) ρ0², 0) of the solves' totals, and each pair's g_ij for the solves
 // (shaders/dfsph.wgsl).
 // Thread 0 opens the next solve (the divergence-free one after the move).
-// Rust twins: sph_core::neighbor_lists::NeighborLists::rebuild (the densities) and
-// sph_core::dfsph_bender2017::compute_factors.
+// Rust twins: sph_core::neighbor::lists::NeighborLists::rebuild (the densities) and
+// sph_core::solver::dfsph::bender2017::compute_factors.
 #import sph::bindings::{params, position, density, velocity_predicted, neighbor_count, pbf_neighbors, acceleration_start, sorted_acceleration_start, dfsph_mirror, boundary_position, boundary_velocity}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}

@@ -1,6 +1,6 @@
 //! DFSPH's predicted velocities v* = v + dt (a_np + a_rise) after the time step, with the
 //! rollback checkpoint (`dfsph_predict.wgsl`; CPU twins: step 3 of `sph_core::solver::dfsph`,
-//! `sph_core::dfsph_bender2017::BoundaryRise::predict`).
+//! `sph_core::solver::dfsph::bender2017::BoundaryRise::predict`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{DfsphPhase, EvaluationPlan};

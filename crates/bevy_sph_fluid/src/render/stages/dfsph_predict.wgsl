@@ -6,7 +6,7 @@
 // Nothing is integrated while the clock is frozen or a state is being restored (the rest of the
 // step then leaves the restored state alone, and the move's sort rebuilds its neighbourhood).
 // Rust twins: step 3 of sph_core::solver::dfsph::DfsphStep::advance,
-// sph_core::dfsph_bender2017::BoundaryRise::predict.
+// sph_core::solver::dfsph::bender2017::BoundaryRise::predict.
 #import sph::bindings::{params, position, velocity, acceleration, boundary_position}
 #import sph::kernels::cubic_grad
 #import sph::neighbors::{grid_cell, boundary_range}

@@ -1,7 +1,7 @@
 //! The end of each DFSPH solve: the bodies' reactions and the solve's statistics; after the
 //! divergence-free solve the pressures, the pumps and the probes (`dfsph_reactions.wgsl`; CPU
-//! twins `sph_core::dfsph_bender2017::boundary_reactions`, the end of `sph_core::solver::dfsph`,
-//! `sph_core::pump::apply_pumps`).
+//! twins `sph_core::solver::dfsph::bender2017::boundary_reactions`, the end of `sph_core::solver::dfsph`,
+//! `sph_core::flow::pump::apply_pumps`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{DfsphPhase, EvaluationPlan};

@@ -11,11 +11,11 @@
 //   iteration budget, src/dfsph_budget.rs): it is counted as cut short.
 // - After the constant-density solve (before the move): the solids' speculative contact bounds
 //   v so that the drift x += v dt ends a tenth of a spacing from every surface, its reaction to
-//   the body (shaders/speculative_contact.wgsl; sph_core::speculative_contact::stop_before_drift).
+//   the body (shaders/speculative_contact.wgsl; sph_core::boundary::speculative_contact::stop_before_drift).
 // - DIVERGENCE_SOLVE: p_i = (κ_i + κ_i^v) ρ_i², the pumps, the probes.
 // Nothing is summed while the clock is frozen or a state is being restored.
-// Rust twins: sph_core::dfsph_bender2017::boundary_reactions and BoundaryRise::reactions, the end of
-// sph_core::solver::dfsph::DfsphStep::advance, sph_core::pump::apply_pumps (CpuSolver::step).
+// Rust twins: sph_core::solver::dfsph::bender2017::boundary_reactions and BoundaryRise::reactions, the end of
+// sph_core::solver::dfsph::DfsphStep::advance, sph_core::flow::pump::apply_pumps (CpuSolver::step).
 #import sph::bindings::{params, clock, position, velocity, velocity_predicted, density, pressure, boundary_position, boundary_body}
 #import sph::kernels::cubic_grad
 #import sph::neighbors::{grid_cell, boundary_range}

@@ -1,5 +1,5 @@
 //! A DFSPH solve's source, next stiffness and error sum (`dfsph_source.wgsl`; CPU twins
-//! `sph_core::dfsph_bender2017::{density_source, divergence_source, stiffness_from_source}`).
+//! `sph_core::solver::dfsph::bender2017::{density_source, divergence_source, stiffness_from_source}`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{dfsph_parity, DfsphPhase, DfsphSolve, EvaluationPlan};

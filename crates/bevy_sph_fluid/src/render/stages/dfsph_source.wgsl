@@ -16,7 +16,7 @@
 // DFSPH_FIRST: the solve's first source (without the warm start its sum starts at 0); the
 // sources after it count the iteration the pass before applied.
 // Dispatched indirectly: no workgroup runs once the solve converged.
-// Rust twins: sph_core::dfsph_bender2017::{density_source, divergence_source,
+// Rust twins: sph_core::solver::dfsph::bender2017::{density_source, divergence_source,
 // stiffness_from_source, TopRowStiffness} and the warm start of sph_core::solver::dfsph.
 #import sph::bindings::{params, clock, velocity, density, neighbor_count}
 #import sph::clock::{step_dt, frozen}
@@ -53,7 +53,7 @@ fn source(i: u32) -> f32 {
 }
 
 // Below this fraction of ρ0 a particle without a source is on the free surface
-// (sph_core::dfsph_bender2017::TOP_ROW_DENSITY).
+// (sph_core::solver::dfsph::bender2017::TOP_ROW_DENSITY).
 const TOP_ROW_DENSITY: f32 = 0.95;
 
 // (|g_ij| κ_j, |g_ij|) of one pair whose neighbour's sum κ_j is positive, else 0.
@@ -64,7 +64,7 @@ fn top_row_term(p: Pair) -> vec2<f32> {
 }
 
 // The sum particle i's stiffness rises to on the top row, or -1 (see above; Rust twin:
-// sph_core::dfsph_bender2017::TopRowStiffness::targets). Reads the neighbours' sums, which no
+// sph_core::solver::dfsph::bender2017::TopRowStiffness::targets). Reads the neighbours' sums, which no
 // thread of this pass writes.
 fn top_row_target(i: u32, s: f32) -> f32 {
     let rho0 = rest_density();

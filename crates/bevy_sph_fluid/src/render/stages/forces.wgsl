@@ -341,7 +341,7 @@ fn particle(i: u32) {
         }
     }
 #ifndef SOLVER_DFSPH
-    // The solids' speculative contact (sph_core::speculative_contact), after every other term.
+    // The solids' speculative contact (sph_core::boundary::speculative_contact), after every other term.
     a += speculative_contact(x_i, v_contact, a, contact_dt(), drift_kick(), kept);
 #endif
     acceleration[i] = vec4<f32>(a, 0.0);

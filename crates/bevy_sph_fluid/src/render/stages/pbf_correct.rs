@@ -1,6 +1,6 @@
 //! PBF's correction pass: Δp_i with the artificial pressure, into the next iteration's
 //! positions, and the bodies' reactions (`pbf_correct.wgsl`; CPU twins
-//! `sph_core::pbf_macklin2013::{compute_corrections, apply_corrections}`).
+//! `sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections}`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{pbf_source, EvaluationPlan, PbfPhase, PBF_SOURCE_ROLES};

@@ -1,14 +1,14 @@
 // PBF's position correction (Macklin & Müller 2013, eqs. 12-14): at the iteration's positions,
 // Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b λ_i ∇W_ib,
 // s_corr = -k (W(r_ij) / W(Δq))^n (the artificial pressure against tensile clumping),
-// at most max(0.1 h, 2 |g| dt²) long (sph_core::pbf_macklin2013::PbfContext::for_step);
+// at most max(0.1 h, 2 |g| dt²) long (sph_core::solver::pbf::macklin2013::PbfContext::for_step);
 // x_i + Δp_i, over-relaxed after the first iteration, goes to the next iteration's buffer
 // (see shaders/pbf.wgsl).
 // The boundary's reaction (Akinci 2012's two-way coupling in PBF's position form): sample b
 // moves i by V_b λ_i ∇W_ib, so its body feels -m V_b λ_i ∇W_ib / dt² at the sample, weighted by
 // the iteration's share of the step's moves (correction_weight), summed by
 // shaders/body_reactions.wgsl over the step's iterations.
-// Rust twins: sph_core::pbf_macklin2013::{compute_corrections, apply_corrections}.
+// Rust twins: sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections}.
 #import sph::bindings::{params, position, neighbor_count, pbf_neighbors, normal, boundary_position, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}

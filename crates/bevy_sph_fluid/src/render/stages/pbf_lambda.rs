@@ -1,5 +1,5 @@
 //! PBF's constraint pass: λ_i and ρ_i at the iteration's positions (`pbf_lambda.wgsl`; CPU twin
-//! `sph_core::pbf_macklin2013::compute_lambdas`).
+//! `sph_core::solver::pbf::macklin2013::compute_lambdas`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{pbf_source, EvaluationPlan, PbfPhase, PBF_SOURCE_ROLES};

@@ -5,7 +5,7 @@
 // λ_i = -C_i / (Σ_k |∇_k C_i|² + ε)  ->  normal[i] = (λ_i, ρ_i, C_i, 0).
 // W is the cubic spline. The pairs are those within h at the sorted predicted positions (see
 // shaders/pbf.wgsl); nothing moves while the clock is frozen.
-// Rust twin: sph_core::pbf_macklin2013::compute_lambdas.
+// Rust twin: sph_core::solver::pbf::macklin2013::compute_lambdas.
 #import sph::bindings::{params, position, neighbor_count, pbf_neighbors, normal, boundary_position}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}

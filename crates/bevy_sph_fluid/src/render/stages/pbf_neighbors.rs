@@ -1,6 +1,6 @@
 //! PBF's neighbour lists of the step, after the sort of the predicted positions (and DFSPH's,
 //! after each of its sorts)
-//! (`pbf_neighbors.wgsl`; CPU twin `sph_core::neighbor_lists::NeighborLists::rebuild`).
+//! (`pbf_neighbors.wgsl`; CPU twin `sph_core::neighbor::lists::NeighborLists::rebuild`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{DfsphPhase, EvaluationPlan, PbfPhase};

@@ -3,7 +3,7 @@
 // sph_core::gpu_layout::PBF_MAX_NEIGHBORS (params.pbf_counts.z) of them (neighbour k at list_slot(i, k)), and their
 // number in neighbor_count. The step's other PBF passes loop over these lists and evaluate the
 // kernel at their own positions. A particle with more neighbours keeps the first ones found and
-// is counted in the clock. Rust twin: sph_core::neighbor_lists::NeighborLists::rebuild.
+// is counted in the clock. Rust twin: sph_core::neighbor::lists::NeighborLists::rebuild.
 #import sph::bindings::{params, position, neighbor_count, pbf_neighbors, clock}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, list_slot}
 

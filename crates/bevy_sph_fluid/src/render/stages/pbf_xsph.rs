@@ -1,7 +1,7 @@
 //! PBF's XSPH pass: XSPH viscosity and the final densities; without vorticity confinement
 //! also the pumps, the speed record and the probes, and then the final positions replace the
-//! sorted ones (`pbf_xsph.wgsl`; CPU twins `sph_core::pbf_macklin2013::xsph_and_densities`,
-//! `sph_core::pump::apply_pumps`).
+//! sorted ones (`pbf_xsph.wgsl`; CPU twins `sph_core::solver::pbf::macklin2013::xsph_and_densities`,
+//! `sph_core::flow::pump::apply_pumps`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{pbf_source, EvaluationPlan, PbfPhase, PBF_SOURCE_ROLES};

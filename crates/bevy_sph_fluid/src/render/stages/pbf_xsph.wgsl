@@ -4,8 +4,8 @@
 // the last λ pass's densities (normal.y); ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (self included);
 // pressure 0 (PBF has none); a = (v - v*) / dt + g, the step's mean acceleration (diagnostics).
 // Without VORTICITY this is the step's last pass: pumps, |v + g dt_max| for the time-step
-// rule, probes. Rust twins: sph_core::pbf_macklin2013::{xsph, compute_densities}, then
-// sph_core::pump::apply_pumps.
+// rule, probes. Rust twins: sph_core::solver::pbf::macklin2013::{xsph, compute_densities}, then
+// sph_core::flow::pump::apply_pumps.
 #import sph::bindings::{params, position, neighbor_count, pbf_neighbors, velocity, sorted_velocity, acceleration, density, pressure, normal, boundary_position}
 #import sph::kernels::cubic
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}

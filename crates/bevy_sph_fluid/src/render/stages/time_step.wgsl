@@ -106,7 +106,7 @@ fn main() {
         }
 #else
 #ifdef SOLVER_DFSPH
-        // DFSPH's rule (sph_core::dfsph_bender2017::dfsph_time_step): min(time_step, λ Δx / v_max,
+        // DFSPH's rule (sph_core::solver::dfsph::bender2017::dfsph_time_step): min(time_step, λ Δx / v_max,
         // 0.125 h² ρ0/μ) with v_max = max |v + a_np dt_max|, as the forces pass records it.
         if params.flags.z != 0u {
             if v_max > 0.0 {
