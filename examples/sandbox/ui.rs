@@ -3,7 +3,7 @@
 
 use crate::config::{Preset, SandboxConfig, SpawnMode, BUDGET_RANGE};
 use crate::ranges;
-use crate::scene::{SceneFileKind, SceneFiles};
+use crate::scene_file::{SceneFileKind, SceneFiles};
 use crate::{AppState, SandboxSet};
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;

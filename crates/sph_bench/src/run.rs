@@ -596,7 +596,8 @@ fn body_motion(setup: &Setup, now: &[sph_core::Collider], track: BodyTrack) -> V
 fn buoyancy(setup: &Setup, forces: &[ColliderForceReport]) -> Option<BuoyancyFigures> {
     let c = setup.colliders.first()?;
     let f = forces.first()?;
-    let sph_core::boundary::collider::ColliderShape::Cuboid { half_extents } = c.collider.shape else {
+    let sph_core::boundary::collider::ColliderShape::Cuboid { half_extents } = c.collider.shape
+    else {
         return None;
     };
     let p = &setup.scene.params;

@@ -3,9 +3,9 @@
 //! pseudo-normals, hierarchy), sampling its boundary layers, and adding it to a boundary
 //! (sampling plus Akinci's volumes), for icospheres of 5,120 to 81,920 triangles.
 
-use sph_core::glam::Vec3;
 use sph_core::boundary::sampling::sample_shape;
 use sph_core::boundary::trimesh::icosphere;
+use sph_core::glam::Vec3;
 use sph_core::{Boundary, BoxContainer, Collider, ColliderShape, Pose, Slip, SphParams, TriMesh};
 use std::time::Instant;
 

@@ -4,12 +4,12 @@
 //! settling tank keeps every particle in the box; the floor holds a column at rest.
 
 use glam::{Quat, Vec3};
-use sph_core::boundary::samples::{BodyForceSum, Boundary};
 use sph_core::boundary::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
+use sph_core::boundary::guard::Guard;
+use sph_core::boundary::samples::{BodyForceSum, Boundary};
 use sph_core::density::density_at;
 use sph_core::forces::{boundary_acceleration_at, compute_accelerations, ForceInputs};
 use sph_core::free_surface_pressure::extrapolate_free_surface_pressure;
-use sph_core::boundary::guard::Guard;
 use sph_core::scenario::hydrostatic;
 use sph_core::stage::StageContext;
 use sph_core::{BlockSpawn, BoxContainer, CpuSolver, Neighbors, SphParams};
@@ -517,7 +517,9 @@ fn particles_aimed_between_the_samples_stop_short_of_the_surface() {
 /// along the floor.
 #[test]
 fn the_speculative_contact_stops_at_the_margin_and_never_pushes() {
-    use sph_core::boundary::speculative_contact::{speculative_contact_at, NextDrift, SURFACE_MARGIN};
+    use sph_core::boundary::speculative_contact::{
+        speculative_contact_at, NextDrift, SURFACE_MARGIN,
+    };
     let (params, container, _) = tank();
     let boundary = Boundary::new(&container, &params, Slip::Free).unwrap();
     let dx = params.spacing();

@@ -2,10 +2,12 @@
 //! accelerations conserve momentum, the solves bring density errors down, the settings are
 //! validated, and the solver survives the extremes.
 
-use sph_core::solver::dfsph::bender2017::{apply_stiffness, compute_factors, density_rate, ParticleFactor};
 use sph_core::glam::{Quat, Vec3};
 use sph_core::kernel::CubicSpline;
 use sph_core::neighbor::lists::{ListSource, NeighborLists};
+use sph_core::solver::dfsph::bender2017::{
+    apply_stiffness, compute_factors, density_rate, ParticleFactor,
+};
 use sph_core::{
     BlockSpawn, BoxContainer, Collider, ColliderShape, CpuSolver, DfsphSettings, Neighbors, Pose,
     Solver, SphParams,

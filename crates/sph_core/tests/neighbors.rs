@@ -4,8 +4,8 @@
 use sph_core::glam::Vec3;
 use sph_core::gpu_dfsph_pairs;
 use sph_core::kernel::CubicSpline;
-use sph_core::neighbor::Neighbors;
 use sph_core::neighbor::lists::{IndexLists, ListSource, NeighborLists};
+use sph_core::neighbor::Neighbors;
 use sph_core::rng::SplitMix64;
 use sph_core::{BoxContainer, NeighborSearch};
 use std::collections::BTreeSet;

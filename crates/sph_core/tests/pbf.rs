@@ -224,7 +224,13 @@ fn vorticity_is_the_curl_of_a_shear_flow() {
         .collect();
     // The block's own densities weigh the volumes, as in the step.
     let mut density = vec![0.0; positions.len()];
-    sph_core::solver::pbf::macklin2013::compute_densities(&ctx, &lists, &positions, None, &mut density);
+    sph_core::solver::pbf::macklin2013::compute_densities(
+        &ctx,
+        &lists,
+        &positions,
+        None,
+        &mut density,
+    );
     let mut omega = vec![Vec3::ZERO; positions.len()];
     vorticity(&ctx, &lists, &positions, &density, &velocity, &mut omega);
     let centre: Vec3 = positions.iter().copied().sum::<Vec3>() / positions.len() as f32;

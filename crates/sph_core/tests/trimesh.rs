@@ -6,9 +6,9 @@
 
 use glam::Vec3;
 use sph_core::boundary::collider::ColliderShape;
-use sph_core::rng::SplitMix64;
 use sph_core::boundary::sampling::{layer_depths, sample_shape};
 use sph_core::boundary::trimesh::{closest_on_triangle, icosphere};
+use sph_core::rng::SplitMix64;
 use sph_core::TriMesh;
 
 const DX: f32 = 0.02;
@@ -160,7 +160,8 @@ fn an_open_sheet_is_a_shell_of_its_thickness() {
 #[test]
 fn bad_meshes_are_refused_by_field() {
     let (v, i) = cube(Vec3::splat(0.1));
-    let field = |r: Result<TriMesh, sph_core::boundary::collider::ColliderError>| r.unwrap_err().field;
+    let field =
+        |r: Result<TriMesh, sph_core::boundary::collider::ColliderError>| r.unwrap_err().field;
     assert_eq!(field(TriMesh::closed(&v, &i[..4])), "shape.indices");
     assert_eq!(field(TriMesh::closed(&v, &[])), "shape.indices");
     let mut out_of_range = i.clone();

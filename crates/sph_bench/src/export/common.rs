@@ -2,7 +2,7 @@
 //! value and what the engine lacks), the export held in memory, and the refusals and notes that
 //! apply to every engine.
 
-use sph_core::scene_file::{MotionSpec, SceneFile, SceneSetup};
+use sph_core::scene::{MotionSpec, SceneFile, SceneSetup};
 use std::fmt;
 use std::path::Path;
 

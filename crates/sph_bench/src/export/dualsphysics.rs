@@ -27,10 +27,10 @@ use super::common::{
 };
 use super::mesh::{file_stem, Mesh};
 use super::xml::{num, value, xyz, Xml};
-use sph_core::collider::ColliderShape;
+use sph_core::boundary::collider::ColliderShape;
 use sph_core::glam::{Quat, Vec3};
 use sph_core::params::EquationOfState;
-use sph_core::scene_file::{BodyMass, SceneCollider};
+use sph_core::scene::{BodyMass, SceneCollider};
 use sph_core::Solver;
 use std::path::Path;
 

@@ -9,9 +9,9 @@
 //! open edges.
 
 use super::common::decimal;
-use sph_core::collider::{ColliderShape, Pose};
+use sph_core::boundary::collider::{ColliderShape, Pose};
+use sph_core::boundary::trimesh::TriMesh;
 use sph_core::glam::Vec3;
-use sph_core::trimesh::TriMesh;
 use std::collections::HashMap;
 use std::f32::consts::{FRAC_PI_2, PI, TAU};
 use std::fmt::Write as _;

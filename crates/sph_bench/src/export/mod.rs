@@ -1,4 +1,4 @@
-//! `sph-bench export --to ENGINE SCENE.ron OUT`: a scene file (`sph_core::scene_file`) as a scene
+//! `sph-bench export --to ENGINE SCENE.ron OUT`: a scene file (`sph_core::scene`) as a scene
 //! for a larger offline engine, one module per engine:
 //!
 //! - [`splishsplash`]: SPlisHSPlasH's JSON scene (`scene.json`) with OBJ geometry;

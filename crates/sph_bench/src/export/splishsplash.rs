@@ -37,7 +37,7 @@ use super::mesh::{file_stem, rotation_from_x, Mesh};
 use serde_json::{json, Map, Value};
 use sph_core::glam::Vec3;
 use sph_core::params::EquationOfState;
-use sph_core::scene_file::MotionSpec;
+use sph_core::scene::MotionSpec;
 use sph_core::Solver;
 use std::path::Path;
 

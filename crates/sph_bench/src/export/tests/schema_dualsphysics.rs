@@ -4,7 +4,7 @@ use super::super::common::{Export, ExportOptions, Loaded, DATA_FPS};
 use super::super::dualsphysics::to_dsph;
 use super::support::{check_surface, close, close3, files, from_dsph, vertices};
 use sph_core::glam::Vec3;
-use sph_core::scene_file::ShapeSpec;
+use sph_core::scene::ShapeSpec;
 use std::collections::HashMap;
 
 fn child<'a>(node: roxmltree::Node<'a, 'a>, name: &str) -> roxmltree::Node<'a, 'a> {
@@ -164,7 +164,7 @@ pub fn check_dualsphysics(scene: &Loaded, export: &Export, opts: &ExportOptions)
                 "the path ends at {last}"
             );
         }
-        if let Some(sph_core::scene_file::BodyMass::Density(d)) = c.body {
+        if let Some(sph_core::scene::BodyMass::Density(d)) = c.body {
             let f = child(casedef, "floatings")
                 .children()
                 .find(|n| n.attribute("mkbound") == Some(&(k + 1).to_string()))

@@ -5,7 +5,7 @@ use super::super::common::{Export, ExportOptions, Loaded};
 use super::super::mesh::Mesh;
 use serde_json::Value;
 use sph_core::glam::Vec3;
-use sph_core::scene_file::{SceneCollider, SceneFile, ShapeSpec};
+use sph_core::scene::{SceneCollider, SceneFile, ShapeSpec};
 use std::collections::HashMap;
 use std::path::Path;
 
