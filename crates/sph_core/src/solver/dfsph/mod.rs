@@ -1,5 +1,5 @@
-//! `CpuSolver`'s DFSPH step ([`DfsphStep`]), the simulation loop of Bender & Koschier 2017 over the stages of
-//! [`crate::solver::dfsph::bender2017`]:
+//! `CpuSolver`'s DFSPH step (`DfsphStep`), the simulation loop of Bender & Koschier 2017 over the
+//! stages of [`crate::solver::dfsph::bender2017`]:
 //!
 //! 1. non-pressure accelerations a_np (viscosity, surface tension, gravity, boundary friction)
 //!    at the step's start, where densities, factors and lists are already known;

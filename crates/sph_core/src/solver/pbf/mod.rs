@@ -1,4 +1,4 @@
-//! `CpuSolver`'s PBF step ([`PbfStep`]), the simulation loop of Macklin & Müller 2013
+//! `CpuSolver`'s PBF step (`PbfStep`), the simulation loop of Macklin & Müller 2013
 //! (Algorithm 1) over the passes of [`crate::solver::pbf::macklin2013`]:
 //!
 //! 1. v += dt g; predicted positions x* = x + dt v; the guard;
