@@ -251,6 +251,43 @@ fn uniform_block_matches_the_rust_layout() {
     );
 }
 
+/// Each member of the WGSL struct `name` in a composed stage: (name, byte offset).
+fn wgsl_members(stage: &str, name: &str) -> Vec<(String, usize)> {
+    let (path, module) = composed_stage(stage);
+    let (_, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.contains(name)))
+        .unwrap_or_else(|| panic!("{name} in {path}"));
+    match &ty.inner {
+        naga::TypeInner::Struct { members, .. } => members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .collect(),
+        other => panic!("{name} in {path} is not a struct: {other:?}"),
+    }
+}
+
+/// (field name, byte offset) of each listed field of a Rust type, in the order given.
+macro_rules! rust_fields {
+    ($t:ty; $($field:ident),+ $(,)?) => {
+        vec![$((stringify!($field).to_string(), std::mem::offset_of!($t, $field))),+]
+    };
+}
+
+#[test]
+fn every_uniform_field_sits_where_the_rust_layout_puts_it() {
+    // The same names in the same order at the same offsets: a field added, moved or renamed on
+    // one side only fails here (a field missing from this list fails the size check above).
+    let rust = rust_fields!(sph_core::gpu_layout::GpuSphParams;
+        particle_count, capacity, cell_count, table_size, grid_dims, grid_origin, box_min,
+        box_max, gravity, kernel_a, kernel_b, material, flags, time_step, rollback,
+        frame_budget, pbf_kernel, pbf, pbf_counts, dfsph, dfsph_counts, dfsph_b, drains,
+        dfsph_c, boundary_contact,
+    );
+    assert_eq!(wgsl_members("sph_density", "SphUniforms"), rust);
+}
+
 #[test]
 fn clock_matches_the_rust_layout() {
     assert_eq!(

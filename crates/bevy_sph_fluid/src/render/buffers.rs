@@ -623,14 +623,16 @@ pub(crate) fn prepare_sph_buffers(
         frame.capacity,
         state.particle_count,
     )
-    .with_rollback(&frame.rollback);
+    .with_rollback(&frame.rollback)
+    .with_boundary(
+        state.boundary_colliders,
+        state.boundary_friction,
+        state.boundary_unmirrored,
+    )
+    .with_drains(frame.number, pumps.sink_count);
     if let Some((duration, number)) = frame.budget {
         uniforms = uniforms.with_frame_budget(duration, frame.steps, number);
     }
-    uniforms.flags[3] = state.boundary_colliders;
-    uniforms.dfsph_c[2] = if state.boundary_friction { 1.0 } else { 0.0 };
-    uniforms.dfsph_c[3] = if state.boundary_unmirrored { 1.0 } else { 0.0 };
-    uniforms.drains = [frame.number, pumps.sink_count, 0, 0];
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
 }
 

@@ -43,7 +43,7 @@ pub struct GpuSphParams {
     /// ρ0, stiffness k, viscosity μ, surface tension γ.
     pub material: [f32; 4],
     /// Equation of state (0 linear, 1 Tait), clamp negative pressure (0/1), adaptive time step
-    /// (0/1), colliders in the guard's list (set by the plugin from the boundary upload).
+    /// (0/1), colliders in the guard's list ([`Self::with_boundary`]).
     pub flags: [u32; 4],
     /// The time-step rule: largest dt, CFL factor λ, viscous limit 0.125 h² ρ0/μ (f32::MAX
     /// without viscosity), speed of sound c0.
@@ -80,8 +80,8 @@ pub struct GpuSphParams {
     /// DFSPH: the over-relaxation ω of the divergence-free solve
     /// ([`crate::DfsphSettings::divergence_over_relaxation`]) and of the constant-density solve
     /// ([`crate::DfsphSettings::density_over_relaxation`]); 1 when some boundary sample has
-    /// friction, else 0 (set by the plugin from the boundary upload: without one DFSPH's forces
-    /// pass skips the samples and the reactions' workgroup sums, which only friction feeds there);
+    /// friction, else 0 ([`Self::with_boundary`]: without one DFSPH's forces pass skips the
+    /// samples and the reactions' workgroup sums, which only friction feeds there);
     /// 1 while the boundary samples do not mirror the stiffness, else 0
     /// ([`GpuBoundarySamples::mirrors`](crate::gpu_layout::GpuBoundarySamples::mirrors), also from
     /// the upload).
@@ -217,6 +217,23 @@ impl GpuSphParams {
     /// device, for the frame numbered `frame`.
     pub fn with_frame_budget(mut self, duration: f32, steps: u32, frame: u32) -> Self {
         self.frame_budget = [duration.to_bits(), steps, frame, 0];
+        self
+    }
+
+    /// The same block with what the boundary upload knows: the colliders in the guard's list
+    /// (`flags`' w), whether some boundary sample has friction and whether the samples do not
+    /// mirror DFSPH's stiffness (`dfsph_c`'s z and w, 1 or 0).
+    pub fn with_boundary(mut self, colliders: u32, friction: bool, unmirrored: bool) -> Self {
+        self.flags[3] = colliders;
+        self.dfsph_c[2] = if friction { 1.0 } else { 0.0 };
+        self.dfsph_c[3] = if unmirrored { 1.0 } else { 0.0 };
+        self
+    }
+
+    /// The same block with the drains' frame: the main world's frame `number` and the open
+    /// drains in [`GpuPumps`](crate::gpu_layout::GpuPumps) (0 = none).
+    pub fn with_drains(mut self, number: u32, open: u32) -> Self {
+        self.drains = [number, open, 0, 0];
         self
     }
 

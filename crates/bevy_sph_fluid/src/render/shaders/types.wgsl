@@ -22,7 +22,8 @@ struct SphUniforms {
     kernel_b: vec4<f32>,
     // ρ0, stiffness k, viscosity μ, surface tension γ
     material: vec4<f32>,
-    // x: Tait (1) or linear (0); y: clamp negative pressure; z: adaptive time step
+    // x: Tait (1) or linear (0); y: clamp negative pressure; z: adaptive time step; w: the
+    // colliders in the guard's list (from the boundary upload)
     flags: vec4<u32>,
     // largest dt, CFL factor λ, viscous limit 0.125 h² ρ0/μ, speed of sound c0
     time_step: vec4<f32>,
@@ -48,10 +49,13 @@ struct SphUniforms {
     dfsph_b: vec4<f32>,
     // Drains: the main world's frame number, the open drains in SphPumps (0 = none), 0, 0.
     drains: vec4<u32>,
-    // DFSPH: the divergence-free solve's over-relaxation ω, 0, 0, 0.
+    // DFSPH: the divergence-free solve's over-relaxation ω, the constant-density solve's ω;
+    // 1 when some boundary sample has friction, else 0; 1 while the boundary samples do not
+    // mirror the stiffness, else 0 (z and w from the boundary upload)
     dfsph_c: vec4<f32>,
     // The boundary samples' contact (sph_core::stage::BoundaryContact): its range Δx [m], its
-    // pressure at r = 0, 2 ρ0 c0² [Pa], 0, 0.
+    // pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa];
+    // the speculative contact's margin from the solids' surfaces [m]
     boundary_contact: vec4<f32>,
 }
 
