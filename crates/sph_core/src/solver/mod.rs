@@ -7,29 +7,24 @@ use crate::boundary::collider::{Collider, ColliderError, Pose, Slip};
 use crate::boundary::guard::{Corrections, Guard};
 use crate::boundary::samples::{BodyForce, BodyForceSum, Boundary, ColliderId};
 use crate::container::BoxContainer;
-use crate::density::compute_density_pressure;
 use crate::diagnostics::{Diagnostics, DiagnosticsInput};
 use crate::flow::pump::{apply_pumps, Pump};
 use crate::flow::sink::{drained_by_any, Sink};
-use crate::forces::{compute_accelerations, ForceInputs};
 use crate::frame_budget::{StepDt, FRAME_DONE};
-use crate::free_surface_pressure::extrapolate_free_surface_pressure;
-use crate::integrate;
 use crate::neighbor::Neighbors;
 use crate::params::{Integrator, ParamError, SphParams};
 use crate::rollback::{Rollback, RollbackState, Verdict};
 use crate::solvers::{Solver, SolverStats};
-use crate::stability::{adaptive_time_step, StepExtremes};
-use crate::stage::{evaluation_stages, CpuStage, StageContext};
-use crate::surface_tension_akinci2013::compute_normals;
+use crate::stability::StepExtremes;
 use glam::Vec3;
 use rayon::prelude::*;
 
 pub mod dfsph;
 pub mod pbf;
 mod state;
+pub mod wcsph;
 
-use state::{timed, SolverParts};
+use state::SolverParts;
 pub use state::{ParticleData, StageTimings};
 
 /// What a spawn did: how many particles were added, how many were refused for capacity and how
@@ -53,9 +48,6 @@ pub struct CpuSolver {
     neighbors: Neighbors,
     particles: ParticleData,
     scratch: Vec<Vec3>,
-    /// The equation of state's pressures of the last evaluation, before the free surface's
-    /// ([`crate::free_surface_pressure`]).
-    eos_pressure: Vec<f32>,
     next_id: u32,
     step_count: u64,
     time: f64,
@@ -86,6 +78,8 @@ pub struct CpuSolver {
     body_force_sums: (Vec<BodyForceSum>, u64),
     /// The fluid's force on each boundary body in the last evaluation.
     last_body_forces: Vec<BodyForceSum>,
+    /// WCSPH's scratch (the equation of state's pressures).
+    wcsph: wcsph::WcsphScratch,
     /// DFSPH's per-step scratch (neighbour lists, factors, sources).
     dfsph: dfsph::DfsphScratch,
     /// PBF's per-step scratch (neighbour lists, λ, corrections).
@@ -155,6 +149,7 @@ impl CpuSolver {
             boundary_corrections: Corrections::default(),
             body_force_sums: (Vec::new(), 0),
             last_body_forces: Vec::new(),
+            wcsph: wcsph::WcsphScratch::default(),
             dfsph: dfsph::DfsphScratch::default(),
             pbf: pbf::PbfScratch::default(),
             solver_stats: SolverStats::default(),
@@ -166,7 +161,6 @@ impl CpuSolver {
             neighbors,
             particles: ParticleData::default(),
             scratch: Vec::new(),
-            eos_pressure: Vec::new(),
             next_id: 0,
             step_count: 0,
             time: 0.0,
@@ -537,23 +531,14 @@ impl CpuSolver {
     /// (symplectic Euler, the design's leapfrog) or with the previous step's closing
     /// acceleration (kick-drift-kick).
     pub fn next_time_step(&self) -> f32 {
-        match self.params.solver {
-            Solver::Dfsph => {
-                return dfsph::next_time_step(&self.params, &self.particles, &self.boundary)
-            }
-            Solver::Pbf => {
-                return pbf::next_time_step(&self.params, &self.particles, &self.boundary)
-            }
-            Solver::Wcsph => {}
+        let (params, p, boundary) = (&self.params, &self.particles, &self.boundary);
+        match params.solver {
+            Solver::Wcsph => wcsph::next_time_step(params, p, boundary),
+            Solver::Dfsph => dfsph::next_time_step(params, p, boundary),
+            Solver::Pbf => pbf::next_time_step(params, p, boundary),
         }
-        if !self.params.adaptive_time_step {
-            return self.params.time_step;
-        }
-        let p = &self.particles;
-        let mut extremes = StepExtremes::measure(&p.velocity, &p.acceleration);
-        extremes.max_speed = extremes.max_speed.max(self.boundary.max_speed());
-        adaptive_time_step(&self.params, &extremes)
     }
+
     /// Force evaluations the next step takes: two for the design's leapfrog, one otherwise, plus
     /// one for kick-drift-kick right after a spawn or parameter change.
     pub fn evaluations_per_step(&self) -> u32 {
@@ -566,96 +551,6 @@ impl CpuSolver {
             Integrator::KickDriftKick => {
                 let joined = self.boundary.membership() != self.boundary_membership;
                 1 + (self.forces_stale || joined) as u32
-            }
-        }
-    }
-
-    /// One force evaluation: the stages of [`evaluation_stages`] in order (sort by cell,
-    /// density/pressure, normals with surface tension, accelerations) at the current positions;
-    /// the viscosity term reads `velocity_predicted` unless `use_velocity`.
-    fn evaluate(&mut self, ctx: &StageContext, use_velocity: bool) {
-        let (neighbors, p, t) = (&mut self.neighbors, &mut self.particles, &mut self.timings);
-        let boundary = &mut self.boundary;
-        let eos_pressure = &mut self.eos_pressure;
-        for stage in evaluation_stages(&self.params) {
-            match stage {
-                CpuStage::Sort => timed(&mut t.sort, || {
-                    let _ = boundary.sort();
-                    let order = neighbors.sort(&p.position);
-                    p.reorder(order, &mut self.scratch);
-                }),
-                CpuStage::Density => timed(&mut t.density, || {
-                    compute_density_pressure(
-                        ctx,
-                        neighbors,
-                        &p.position,
-                        Some(boundary),
-                        &mut p.density,
-                        &mut p.pressure,
-                    )
-                }),
-                CpuStage::FreeSurfacePressure => timed(&mut t.density, || {
-                    std::mem::swap(eos_pressure, &mut p.pressure);
-                    p.pressure.resize(eos_pressure.len(), 0.0);
-                    extrapolate_free_surface_pressure(
-                        ctx,
-                        neighbors,
-                        &p.position,
-                        &p.density,
-                        eos_pressure,
-                        &mut p.pressure,
-                    )
-                }),
-                CpuStage::Normals => timed(&mut t.normals, || {
-                    compute_normals(ctx, neighbors, &p.position, &p.density, &mut p.normal)
-                }),
-                CpuStage::Forces => {
-                    let current_or_predicted = |current: bool| {
-                        if current {
-                            &p.velocity
-                        } else {
-                            &p.velocity_predicted
-                        }
-                    };
-                    let input = ForceInputs {
-                        position: &p.position,
-                        velocity: current_or_predicted(use_velocity),
-                        // Kick-drift-kick's closing evaluation: v½, which the next drift
-                        // starts from plus a dt (the leapfrog's stays on its prediction).
-                        contact_velocity: current_or_predicted(
-                            use_velocity || self.params.integrator == Integrator::KickDriftKick,
-                        ),
-                        density: &p.density,
-                        pressure: &p.pressure,
-                        normal: &p.normal,
-                        boundary: Some(boundary),
-                        with_pressure: true,
-                    };
-                    let forces = timed(&mut t.forces, || {
-                        compute_accelerations(ctx, neighbors, &input, &mut p.acceleration)
-                    });
-                    record_body_forces(
-                        &mut self.body_force_sums,
-                        &mut self.last_body_forces,
-                        forces,
-                    );
-                }
-                // Placed by the integrator around the evaluations (see `advance`).
-                // The integrator's phases, and the PBF step's stages (which `PbfStep` runs).
-                CpuStage::TimeStep
-                | CpuStage::Integrate
-                | CpuStage::NeighborLists
-                | CpuStage::PbfLambda
-                | CpuStage::PbfCorrection
-                | CpuStage::PbfVelocity
-                | CpuStage::PbfXsph
-                | CpuStage::PbfVorticity
-                | CpuStage::PbfConfinement
-                | CpuStage::DfsphFactors
-                | CpuStage::DfsphPredict
-                | CpuStage::DfsphApply
-                | CpuStage::DfsphSource
-                | CpuStage::DfsphReactions => {}
             }
         }
     }
@@ -736,105 +631,38 @@ impl CpuSolver {
         self.forces_stale = true;
     }
 
-    /// One step with the selected integrator at the dt `step_dt` makes of the rule's; returns
-    /// its dt.
+    /// One step of the parameters' solver at the dt `step_dt` makes of the rule's; returns its
+    /// dt.
     fn advance(&mut self, step_dt: StepDt) -> f32 {
         match self.params.solver {
-            Solver::Dfsph => return self.advance_dfsph(step_dt),
-            Solver::Pbf => return self.advance_pbf(step_dt),
-            Solver::Wcsph => {}
+            Solver::Wcsph => self.advance_wcsph(step_dt),
+            Solver::Dfsph => self.advance_dfsph(step_dt),
+            Solver::Pbf => self.advance_pbf(step_dt),
         }
-        self.solver_stats = SolverStats::default();
-        // The contact stops approaches within dt_max in an evaluation before this step's dt is
-        // chosen, and within this step's dt in the closing one (the GPU's roles do the same).
-        let ctx = StageContext::new(&self.params);
-        let dt;
-        let colliders = self.boundary.collider_list();
-        let guard = self.guard(&colliders);
-        let mut corrections = Corrections::default();
-        match self.params.integrator {
-            Integrator::SymplecticEuler => {
-                self.evaluate(&ctx, true);
-                dt = step_dt.of(self.next_time_step());
-                let p = &mut self.particles;
-                corrections += timed(&mut self.timings.integrate, || {
-                    integrate::euler(
-                        &mut p.position,
-                        &mut p.velocity,
-                        &p.acceleration,
-                        dt,
-                        &guard,
-                    )
-                });
-            }
-            Integrator::KickDriftKick => {
-                if self.forces_stale {
-                    // The closing kick of the previous step left no valid acceleration.
-                    self.evaluate(&ctx.with_half_kick_drift(), true);
-                }
-                dt = step_dt.of(self.next_time_step());
-                let p = &mut self.particles;
-                corrections += timed(&mut self.timings.integrate, || {
-                    integrate::kick_drift(
-                        &mut p.position,
-                        &mut p.velocity,
-                        &mut p.velocity_predicted,
-                        &p.acceleration,
-                        dt,
-                        &guard,
-                    )
-                });
-                self.evaluate(&ctx.with_step_dt(dt), false);
-                let p = &mut self.particles;
-                timed(&mut self.timings.integrate, || {
-                    integrate::kick(
-                        &mut p.position,
-                        &mut p.velocity,
-                        &p.acceleration,
-                        dt,
-                        &guard,
-                    )
-                });
-            }
-            Integrator::Leapfrog => {
-                self.evaluate(&ctx.with_half_kick_drift(), true);
-                dt = step_dt.of(self.next_time_step());
-                let p = &mut self.particles;
-                corrections += timed(&mut self.timings.integrate, || {
-                    p.acceleration_start.copy_from_slice(&p.acceleration);
-                    integrate::leapfrog_drift(
-                        &mut p.position,
-                        &p.velocity,
-                        &mut p.velocity_predicted,
-                        &p.acceleration_start,
-                        dt,
-                        &guard,
-                    )
-                });
-                self.evaluate(&ctx.with_step_dt(dt), false);
-                let p = &mut self.particles;
-                timed(&mut self.timings.integrate, || {
-                    integrate::leapfrog_kick(
-                        &mut p.position,
-                        &mut p.velocity,
-                        &p.acceleration_start,
-                        &p.acceleration,
-                        dt,
-                        &guard,
-                    )
-                });
-            }
-        }
-        self.forces_stale = false;
-        self.boundary_corrections += corrections;
-        dt
     }
 
-    /// The parts the DFSPH and PBF steps borrow, and their scratch.
+    /// One WCSPH step ([`wcsph`]) at the dt `step_dt` makes of the rule's; returns it.
+    fn advance_wcsph(&mut self, step_dt: StepDt) -> f32 {
+        let colliders = self.boundary.collider_list();
+        let guard = self.guard(&colliders);
+        let stale = self.forces_stale;
+        let (parts, scratch, _, _) = self.split();
+        let outcome = wcsph::WcsphStep { parts, scratch }.advance(step_dt, stale, &guard);
+        for forces in outcome.forces {
+            self.record_body_forces(forces);
+        }
+        self.solver_stats = SolverStats::default();
+        self.forces_stale = false;
+        self.boundary_corrections += outcome.corrections;
+        outcome.dt
+    }
+
+    /// The parts the solvers' steps borrow, and their scratch.
     fn split(
         &mut self,
     ) -> (
         SolverParts<'_>,
+        &mut wcsph::WcsphScratch,
         &mut dfsph::DfsphScratch,
         &mut pbf::PbfScratch,
     ) {
@@ -846,7 +674,7 @@ impl CpuSolver {
             timings: &mut self.timings,
             sort_scratch: &mut self.scratch,
         };
-        (parts, &mut self.dfsph, &mut self.pbf)
+        (parts, &mut self.wcsph, &mut self.dfsph, &mut self.pbf)
     }
 
     /// One DFSPH step ([`dfsph::DfsphStep`]) at the dt `step_dt` makes of the rule's; returns it.
@@ -854,7 +682,7 @@ impl CpuSolver {
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
         let stale = self.forces_stale;
-        let (parts, scratch, _) = self.split();
+        let (parts, _, scratch, _) = self.split();
         let outcome = dfsph::DfsphStep { parts, scratch }.advance(step_dt, stale, &guard);
         self.record_body_forces(outcome.forces);
         self.solver_stats = outcome.stats;
@@ -867,7 +695,7 @@ impl CpuSolver {
     fn advance_pbf(&mut self, step_dt: StepDt) -> f32 {
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
-        let (parts, _, scratch) = self.split();
+        let (parts, _, _, scratch) = self.split();
         let outcome = pbf::PbfStep { parts, scratch }.advance(step_dt, &guard);
         self.record_body_forces(outcome.forces);
         self.solver_stats = outcome.stats;
