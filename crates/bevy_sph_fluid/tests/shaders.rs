@@ -338,7 +338,7 @@ fn the_packed_pairs_have_the_rust_twins_bits() {
 
 #[test]
 fn the_lists_tile_as_the_rust_layout_sizes_them() {
-    let value = u32_constant("sph_pbf_neighbors", "LIST_TILE");
+    let value = u32_constant("sph_neighbor_lists", "LIST_TILE");
     assert_eq!(value, sph_core::gpu_layout::LIST_TILE);
     // Whole tiles: the last particle's last entry fits, for a capacity that is not a multiple.
     let capacity = 8 * 5 + 3;

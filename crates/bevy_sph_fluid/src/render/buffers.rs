@@ -19,6 +19,7 @@ use sph_core::gpu_layout::{
 use sph_core::neighbor::grid::DenseGrid;
 use sph_core::neighbor::hash::hash_table_size;
 use sph_core::NeighborSearch;
+use sph_core::Solver;
 
 /// Byte stride of the bitonic steps in their uniform buffer (the dynamic-offset alignment).
 pub const BITONIC_STRIDE: u64 = 256;
@@ -95,7 +96,7 @@ pub enum Buf {
     /// PBF: each particle's neighbours of the step (pairs within h at the predicted positions),
     /// at most `PBF_MAX_NEIGHBORS`, neighbour k of particle i at `list_slot(i, k)`
     /// (`sph_core::gpu_layout::LIST_TILE`).
-    PbfNeighbors,
+    NeighborLists,
     /// DFSPH: the same pairs with their weighted gradient, (m ∇W_ij, j as bits), written with
     /// the factors after each sort and read by every iteration of the solves.
     DfsphPairs,
@@ -143,7 +144,7 @@ impl Buf {
         Buf::Pumps,
         Buf::Probes,
         Buf::Meshes,
-        Buf::PbfNeighbors,
+        Buf::NeighborLists,
         Buf::DfsphPairs,
         Buf::PressureEos,
         Buf::DfsphMirror,
@@ -190,7 +191,7 @@ impl Buf {
             Buf::Pumps => "sph_pumps",
             Buf::Probes => "sph_probes",
             Buf::Meshes => "sph_meshes",
-            Buf::PbfNeighbors => "sph_pbf_neighbors",
+            Buf::NeighborLists => "sph_neighbor_lists",
             Buf::DfsphPairs => "sph_dfsph_pairs",
             Buf::PressureEos => "sph_pressure_eos",
             Buf::DfsphMirror => "sph_dfsph_mirror",
@@ -300,7 +301,7 @@ fn allocate(
         0
     };
     // The Akinci normals, or PBF's λ and densities.
-    let normals = if key.surface_tension || key.pbf {
+    let normals = if key.surface_tension || key.solver == Solver::Pbf {
         16 * n
     } else {
         0
@@ -322,14 +323,16 @@ fn allocate(
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
             Buf::Pumps => std::mem::size_of::<sph_core::gpu_layout::GpuPumps>() as u64,
-            Buf::PbfNeighbors if key.pbf || key.dfsph => 4 * list_entries(capacity),
-            Buf::PbfNeighbors => 16,
+            Buf::NeighborLists if key.solver == Solver::Pbf || key.solver == Solver::Dfsph => {
+                4 * list_entries(capacity)
+            }
+            Buf::NeighborLists => 16,
             // Two 8-byte pairs to a 16-byte entry (sph_core::gpu_dfsph_pairs).
-            Buf::DfsphPairs if key.dfsph => 8 * list_entries(capacity),
+            Buf::DfsphPairs if key.solver == Solver::Dfsph => 8 * list_entries(capacity),
             Buf::DfsphPairs => 16,
-            Buf::PressureEos if !key.pbf && !key.dfsph => 4 * n,
+            Buf::PressureEos if key.solver != Solver::Pbf && key.solver != Solver::Dfsph => 4 * n,
             Buf::PressureEos => 16,
-            Buf::DfsphMirror if key.dfsph => 16 * n,
+            Buf::DfsphMirror if key.solver == Solver::Dfsph => 16 * n,
             Buf::DfsphMirror => 16,
             _ => 16 * n,
         }
@@ -449,7 +452,7 @@ pub(crate) fn prepare_sph_buffers(
         }
     };
     let key = VariantKey::of(&frame.params, frame.neighbor_counts);
-    if key.dfsph && frame.capacity > gpu_dfsph_pairs::MAX_PARTICLES {
+    if key.solver == Solver::Dfsph && frame.capacity > gpu_dfsph_pairs::MAX_PARTICLES {
         state.status = Some(format!(
             "gpu: DFSPH holds at most {} particles on the GPU (its pairs keep 18-bit indices); \
              the capacity is {}: use the CPU backend or another solver",
@@ -464,8 +467,7 @@ pub(crate) fn prepare_sph_buffers(
             || b.grid_dims != grid.dims
             || b.key.search != key.search
             || b.key.surface_tension != key.surface_tension
-            || b.key.pbf != key.pbf
-            || b.key.dfsph != key.dfsph
+            || b.key.solver != key.solver
             || b.at(Buf::Position).id() != position.id()
             || b.at(Buf::Density).id() != density.id()
     });
@@ -559,7 +561,7 @@ pub(crate) fn prepare_sph_buffers(
         write(Buf::Position, &positions);
         write(Buf::Velocity, &velocities);
         // DFSPH keeps its solves' stiffness sums there (the warm starts): new particles have none.
-        if buffers.key.dfsph {
+        if buffers.key.solver == Solver::Dfsph {
             write(Buf::VelocityPredicted, &zeros);
         } else {
             write(Buf::VelocityPredicted, &velocities);
@@ -611,7 +613,7 @@ pub(crate) fn prepare_sph_buffers(
             // DFSPH's factors hold the boundary samples near each particle (as the CPU, which
             // rebuilds its neighbourhood when the boundary moved): the frame's first step
             // starts from a new neighbourhood.
-            if frame.params.solver == sph_core::Solver::Dfsph {
+            if frame.params.solver == Solver::Dfsph {
                 state.forces_stale = true;
             }
         }

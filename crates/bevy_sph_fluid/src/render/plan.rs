@@ -15,13 +15,11 @@ pub struct VariantKey {
     pub viscosity: bool,
     /// The density pass records neighbour counts (debug views).
     pub neighbor_counts: bool,
-    /// Position-based fluids (Macklin & Müller 2013) instead of WCSPH: the PBF stage list.
-    pub pbf: bool,
+    /// The pressure solver, whose stage list runs: WCSPH, DFSPH (Bender & Koschier 2015, 2017)
+    /// or PBF (Macklin & Müller 2013).
+    pub solver: Solver,
     /// PBF's vorticity confinement stages (off: they are not in the list and cost nothing).
     pub vorticity: bool,
-    /// Divergence-free SPH (Bender & Koschier 2015, 2017) instead of WCSPH: the DFSPH stage
-    /// list.
-    pub dfsph: bool,
 }
 
 impl VariantKey {
@@ -36,20 +34,19 @@ impl VariantKey {
                         flags.into_iter().flat_map(move |neighbor_counts| {
                             // WCSPH, PBF, PBF with vorticity confinement, DFSPH.
                             [
-                                (false, false, false),
-                                (true, false, false),
-                                (true, true, false),
-                                (false, false, true),
+                                (Solver::Wcsph, false),
+                                (Solver::Pbf, false),
+                                (Solver::Pbf, true),
+                                (Solver::Dfsph, false),
                             ]
                             .into_iter()
-                            .map(move |(pbf, vorticity, dfsph)| VariantKey {
+                            .map(move |(solver, vorticity)| VariantKey {
                                 search,
                                 surface_tension,
                                 viscosity,
                                 neighbor_counts,
-                                pbf,
+                                solver,
                                 vorticity,
-                                dfsph,
                             })
                         })
                     })
@@ -66,9 +63,8 @@ impl VariantKey {
             surface_tension: !pbf && params.has_surface_tension(),
             viscosity: !pbf && params.has_viscosity(),
             neighbor_counts,
-            pbf,
+            solver: params.solver,
             vorticity: pbf && params.pbf.vorticity_epsilon > 0.0,
-            dfsph: params.solver == Solver::Dfsph,
         }
     }
 
@@ -87,13 +83,13 @@ impl VariantKey {
         if self.neighbor_counts {
             defs.push("NEIGHBOR_COUNT".into());
         }
-        if self.pbf {
+        if self.solver == Solver::Pbf {
             defs.push("SOLVER_PBF".into());
         }
         if self.vorticity {
             defs.push("VORTICITY".into());
         }
-        if self.dfsph {
+        if self.solver == Solver::Dfsph {
             defs.push("SOLVER_DFSPH".into());
         }
         defs

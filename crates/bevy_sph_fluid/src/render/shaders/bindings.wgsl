@@ -54,9 +54,9 @@
 // The mesh colliders' hierarchies and triangles (sph_core::boundary::trimesh::TriMesh::gpu_words), for
 // the guard.
 @group(0) @binding(33) var<storage, read_write> meshes: array<vec4<f32>>;
-// PBF: each particle's neighbours of the step, neighbour k of particle i at list_slot(i, k)
-// (written by the pbf_neighbors pass; its count in neighbor_count).
-@group(0) @binding(34) var<storage, read_write> pbf_neighbors: array<u32>;
+// PBF and DFSPH: each particle's neighbours of the step, neighbour k of particle i at
+// list_slot(i, k) (written by the neighbor_lists pass; its count in neighbor_count).
+@group(0) @binding(34) var<storage, read_write> neighbor_lists: array<u32>;
 // DFSPH: the same pairs with their weighted gradient (m ∇W_ij), packed to 8 bytes, pairs k and
 // k + 1 of particle i in one entry (written by the dfsph_density pass after each sort;
 // sph::dfsph's pairs).

@@ -19,7 +19,7 @@
 // - `pressure`: κ_i of the iteration, during the solves (the last pass writes the pressures);
 // - `velocity_predicted`: (κ summed by the constant-density solve, κ summed by the
 //   divergence-free solve, 0, 0), carried by the sort: the next step's warm starts;
-// - `neighbor_count`, `pbf_neighbors`: the pairs within h after each sort (the lists pass),
+// - `neighbor_count`, `neighbor_lists`: the pairs within h after each sort (the lists pass),
 //   and `dfsph_pairs`: the same pairs with g_ij, packed (the factors pass; see `pairs` below),
 //   read by every iteration.
 // The solve in progress keeps its state in the clock (dfsph_*): the applied iterations, the

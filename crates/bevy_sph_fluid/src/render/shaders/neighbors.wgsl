@@ -81,7 +81,7 @@ fn grid_row_cells(c: vec3<i32>, q: u32) -> vec2<u32> {
     return vec2<u32>(grid_index(vec3<i32>(x0, y, z)), grid_index(vec3<i32>(x1, y, z)));
 }
 
-// Where the lists keep particle i's k-th neighbour (`pbf_neighbors`; `dfsph_pairs` tiles the
+// Where the lists keep particle i's k-th neighbour (`neighbor_lists`; `dfsph_pairs` tiles the
 // same way two pairs to an entry, sph::dfsph's pairs_slot): in tiles of
 // LIST_TILE particles, each tile's entries row by row (entry k of the tile's particles side by
 // side, then entry k + 1; sph_core::gpu_layout::LIST_TILE). A SIMD group of consecutive

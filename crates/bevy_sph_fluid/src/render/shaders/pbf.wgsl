@@ -4,7 +4,7 @@
 // The sort leaves the predicted positions x* in `position`, the positions at the step's start
 // in `acceleration_start` (the prediction keeps them there; the sort carries them along). The
 // sorted positions stay as they are until the step's last pass: they decide the step's pairs
-// (the pbf_neighbors pass lists each particle's neighbours within h at x*, as the CPU's
+// (the neighbor_lists pass lists each particle's neighbours within h at x*, as the CPU's
 // NeighborLists, and the boundary loops take the samples within h at x*), while the kernels
 // are evaluated at the current positions, which the Jacobi iterations ping-pong between two scratch buffers the sort no longer needs:
 // iteration 0 reads `position` and writes A (`sorted_position`), odd iterations read A and

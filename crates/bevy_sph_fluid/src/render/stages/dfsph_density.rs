@@ -24,7 +24,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::SortedAccelerationStart,
         Buf::VelocityPredicted,
         Buf::NeighborCount,
-        Buf::PbfNeighbors,
+        Buf::NeighborLists,
         Buf::DfsphPairs,
         Buf::Pressure,
         Buf::BoundaryPosition,

@@ -11,7 +11,7 @@
 // Thread 0 opens the next solve (the divergence-free one after the move).
 // Rust twins: sph_core::neighbor::lists::NeighborLists::rebuild (the densities) and
 // sph_core::solver::dfsph::bender2017::compute_factors.
-#import sph::bindings::{params, position, density, velocity_predicted, neighbor_count, pbf_neighbors, acceleration_start, sorted_acceleration_start, dfsph_mirror, boundary_position, boundary_velocity}
+#import sph::bindings::{params, position, density, velocity_predicted, neighbor_count, neighbor_lists, acceleration_start, sorted_acceleration_start, dfsph_mirror, boundary_position, boundary_velocity}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::dfsph::{mass, rest_density, pair_scale, pair_steps, steps_grad, pack_pair, set_pairs, open_solve, samples_mirror}
@@ -27,7 +27,7 @@ struct FluidSums {
 // The sums take g_ij as packed, as every iteration reads it (and as the CPU solver rounds it).
 fn fluid_pair(i: u32, k: u32, x_i: vec3<f32>, scale: f32, sums: ptr<function, FluidSums>) -> vec2<u32> {
     let m = mass();
-    let j = pbf_neighbors[list_slot(i, k)];
+    let j = neighbor_lists[list_slot(i, k)];
     let r = x_i - position[j].xyz;
     let r_len = length(r);
     let steps = pair_steps(cubic_grad(r, r_len) * m, scale);

@@ -32,7 +32,7 @@
 // The reaction -m a_ib of every boundary pair goes to the sample's body (Akinci 2012's two-way
 // coupling, summed by shaders/body_reactions.wgsl).
 // Rust twin: sph_core::forces (compute_accelerations and its per-body sums).
-#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal, neighbor_count, pbf_neighbors, boundary_position, boundary_velocity, boundary_body, body_forces}
+#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal, neighbor_count, neighbor_lists, boundary_position, boundary_velocity, boundary_body, body_forces}
 #import sph::kernels::{poly6, spiky_grad, viscosity_laplacian, cohesion, collide}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
@@ -207,7 +207,7 @@ fn particle(i: u32) {
     // dambreak32k on lavapipe).
     let fluid = neighbor_count[i];
     for (var k = 0u; k < fluid; k++) {
-        let j = pbf_neighbors[list_slot(i, k)];
+        let j = neighbor_lists[list_slot(i, k)];
         let x_j = position[j].xyz;
         let r = x_i - x_j;
         let r2 = dot(r, r);

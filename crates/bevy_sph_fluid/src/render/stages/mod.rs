@@ -15,11 +15,11 @@ pub mod forces;
 pub mod free_surface_pressure;
 pub mod hash_offsets;
 pub mod integrate;
+pub mod neighbor_lists;
 pub mod normals;
 pub mod pbf_confine;
 pub mod pbf_correct;
 pub mod pbf_lambda;
-pub mod pbf_neighbors;
 pub mod pbf_velocity;
 pub mod pbf_vorticity;
 pub mod pbf_xsph;
@@ -29,7 +29,7 @@ pub mod time_step;
 
 use super::plan::VariantKey;
 use super::stage::GpuStage;
-use sph_core::NeighborSearch;
+use sph_core::{NeighborSearch, Solver};
 
 /// The stages of one force evaluation of a scene of `key` (with PBF, of one step), in order.
 /// Each stage's `role` then picks its pipeline for the evaluation's integrator phase or PBF
@@ -42,11 +42,11 @@ pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
         NeighborSearch::Hash => list.extend([&bitonic_sort::STAGE, &hash_offsets::STAGE]),
     }
     list.push(&scatter::STAGE);
-    if key.pbf {
+    if key.solver == Solver::Pbf {
         // Macklin & Müller 2013: each Jacobi iteration runs λ and the corrections (the plan's
         // phases pick them; render::plan::pbf_plans), then the finish.
         list.extend([
-            &pbf_neighbors::STAGE,
+            &neighbor_lists::STAGE,
             &pbf_lambda::STAGE,
             &pbf_correct::STAGE,
             &pbf_velocity::STAGE,
@@ -57,11 +57,11 @@ pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
         }
         return list;
     }
-    if key.dfsph {
+    if key.solver == Solver::Dfsph {
         // Bender & Koschier 2017: the plan's phases (render::plan::dfsph_plans) run the
         // neighbourhood (lists, densities, factors, normals), the forces, the time step and v*,
         // then each solve's iterations (apply, source) and its end.
-        list.extend([&pbf_neighbors::STAGE, &dfsph_density::STAGE]);
+        list.extend([&neighbor_lists::STAGE, &dfsph_density::STAGE]);
         if key.surface_tension {
             list.push(&normals::STAGE);
         }
@@ -142,7 +142,7 @@ mod tests {
                 params.neighbor_search = search;
                 params.pbf.vorticity_epsilon = vorticity;
                 let key = VariantKey::of(&params, false);
-                assert!(key.pbf && key.vorticity == (vorticity > 0.0));
+                assert!(key.solver == Solver::Pbf && key.vorticity == (vorticity > 0.0));
                 let mut twins: Vec<CpuStage> = stage_list(&key)
                     .iter()
                     .map(|stage| stage.cpu_twin)
@@ -167,9 +167,8 @@ mod tests {
                     surface_tension: false,
                     viscosity: false,
                     neighbor_counts: false,
-                    pbf: true,
+                    solver: Solver::Pbf,
                     vorticity,
-                    dfsph: false,
                 };
                 let list = stage_list(&key);
                 let mut runs: Vec<(&str, usize)> = Vec::new();
@@ -189,7 +188,7 @@ mod tests {
                 let count = |name: &str| runs.iter().filter(|r| r.0 == name).count();
                 assert_eq!(count("sph_count_cells"), 1);
                 assert_eq!(count("sph_scatter"), 1);
-                assert_eq!(count("sph_pbf_neighbors"), 1);
+                assert_eq!(count("sph_neighbor_lists"), 1);
                 assert_eq!(count("sph_time_step"), 1);
                 assert_eq!(count("sph_pbf_lambda"), iterations as usize);
                 assert_eq!(count("sph_pbf_correct"), iterations as usize);
@@ -213,7 +212,7 @@ mod tests {
                 params.neighbor_search = search;
                 params.surface_tension = surface_tension;
                 let key = VariantKey::of(&params, false);
-                assert!(key.dfsph && !key.pbf);
+                assert_eq!(key.solver, Solver::Dfsph);
                 let mut twins: Vec<CpuStage> = stage_list(&key)
                     .iter()
                     .map(|stage| stage.cpu_twin)
@@ -250,7 +249,7 @@ mod tests {
                     let count = |name: &str| runs.iter().filter(|r| r.0 == name).count();
                     let sorts = 1 + stale as usize;
                     assert_eq!(count("sph_count_cells"), sorts);
-                    assert_eq!(count("sph_pbf_neighbors"), sorts);
+                    assert_eq!(count("sph_neighbor_lists"), sorts);
                     assert_eq!(count("sph_dfsph_density"), sorts);
                     assert_eq!(count("sph_forces"), 1);
                     assert_eq!(count("sph_time_step"), 1);

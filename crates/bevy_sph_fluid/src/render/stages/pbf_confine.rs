@@ -25,7 +25,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::SortedVelocityPredicted,
         Buf::SortedAcceleration,
         Buf::NeighborCount,
-        Buf::PbfNeighbors,
+        Buf::NeighborLists,
         Buf::Clock,
         Buf::Pumps,
         Buf::Probes,

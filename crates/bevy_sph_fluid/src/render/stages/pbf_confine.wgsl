@@ -4,7 +4,7 @@
 // step's last pass with VORTICITY: pumps, |v + g dt_max| for the time-step rule, probes; then
 // the final positions replace the sorted ones. Rust twins:
 // sph_core::solver::pbf::macklin2013::confine_vorticity, sph_core::flow::pump::apply_pumps.
-#import sph::bindings::{params, neighbor_count, pbf_neighbors, velocity, acceleration, density, sorted_acceleration}
+#import sph::bindings::{params, neighbor_count, neighbor_lists, velocity, acceleration, density, sorted_acceleration}
 #import sph::kernels::cubic_grad
 #import sph::neighbors::list_slot
 #import sph::clock::{step_dt, frozen, record_speed}
@@ -23,7 +23,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let w_i = length(omega_i);
     var eta = vec3<f32>(0.0);
     for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = pbf_neighbors[list_slot(i, k)];
+        let j = neighbor_lists[list_slot(i, k)];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let w_j = length(sorted_acceleration[j].xyz);

@@ -22,7 +22,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::SortedVelocityPredicted,
         Buf::Normal,
         Buf::NeighborCount,
-        Buf::PbfNeighbors,
+        Buf::NeighborLists,
         Buf::BoundaryPosition,
         Buf::BoundaryCellStart,
         Buf::BoundaryBody,

@@ -9,7 +9,7 @@
 // the iteration's share of the step's moves (correction_weight), summed by
 // shaders/body_reactions.wgsl over the step's iterations.
 // Rust twins: sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections}.
-#import sph::bindings::{params, position, neighbor_count, pbf_neighbors, normal, boundary_position, boundary_body}
+#import sph::bindings::{params, position, neighbor_count, neighbor_lists, normal, boundary_position, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen}
@@ -49,7 +49,7 @@ fn particle(i: u32) {
     let scale = m / rest_density();
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = pbf_neighbors[list_slot(i, k)];
+        let j = neighbor_lists[list_slot(i, k)];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let r_len = sqrt(r2);

@@ -6,7 +6,7 @@
 // W is the cubic spline. The pairs are those within h at the sorted predicted positions (see
 // shaders/pbf.wgsl); nothing moves while the clock is frozen.
 // Rust twin: sph_core::solver::pbf::macklin2013::compute_lambdas.
-#import sph::bindings::{params, position, neighbor_count, pbf_neighbors, normal, boundary_position}
+#import sph::bindings::{params, position, neighbor_count, neighbor_lists, normal, boundary_position}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::frozen
@@ -29,7 +29,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var grad_i = vec3<f32>(0.0);
     var squares = 0.0;
     for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = pbf_neighbors[list_slot(i, k)];
+        let j = neighbor_lists[list_slot(i, k)];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let r_len = sqrt(r2);

@@ -22,7 +22,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::SortedVelocityPredicted,
         Buf::SortedAcceleration,
         Buf::NeighborCount,
-        Buf::PbfNeighbors,
+        Buf::NeighborLists,
         Buf::Clock,
     ],
     workgroup_size: WORKGROUP_SIZE,

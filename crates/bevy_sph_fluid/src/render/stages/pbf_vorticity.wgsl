@@ -2,7 +2,7 @@
 // 1/s): ω_i = Σ_j (m/ρ_j) (v_j - v_i) × ∇_j W_ij, ∇_j W_ij = -∇_i W_ij, at the final positions
 // with the velocities after XSPH and the final densities; into `sorted_acceleration` (see
 // shaders/pbf.wgsl). Only with VORTICITY. Rust twin: sph_core::solver::pbf::macklin2013::vorticity.
-#import sph::bindings::{params, neighbor_count, pbf_neighbors, velocity, density, sorted_acceleration}
+#import sph::bindings::{params, neighbor_count, neighbor_lists, velocity, density, sorted_acceleration}
 #import sph::kernels::cubic_grad
 #import sph::neighbors::list_slot
 #import sph::clock::frozen
@@ -18,7 +18,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let v_i = velocity[i].xyz;
     var curl = vec3<f32>(0.0);
     for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = pbf_neighbors[list_slot(i, k)];
+        let j = neighbor_lists[list_slot(i, k)];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let grad_j = -cubic_grad(r, sqrt(r2));

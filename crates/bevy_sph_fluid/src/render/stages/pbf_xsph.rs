@@ -28,7 +28,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Pressure,
         Buf::Normal,
         Buf::NeighborCount,
-        Buf::PbfNeighbors,
+        Buf::NeighborLists,
         Buf::BoundaryPosition,
         Buf::BoundaryCellStart,
         Buf::Clock,

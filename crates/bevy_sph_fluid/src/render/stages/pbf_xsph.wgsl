@@ -6,7 +6,7 @@
 // Without VORTICITY this is the step's last pass: pumps, |v + g dt_max| for the time-step
 // rule, probes. Rust twins: sph_core::solver::pbf::macklin2013::{xsph, compute_densities}, then
 // sph_core::flow::pump::apply_pumps.
-#import sph::bindings::{params, position, neighbor_count, pbf_neighbors, velocity, sorted_velocity, acceleration, density, pressure, normal, boundary_position}
+#import sph::bindings::{params, position, neighbor_count, neighbor_lists, velocity, sorted_velocity, acceleration, density, pressure, normal, boundary_position}
 #import sph::kernels::cubic
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen, record_speed}
@@ -28,7 +28,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var smoothing = vec3<f32>(0.0);
     var fluid = cubic(0.0);
     for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = pbf_neighbors[list_slot(i, k)];
+        let j = neighbor_lists[list_slot(i, k)];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let w = cubic(sqrt(r2));

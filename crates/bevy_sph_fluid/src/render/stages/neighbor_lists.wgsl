@@ -4,7 +4,7 @@
 // number in neighbor_count. The step's other PBF passes loop over these lists and evaluate the
 // kernel at their own positions. A particle with more neighbours keeps the first ones found and
 // is counted in the clock. Rust twin: sph_core::neighbor::lists::NeighborLists::rebuild.
-#import sph::bindings::{params, position, neighbor_count, pbf_neighbors, clock}
+#import sph::bindings::{params, position, neighbor_count, neighbor_lists, clock}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, list_slot}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
@@ -28,7 +28,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 continue;
             }
             if count < most {
-                pbf_neighbors[list_slot(i, count)] = j;
+                neighbor_lists[list_slot(i, count)] = j;
                 count += 1u;
             } else {
                 overflow = true;

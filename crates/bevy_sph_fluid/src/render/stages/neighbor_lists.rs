@@ -1,6 +1,6 @@
-//! PBF's neighbour lists of the step, after the sort of the predicted positions (and DFSPH's,
-//! after each of its sorts)
-//! (`pbf_neighbors.wgsl`; CPU twin `sph_core::neighbor::lists::NeighborLists::rebuild`).
+//! The neighbour lists PBF and DFSPH share: PBF's after the sort of the predicted positions,
+//! DFSPH's after each of its sorts (`neighbor_lists.wgsl`; CPU twin
+//! `sph_core::neighbor::lists::NeighborLists::rebuild`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{DfsphPhase, EvaluationPlan, PbfPhase};
@@ -13,14 +13,14 @@ use sph_core::CpuStage;
 /// the iterations then visit about 33 neighbours each instead of the 27 cells' candidates.
 /// DFSPH builds the same lists after each of its sorts, for its solves' dozens of passes.
 pub const STAGE: GpuStage = GpuStage {
-    name: "sph_pbf_neighbors",
+    name: "sph_neighbor_lists",
     cpu_twin: CpuStage::NeighborLists,
-    embed: |app| embedded_asset!(app, "pbf_neighbors.wgsl"),
-    shader: |server| load_embedded_asset!(server, "pbf_neighbors.wgsl"),
+    embed: |app| embedded_asset!(app, "neighbor_lists.wgsl"),
+    shader: |server| load_embedded_asset!(server, "neighbor_lists.wgsl"),
     bindings: &[
         Buf::Position,
         Buf::NeighborCount,
-        Buf::PbfNeighbors,
+        Buf::NeighborLists,
         Buf::CellStart,
         Buf::BucketStart,
         Buf::BucketEnd,
