@@ -211,11 +211,11 @@ pub enum CpuStage {
     /// PBF: velocities from the positions, the guard (step 4 of `CpuSolver`'s PBF step).
     PbfVelocity,
     /// PBF: XSPH viscosity and the final densities
-    /// ([`crate::solver::pbf::macklin2013::xsph_and_densities`]), then the pumps.
+    /// ([`crate::solver::pbf::xsph_vorticity::xsph_and_densities`]), then the pumps.
     PbfXsph,
-    /// PBF: the vorticity ω_i ([`crate::solver::pbf::macklin2013::vorticity`]).
+    /// PBF: the vorticity ω_i ([`crate::solver::pbf::xsph_vorticity::vorticity`]).
     PbfVorticity,
-    /// PBF: vorticity confinement ([`crate::solver::pbf::macklin2013::confine_vorticity`]).
+    /// PBF: vorticity confinement ([`crate::solver::pbf::xsph_vorticity::confine_vorticity`]).
     PbfConfinement,
     /// DFSPH: the cubic-spline densities and the factors 1/D_i
     /// ([`crate::neighbor::lists::NeighborLists::rebuild`]'s densities,

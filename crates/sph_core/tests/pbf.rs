@@ -5,9 +5,9 @@
 use sph_core::glam::Vec3;
 use sph_core::neighbor::lists::IndexLists;
 use sph_core::solver::pbf::macklin2013::{
-    compute_corrections, compute_lambdas, constraint_violation, vorticity, Constraint, Correction,
-    PbfContext,
+    compute_corrections, compute_lambdas, constraint_violation, Constraint, Correction, PbfContext,
 };
+use sph_core::solver::pbf::xsph_vorticity::vorticity;
 use sph_core::{
     BlockSpawn, BoxContainer, CpuSolver, Neighbors, PbfSettings, PipeEmitter, Solver, SphParams,
 };

@@ -1,6 +1,6 @@
 //! PBF's vorticity confinement pass, the step's last with vorticity confinement: the push
 //! N × ω, pumps, probes, then the final positions replace the sorted ones (`pbf_confine.wgsl`;
-//! CPU twins `sph_core::solver::pbf::macklin2013::confine_vorticity`, `sph_core::flow::pump::apply_pumps`).
+//! CPU twins `sph_core::solver::pbf::xsph_vorticity::confine_vorticity`, `sph_core::flow::pump::apply_pumps`).
 
 use super::pbf_xsph::copy_final_positions;
 use crate::render::buffers::Buf;

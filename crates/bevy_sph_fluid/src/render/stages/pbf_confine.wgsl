@@ -3,7 +3,7 @@
 // with ω from the vorticity pass (`sorted_acceleration`); a gains the same push / dt. The
 // step's last pass with VORTICITY: pumps, |v + g dt_max| for the time-step rule, probes; then
 // the final positions replace the sorted ones. Rust twins:
-// sph_core::solver::pbf::macklin2013::confine_vorticity, sph_core::flow::pump::apply_pumps.
+// sph_core::solver::pbf::xsph_vorticity::confine_vorticity, sph_core::flow::pump::apply_pumps.
 #import sph::bindings::{params, neighbor_count, neighbor_lists, velocity, acceleration, density, sorted_acceleration}
 #import sph::kernels::cubic_grad
 #import sph::neighbors::list_slot

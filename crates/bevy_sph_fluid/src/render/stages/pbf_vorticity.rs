@@ -1,5 +1,5 @@
 //! PBF's vorticity pass, with vorticity confinement only (`pbf_vorticity.wgsl`; CPU twin
-//! `sph_core::solver::pbf::macklin2013::vorticity`).
+//! `sph_core::solver::pbf::xsph_vorticity::vorticity`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::{pbf_source, EvaluationPlan, PbfPhase, PBF_SOURCE_ROLES};

@@ -1,6 +1,6 @@
 //! PBF's XSPH pass: XSPH viscosity and the final densities; without vorticity confinement
 //! also the pumps, the speed record and the probes, and then the final positions replace the
-//! sorted ones (`pbf_xsph.wgsl`; CPU twins `sph_core::solver::pbf::macklin2013::xsph_and_densities`,
+//! sorted ones (`pbf_xsph.wgsl`; CPU twins `sph_core::solver::pbf::xsph_vorticity::xsph_and_densities`,
 //! `sph_core::flow::pump::apply_pumps`).
 
 use crate::render::buffers::Buf;

@@ -11,6 +11,7 @@
 //! viscosity); the boundary's reactions are summed for the colliders every iteration.
 
 pub mod macklin2013;
+pub mod xsph_vorticity;
 
 use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::guard::{Corrections, Guard};
@@ -19,10 +20,10 @@ use crate::frame_budget::StepDt;
 use crate::neighbor::lists::IndexLists;
 use crate::params::SphParams;
 use crate::solver::pbf::macklin2013::{
-    apply_corrections, compute_corrections, compute_lambdas, confine_vorticity,
-    constraint_violation, vorticity, xsph_and_densities, Constraint, Correction, CorrectionStep,
-    PbfContext,
+    apply_corrections, compute_corrections, compute_lambdas, constraint_violation, Constraint,
+    Correction, CorrectionStep, PbfContext,
 };
+use crate::solver::pbf::xsph_vorticity::{confine_vorticity, vorticity, xsph_and_densities};
 use crate::solvers::SolverStats;
 use crate::stability::largest_magnitude;
 use glam::Vec3;

@@ -11,7 +11,7 @@
 //!
 //! Each evaluation's force on the bodies is returned for the frame's sums.
 
-use super::state::{timed, SolverParts};
+use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::guard::{Corrections, Guard};
 use crate::boundary::samples::{BodyForceSum, Boundary};
 use crate::density::compute_density_pressure;
@@ -20,7 +20,7 @@ use crate::frame_budget::StepDt;
 use crate::free_surface_pressure::extrapolate_free_surface_pressure;
 use crate::integrate;
 use crate::params::{Integrator, SphParams};
-use crate::solver::ParticleData;
+
 use crate::stability::{adaptive_time_step, StepExtremes};
 use crate::stage::{evaluation_stages, CpuStage, StageContext};
 use crate::surface_tension_akinci2013::compute_normals;
