@@ -251,7 +251,7 @@ pub fn evaluation_stages(params: &SphParams) -> Vec<CpuStage> {
     stages
 }
 
-/// The stages of one DFSPH step for `params` (`CpuSolver`'s DFSPH step, `solver/dfsph.rs`), each
+/// The stages of one DFSPH step for `params` (`CpuSolver`'s DFSPH step, `solver/dfsph/mod.rs`), each
 /// once in order: the sort, the lists, the densities and factors, the normals with surface
 /// tension, the non-pressure forces, v*, the solves' two passes and their reactions (the solves
 /// repeat them; the move and the second neighbourhood run the first stages again).
@@ -274,7 +274,7 @@ pub fn dfsph_step_stages(params: &SphParams) -> Vec<CpuStage> {
     stages
 }
 
-/// The stages of one PBF step for `params` (`CpuSolver`'s PBF step, `solver/pbf.rs`), each once
+/// The stages of one PBF step for `params` (`CpuSolver`'s PBF step, `solver/pbf/mod.rs`), each once
 /// in order: the sort of the predicted positions, the neighbour lists, λ and the corrections (repeated
 /// `pbf.iterations` times), the velocities, XSPH, and with vorticity confinement its two
 /// stages. The time step and the prediction come before.

@@ -167,7 +167,7 @@ pub enum DfsphSolve {
     Divergence,
 }
 
-/// Where a DFSPH step is (Bender & Koschier 2017, Algorithm 1; the CPU's `solver/dfsph.rs`):
+/// Where a DFSPH step is (Bender & Koschier 2017, Algorithm 1; the CPU's `solver/dfsph/mod.rs`):
 /// one pass over the stage list per phase, each running only its stages. A solve's Jacobi
 /// iterations are two passes each, the stiffness applied to the velocities and the next
 /// source; their indirect dispatches shrink to nothing once the device finds the solve

@@ -1,5 +1,5 @@
 //! The solver's particle arrays and stage timings, shared by the WCSPH step (`solver/mod.rs`)
-//! and the DFSPH step (`solver/dfsph.rs`).
+//! and the DFSPH step (`solver/dfsph/mod.rs`).
 
 use crate::boundary::samples::Boundary;
 use crate::neighbor::Neighbors;

@@ -1,7 +1,7 @@
 //! Divergence-free SPH (Bender & Koschier 2015, "Divergence-free smoothed particle
 //! hydrodynamics"; 2017, IEEE TVCG): the stages of the two pressure solves, written over
 //! [`NeighborLists`] so that one step's dozen passes over the same pairs read lists instead of
-//! walking cells. The step that strings them together is `CpuSolver`'s (`solver/dfsph.rs`).
+//! walking cells. The step that strings them together is `CpuSolver`'s (`solver/dfsph/mod.rs`).
 //!
 //! DFSPH measures density with its own kernel, the cubic spline ([`crate::kernel::CubicSpline`],
 //! normalised on the rest lattice), and every gradient below is of that same kernel, so that the

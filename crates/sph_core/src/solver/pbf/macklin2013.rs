@@ -1,7 +1,7 @@
 //! Position-based fluids (Macklin & Müller 2013, "Position based fluids"): the density
 //! constraint C_i = ρ_i/ρ0 - 1 on predicted positions, solved by Jacobi iterations of λ_i and
 //! position corrections Δp_i, with the artificial pressure s_corr against tensile clumping and
-//! XSPH viscosity, and optional vorticity confinement. The step that strings them together is `CpuSolver`'s (`solver/pbf.rs`).
+//! XSPH viscosity, and optional vorticity confinement. The step that strings them together is `CpuSolver`'s (`solver/pbf/mod.rs`).
 //!
 //! The passes read the neighbour indices of [`IndexLists`] (built on the predicted positions
 //! once per step) and evaluate the kernel at the current predicted positions, which move with
