@@ -494,27 +494,46 @@ impl CpuSolver {
     /// One step of the parameters' solver at the dt `step_dt` makes of the rule's; returns its
     /// dt.
     fn advance(&mut self, step_dt: StepDt) -> f32 {
-        match self.params.solver {
-            Solver::Wcsph => self.advance_wcsph(step_dt),
-            Solver::Dfsph => self.advance_dfsph(step_dt),
-            Solver::Pbf => self.advance_pbf(step_dt),
-        }
-    }
-
-    /// One WCSPH step ([`wcsph`]) at the dt `step_dt` makes of the rule's; returns it.
-    fn advance_wcsph(&mut self, step_dt: StepDt) -> f32 {
         let colliders = self.boundary.collider_list();
         let guard = self.guard(&colliders);
         let stale = self.forces_stale;
-        let (parts, scratch, _, _) = self.split();
-        let outcome = wcsph::WcsphStep { parts, scratch }.advance(step_dt, stale, &guard);
-        for forces in outcome.forces {
-            self.record_body_forces(forces);
+        let solver = self.params.solver;
+        let (parts, wcsph, dfsph, pbf) = self.split();
+        // Each evaluation's force on the bodies, the solves' statistics, and whether the step
+        // leaves the accelerations stale (PBF's end on positions, not on a force evaluation).
+        let (dt, corrections, forces, stats, leaves_stale) = match solver {
+            Solver::Wcsph => {
+                let mut step = wcsph::WcsphStep {
+                    parts,
+                    scratch: wcsph,
+                };
+                let o = step.advance(step_dt, stale, &guard);
+                (o.dt, o.corrections, o.forces, SolverStats::default(), false)
+            }
+            Solver::Dfsph => {
+                let mut step = dfsph::DfsphStep {
+                    parts,
+                    scratch: dfsph,
+                };
+                let o = step.advance(step_dt, stale, &guard);
+                (o.dt, o.corrections, vec![o.forces], o.stats, false)
+            }
+            Solver::Pbf => {
+                let mut step = pbf::PbfStep {
+                    parts,
+                    scratch: pbf,
+                };
+                let o = step.advance(step_dt, &guard);
+                (o.dt, o.corrections, vec![o.forces], o.stats, true)
+            }
+        };
+        for evaluation in forces {
+            self.record_body_forces(evaluation);
         }
-        self.solver_stats = SolverStats::default();
-        self.forces_stale = false;
-        self.boundary_corrections += outcome.corrections;
-        outcome.dt
+        self.solver_stats = stats;
+        self.forces_stale = leaves_stale;
+        self.boundary_corrections += corrections;
+        dt
     }
 
     /// The parts the solvers' steps borrow, and their scratch.
@@ -535,33 +554,6 @@ impl CpuSolver {
             sort_scratch: &mut self.scratch,
         };
         (parts, &mut self.wcsph, &mut self.dfsph, &mut self.pbf)
-    }
-
-    /// One DFSPH step ([`dfsph::DfsphStep`]) at the dt `step_dt` makes of the rule's; returns it.
-    fn advance_dfsph(&mut self, step_dt: StepDt) -> f32 {
-        let colliders = self.boundary.collider_list();
-        let guard = self.guard(&colliders);
-        let stale = self.forces_stale;
-        let (parts, _, scratch, _) = self.split();
-        let outcome = dfsph::DfsphStep { parts, scratch }.advance(step_dt, stale, &guard);
-        self.record_body_forces(outcome.forces);
-        self.solver_stats = outcome.stats;
-        self.forces_stale = false;
-        self.boundary_corrections += outcome.corrections;
-        outcome.dt
-    }
-
-    /// One PBF step ([`pbf::PbfStep`]) at the dt `step_dt` makes of the rule's; returns it.
-    fn advance_pbf(&mut self, step_dt: StepDt) -> f32 {
-        let colliders = self.boundary.collider_list();
-        let guard = self.guard(&colliders);
-        let (parts, _, _, scratch) = self.split();
-        let outcome = pbf::PbfStep { parts, scratch }.advance(step_dt, &guard);
-        self.record_body_forces(outcome.forces);
-        self.solver_stats = outcome.stats;
-        self.forces_stale = true;
-        self.boundary_corrections += outcome.corrections;
-        outcome.dt
     }
 
     /// Adds one evaluation's (or one DFSPH or PBF step's) force on each body to the sums.
