@@ -2,7 +2,7 @@
 //! CPU encodes per step.
 //!
 //! The device decides when a solve has converged and turns its remaining passes into indirect
-//! dispatches of no workgroup (`shaders/dfsph.wgsl`), so the CPU never waits. But an empty
+//! dispatches of no workgroup (`render/solvers/dfsph/dfsph.wgsl`), so the CPU never waits. But an empty
 //! dispatch still costs about 0.3 ms on lavapipe, and encoding each solve's most iterations
 //! (100 + 100 by default, 400 dispatches a step) when a step takes about 20 spent a third of a
 //! dambreak32k step on passes that do nothing (docs/dfsph.md). The budget encodes what recent

@@ -55,24 +55,28 @@ const LIBRARY: [(&str, &str); 13] = [
         "speculative_contact.wgsl",
         include_str!("../src/render/shaders/speculative_contact.wgsl"),
     ),
-    ("pbf.wgsl", include_str!("../src/render/shaders/pbf.wgsl")),
+    (
+        "pbf.wgsl",
+        include_str!("../src/render/solvers/pbf/pbf.wgsl"),
+    ),
     (
         "dfsph.wgsl",
-        include_str!("../src/render/shaders/dfsph.wgsl"),
+        include_str!("../src/render/solvers/dfsph/dfsph.wgsl"),
     ),
 ];
 
-/// The WGSL of a registered stage: `sph_<stem>` lives in `stages/<stem>.wgsl`.
+/// The WGSL of a registered stage: `sph_<stem>` lives in `stages/<stem>.wgsl` (the shared
+/// stages) or in its solver's folder, `solvers/<solver>/<stem>.wgsl`.
 fn stage_source(stage: &GpuStage) -> (String, String) {
     let stem = stage
         .name
         .strip_prefix("sph_")
         .unwrap_or_else(|| panic!("{}: stage names start with sph_", stage.name));
-    let path = format!(
-        "{}/src/render/stages/{stem}.wgsl",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let source = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let render = format!("{}/src/render", env!("CARGO_MANIFEST_DIR"));
+    let source = ["stages", "solvers/wcsph", "solvers/dfsph", "solvers/pbf"]
+        .iter()
+        .find_map(|folder| std::fs::read_to_string(format!("{render}/{folder}/{stem}.wgsl")).ok())
+        .unwrap_or_else(|| panic!("{stem}.wgsl is in no stage folder under {render}"));
     (format!("{stem}.wgsl"), source)
 }
 

@@ -11,7 +11,7 @@
 //! compressed) differed by 3.6e-3 in density between them: the pressure accelerations
 //! Σ_j (κ_i + κ_j) g_ij of a compressed particle cancel to a small part of their terms, and the
 //! rounding does not. WGSL twin: `pair_scale`, `pair_steps`, `pack_pair` and `unpack_pair` in
-//! the plugin's `shaders/dfsph.wgsl`.
+//! the plugin's `render/solvers/dfsph/dfsph.wgsl`.
 
 use glam::Vec3;
 
@@ -61,7 +61,7 @@ pub fn round(grad: Vec3, scale: f32) -> Vec3 {
 /// neighbour index `j` (below [`MAX_PARTICLES`]) and g_ij = m ∇W_ij as fixed point
 /// of `scale` (the largest |g_ij|), as one 64-bit field, `[0]` the low word: j in bits 0-17,
 /// then x, y, z in [`GRAD_BITS`] bits each. Components beyond ±scale are clamped.
-/// WGSL twin: `pack_pair` in the plugin's `shaders/dfsph.wgsl`.
+/// WGSL twin: `pack_pair` in the plugin's `render/solvers/dfsph/dfsph.wgsl`.
 pub fn pack(j: u32, grad: Vec3, scale: f32) -> [u32; 2] {
     let [x, y, z] = (steps(grad, scale) + ZERO).to_array().map(|c| c as u32);
     [
@@ -71,7 +71,7 @@ pub fn pack(j: u32, grad: Vec3, scale: f32) -> [u32; 2] {
 }
 
 /// The neighbour index and g_ij of a pair packed by [`pack`] with the same scale.
-/// WGSL twin: `unpack_pair` in the plugin's `shaders/dfsph.wgsl`.
+/// WGSL twin: `unpack_pair` in the plugin's `render/solvers/dfsph/dfsph.wgsl`.
 pub fn unpack(packed: [u32; 2], scale: f32) -> (u32, Vec3) {
     let bits = |word: u32, offset: u32, count: u32| (word >> offset) & ((1 << count) - 1);
     let low_bits = 32 - INDEX_BITS;

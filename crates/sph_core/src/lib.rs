@@ -65,6 +65,9 @@ pub use params::{
     EquationOfState, Integrator, NeighborSearch, ParamError, SpacingDerivation, SphParams,
 };
 pub use rollback::Rollback;
+pub use solver::dfsph::stages::DfsphStage;
+pub use solver::pbf::stages::PbfStage;
+pub use solver::wcsph::stages::WcsphStage;
 pub use solver::{CpuSolver, FrameAdvance, ParticleData, SpawnReport, StageTimings};
 pub use solvers::{DfsphSettings, PbfSettings, Solver, SolverStats};
 pub use spawn::{BlockSpawn, Emission, PipeEmitter};

@@ -2,9 +2,9 @@
 //! calculation" from a particle spacing, and validation with errors that name the field.
 
 use crate::kernel::Kernels;
-use crate::solvers::{
-    dfsph_max_time_step, DfsphSettings, PbfSettings, Solver, PBF_CFL_FACTOR, PBF_MAX_TIME_STEP,
-};
+use crate::solver::dfsph::settings::{dfsph_max_time_step, DfsphSettings};
+use crate::solver::pbf::settings::{PbfSettings, PBF_CFL_FACTOR, PBF_MAX_TIME_STEP};
+use crate::solvers::Solver;
 use glam::Vec3;
 use std::fmt;
 

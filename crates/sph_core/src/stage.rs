@@ -5,6 +5,10 @@ use crate::kernel::Kernels;
 use crate::params::SphParams;
 use glam::Vec3;
 
+use crate::solver::dfsph::stages::DfsphStage;
+use crate::solver::pbf::stages::PbfStage;
+use crate::solver::wcsph::stages::WcsphStage;
+
 /// Per-step constants shared by the density, normals and forces stages.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StageContext {
@@ -181,6 +185,8 @@ pub fn pressure_gradient_scale(params: &SphParams, kernels: &Kernels) -> f32 {
 /// The stages of the CPU solver, in pipeline order. The GPU stage registry
 /// (`bevy_sph_fluid::render::stages`) names one of these as the CPU twin of each of its passes;
 /// several GPU passes may share a twin (count cells, prefix sum and scatter are the CPU's sort).
+/// The stages every solver may run are variants here; each solver's own stages are its enum, in
+/// its folder, and each solver lists its step's stages there (`step_stages`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum CpuStage {
     /// The time-step rule, the stability check and rollback ([`crate::stability`],
@@ -188,107 +194,19 @@ pub enum CpuStage {
     TimeStep,
     /// Neighbour sort: cell counts, offsets and the reorder ([`crate::neighbor`]).
     Sort,
-    /// Density and pressure ([`crate::density`]).
-    Density,
-    /// WCSPH: the pressure of free-surface particles, extrapolated from the water around them
-    /// ([`crate::free_surface_pressure`]).
-    FreeSurfacePressure,
+    /// The step's neighbour lists (PBF and DFSPH: the pairs within h,
+    /// [`crate::neighbor::lists::NeighborLists::rebuild`]).
+    NeighborLists,
     /// Akinci 2013 normals ([`crate::surface_tension_akinci2013`]).
     Normals,
     /// Accelerations ([`crate::forces`]).
     Forces,
     /// Integration phases ([`crate::integrate`]).
     Integrate,
-    /// The step's neighbour lists (PBF: the pairs within h at the predicted positions,
-    /// [`crate::neighbor::lists::NeighborLists::rebuild`]).
-    NeighborLists,
-    /// PBF: the constraint's λ_i at the predicted positions
-    /// ([`crate::solver::pbf::macklin2013::compute_lambdas`]).
-    PbfLambda,
-    /// PBF: the position corrections Δp_i and the bodies' reactions
-    /// ([`crate::solver::pbf::macklin2013::compute_corrections`], [`crate::solver::pbf::macklin2013::apply_corrections`]).
-    PbfCorrection,
-    /// PBF: velocities from the positions, the guard (step 4 of `CpuSolver`'s PBF step).
-    PbfVelocity,
-    /// PBF: XSPH viscosity and the final densities
-    /// ([`crate::solver::pbf::xsph_vorticity::xsph_and_densities`]), then the pumps.
-    PbfXsph,
-    /// PBF: the vorticity ω_i ([`crate::solver::pbf::xsph_vorticity::vorticity`]).
-    PbfVorticity,
-    /// PBF: vorticity confinement ([`crate::solver::pbf::xsph_vorticity::confine_vorticity`]).
-    PbfConfinement,
-    /// DFSPH: the cubic-spline densities and the factors 1/D_i
-    /// ([`crate::neighbor::lists::NeighborLists::rebuild`]'s densities,
-    /// [`crate::solver::dfsph::bender2017::compute_factors`]).
-    DfsphFactors,
-    /// DFSPH: the predicted velocities v* = v + dt a_np (step 3 of `CpuSolver`'s DFSPH step).
-    DfsphPredict,
-    /// DFSPH: v += dt a_p of the iteration's stiffness
-    /// ([`crate::solver::dfsph::bender2017::apply_stiffness`]).
-    DfsphApply,
-    /// DFSPH: the solve's source and the next stiffness
-    /// ([`crate::solver::dfsph::bender2017::density_source`], [`crate::solver::dfsph::bender2017::divergence_source`],
-    /// [`crate::solver::dfsph::bender2017::stiffness_from_source`]).
-    DfsphSource,
-    /// DFSPH: the bodies' reactions of a solve ([`crate::solver::dfsph::bender2017::boundary_reactions`]);
-    /// after the divergence-free solve, the pressures and the pumps.
-    DfsphReactions,
-}
-
-/// The stages of one force evaluation for `params`, in order: sort, density, the free surface's
-/// pressure, normals (with surface tension only), forces. The integrator places the time step and its integration
-/// phases around the evaluations.
-pub fn evaluation_stages(params: &SphParams) -> Vec<CpuStage> {
-    let mut stages = vec![
-        CpuStage::Sort,
-        CpuStage::Density,
-        CpuStage::FreeSurfacePressure,
-    ];
-    if params.has_surface_tension() {
-        stages.push(CpuStage::Normals);
-    }
-    stages.push(CpuStage::Forces);
-    stages
-}
-
-/// The stages of one DFSPH step for `params` (`CpuSolver`'s DFSPH step, `solver/dfsph/mod.rs`), each
-/// once in order: the sort, the lists, the densities and factors, the normals with surface
-/// tension, the non-pressure forces, v*, the solves' two passes and their reactions (the solves
-/// repeat them; the move and the second neighbourhood run the first stages again).
-pub fn dfsph_step_stages(params: &SphParams) -> Vec<CpuStage> {
-    let mut stages = vec![
-        CpuStage::Sort,
-        CpuStage::NeighborLists,
-        CpuStage::DfsphFactors,
-    ];
-    if params.has_surface_tension() {
-        stages.push(CpuStage::Normals);
-    }
-    stages.extend([
-        CpuStage::Forces,
-        CpuStage::DfsphPredict,
-        CpuStage::DfsphApply,
-        CpuStage::DfsphSource,
-        CpuStage::DfsphReactions,
-    ]);
-    stages
-}
-
-/// The stages of one PBF step for `params` (`CpuSolver`'s PBF step, `solver/pbf/mod.rs`), each once
-/// in order: the sort of the predicted positions, the neighbour lists, λ and the corrections (repeated
-/// `pbf.iterations` times), the velocities, XSPH, and with vorticity confinement its two
-/// stages. The time step and the prediction come before.
-pub fn pbf_step_stages(params: &SphParams) -> Vec<CpuStage> {
-    let mut stages = vec![
-        CpuStage::Sort,
-        CpuStage::NeighborLists,
-        CpuStage::PbfLambda,
-        CpuStage::PbfCorrection,
-        CpuStage::PbfVelocity,
-        CpuStage::PbfXsph,
-    ];
-    if params.pbf.vorticity_epsilon > 0.0 {
-        stages.extend([CpuStage::PbfVorticity, CpuStage::PbfConfinement]);
-    }
-    stages
+    /// WCSPH's own stages.
+    Wcsph(WcsphStage),
+    /// DFSPH's own stages.
+    Dfsph(DfsphStage),
+    /// PBF's own stages.
+    Pbf(PbfStage),
 }

@@ -1,6 +1,6 @@
 //! The render world, one way: the frame plan is extracted (`extract`), the GPU buffers are
 //! prepared (`buffers`), the pipelines of the scene's stage list are queued and bound
-//! (`pipelines`, from the registry in `stages`), and `simulate` encodes the stages once per
+//! (`pipelines`, from the registry in `stages` and the solvers' folders in `solvers`), and `simulate` encodes the stages once per
 //! force evaluation of every step. This module only wires them.
 
 pub mod buffers;
@@ -9,6 +9,7 @@ pub mod limits;
 pub mod pipelines;
 pub mod plan;
 pub mod simulate;
+pub mod solvers;
 pub mod stage;
 pub mod stages;
 
@@ -32,8 +33,8 @@ pub(crate) fn build(app: &mut App) {
     load_shader_library!(app, "shaders/probes.wgsl");
     load_shader_library!(app, "shaders/body_reactions.wgsl");
     load_shader_library!(app, "shaders/speculative_contact.wgsl");
-    load_shader_library!(app, "shaders/pbf.wgsl");
-    load_shader_library!(app, "shaders/dfsph.wgsl");
+    load_shader_library!(app, "solvers/pbf/pbf.wgsl");
+    load_shader_library!(app, "solvers/dfsph/dfsph.wgsl");
     let mut embedded = Vec::new();
     for stage in stages::all_stages() {
         if !embedded.contains(&stage.name) {

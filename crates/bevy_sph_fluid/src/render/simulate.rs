@@ -6,7 +6,10 @@
 use super::buffers::SphGpuState;
 use super::extract::ExtractedSphFrame;
 use super::pipelines::{pipelines_not_ready, SphPipelines};
-use super::plan::{step_plans, DfsphPhase, EvaluationPlan, PbfPhase, VariantKey};
+use super::plan::{EvaluationPlan, VariantKey};
+use super::solvers::dfsph::phase::DfsphPhase;
+use super::solvers::pbf::phase::PbfPhase;
+use super::solvers::step_plans;
 use super::stage::{encode_stage, StageRun};
 use crate::api::{STATUS_COMPILING_SHADERS, STATUS_PREPARING_BUFFERS};
 use crate::sets::SphStep;

@@ -35,7 +35,9 @@ use crate::scene::controls::{ControlBinding, ControlTarget, SceneControl};
 use crate::scene::error::{end_of, locate_after, locate_in_entry, SceneError};
 use crate::scene::setup::{BodyMass, Hinge, SceneCollider, SceneProbe, SceneSetup};
 use crate::scene::spec::*;
-use crate::solvers::{DfsphSettings, PbfSettings, Solver};
+use crate::solver::dfsph::settings::DfsphSettings;
+use crate::solver::pbf::settings::PbfSettings;
+use crate::solvers::Solver;
 use crate::spawn::{BlockSpawn, PipeEmitter};
 use glam::{EulerRot, Quat, Vec3};
 

@@ -103,7 +103,7 @@ struct SphClock {
     // PBF: particles with more neighbours than the lists hold (sph_core::gpu_layout::
     // PBF_MAX_NEIGHBORS), summed over the steps since the reset.
     neighbor_list_overflows: atomic<u32>,
-    // DFSPH (see shaders/dfsph.wgsl): the solve's indirect dispatch arguments (x = 0 once it
+    // DFSPH (see render/solvers/dfsph/dfsph.wgsl): the solve's indirect dispatch arguments (x = 0 once it
     // converged), its converged flag, its applied iterations, its two error sums (64-bit fixed
     // point), the iterations summed since the reset (constant density, its most in one step,
     // divergence-free), the last solves' mean errors.

@@ -2,7 +2,8 @@
 //! `sph_core::forces` and `sph_core::integrate::{kick, leapfrog_kick}`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{DfsphPhase, EvaluationPlan, ForcesRole};
+use crate::render::plan::{EvaluationPlan, ForcesRole};
+use crate::render::solvers::dfsph::phase::DfsphPhase;
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;

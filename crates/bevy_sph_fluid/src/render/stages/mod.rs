@@ -1,40 +1,30 @@
 //! The stage registry: one `name.rs` + `name.wgsl` pair per GPU stage, each declaring a
 //! [`GpuStage`] `const`, and [`stage_list`], the ordered list of stages a scene runs, chosen from
-//! its settings. Adding a stage is adding its pair and one line in [`stage_list`]; [`all_stages`]
-//! (embedded shaders, layouts, bind groups, the shader tests) follows from it.
+//! its settings. The stages every solver shares (the sort, the neighbour lists, normals, forces,
+//! the time step) are here; each solver's own stages and its part of the list are in its folder
+//! under `render::solvers`. Adding a stage is adding its pair and one line in its list;
+//! [`all_stages`] (embedded shaders, layouts, bind groups, the shader tests) follows from it.
 
 pub mod bitonic_sort;
 pub mod count_cells;
-pub mod density;
-pub mod dfsph_apply;
-pub mod dfsph_density;
-pub mod dfsph_predict;
-pub mod dfsph_reactions;
-pub mod dfsph_source;
 pub mod forces;
-pub mod free_surface_pressure;
 pub mod hash_offsets;
-pub mod integrate;
 pub mod neighbor_lists;
 pub mod normals;
-pub mod pbf_confine;
-pub mod pbf_correct;
-pub mod pbf_lambda;
-pub mod pbf_velocity;
-pub mod pbf_vorticity;
-pub mod pbf_xsph;
 pub mod prefix_sum;
 pub mod scatter;
 pub mod time_step;
 
 use super::plan::VariantKey;
+use super::solvers::{dfsph, pbf, wcsph};
 use super::stage::GpuStage;
 use sph_core::{NeighborSearch, Solver};
 
-/// The stages of one force evaluation of a scene of `key` (with PBF, of one step), in order.
-/// Each stage's `role` then picks its pipeline for the evaluation's integrator phase or PBF
-/// phase, or skips it (the time step runs in one of its two places, integrate only for
-/// symplectic Euler, PBF's stages each in their phase).
+/// The stages of one force evaluation of a scene of `key` (with PBF and DFSPH, of one step), in
+/// order: the time step where a drift comes first, the sort, then the solver's own list. Each
+/// stage's `role` then picks its pipeline for the plan's integrator phase or solver phase, or
+/// skips it (the time step runs in one of its two places, integrate only for symplectic Euler,
+/// PBF's and DFSPH's stages each in their phase).
 pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
     let mut list = vec![&time_step::AT_START, &count_cells::STAGE];
     match key.search {
@@ -42,48 +32,11 @@ pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
         NeighborSearch::Hash => list.extend([&bitonic_sort::STAGE, &hash_offsets::STAGE]),
     }
     list.push(&scatter::STAGE);
-    if key.solver == Solver::Pbf {
-        // Macklin & Müller 2013: each Jacobi iteration runs λ and the corrections (the plan's
-        // phases pick them; render::plan::pbf_plans), then the finish.
-        list.extend([
-            &neighbor_lists::STAGE,
-            &pbf_lambda::STAGE,
-            &pbf_correct::STAGE,
-            &pbf_velocity::STAGE,
-            &pbf_xsph::STAGE,
-        ]);
-        if key.vorticity {
-            list.extend([&pbf_vorticity::STAGE, &pbf_confine::STAGE]);
-        }
-        return list;
-    }
-    if key.solver == Solver::Dfsph {
-        // Bender & Koschier 2017: the plan's phases (render::plan::dfsph_plans) run the
-        // neighbourhood (lists, densities, factors, normals), the forces, the time step and v*,
-        // then each solve's iterations (apply, source) and its end.
-        list.extend([&neighbor_lists::STAGE, &dfsph_density::STAGE]);
-        if key.surface_tension {
-            list.push(&normals::STAGE);
-        }
-        list.extend([
-            &forces::STAGE,
-            &time_step::BEFORE_INTEGRATE,
-            &dfsph_predict::STAGE,
-            &dfsph_apply::STAGE,
-            &dfsph_source::STAGE,
-            &dfsph_reactions::STAGE,
-        ]);
-        return list;
-    }
-    list.extend([&density::STAGE, &free_surface_pressure::STAGE]);
-    if key.surface_tension {
-        list.push(&normals::STAGE);
-    }
-    list.extend([
-        &forces::STAGE,
-        &time_step::BEFORE_INTEGRATE,
-        &integrate::STAGE,
-    ]);
+    list.extend(match key.solver {
+        Solver::Wcsph => wcsph::stage_list(key),
+        Solver::Dfsph => dfsph::stage_list(key),
+        Solver::Pbf => pbf::stage_list(key),
+    });
     list
 }
 
@@ -107,7 +60,9 @@ pub fn all_stages() -> Vec<&'static GpuStage> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sph_core::stage::{dfsph_step_stages, evaluation_stages, pbf_step_stages};
+    use sph_core::solver::dfsph::step_stages as dfsph_step_stages;
+    use sph_core::solver::pbf::step_stages as pbf_step_stages;
+    use sph_core::solver::wcsph::step_stages as evaluation_stages;
     use sph_core::{CpuStage, SphParams};
 
     /// The CPU solver's evaluation mirrors the GPU list: mapping each GPU stage to its CPU twin
@@ -159,7 +114,8 @@ mod tests {
     /// once from where the last iteration wrote.
     #[test]
     fn pbf_phases_run_each_stage_where_it_belongs() {
-        use crate::render::plan::{pbf_plans, PbfPhase};
+        use crate::render::solvers::pbf::phase::PbfPhase;
+        use crate::render::solvers::pbf::plans as pbf_plans;
         for iterations in 1..=5 {
             for vorticity in [false, true] {
                 let key = VariantKey {
@@ -230,7 +186,8 @@ mod tests {
     /// before wrote and one source writing the other, and one end.
     #[test]
     fn dfsph_phases_run_each_stage_where_it_belongs() {
-        use crate::render::plan::{dfsph_plans, DfsphPhase};
+        use crate::render::solvers::dfsph::phase::DfsphPhase;
+        use crate::render::solvers::dfsph::plans as dfsph_plans;
         let mut params = SphParams::water();
         params.use_solver(sph_core::Solver::Dfsph);
         let list = stage_list(&VariantKey::of(&params, false));

@@ -3,7 +3,9 @@
 //! `sph_core::neighbor::lists::NeighborLists::rebuild`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{DfsphPhase, EvaluationPlan, PbfPhase};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::dfsph::phase::DfsphPhase;
+use crate::render::solvers::pbf::phase::PbfPhase;
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;

@@ -17,6 +17,8 @@
 //! two dispatches per iteration will be.
 
 pub mod bender2017;
+pub mod settings;
+pub mod stages;
 
 use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::free_bodies::{FreeBodies, GivingSolve};
@@ -35,12 +37,36 @@ use crate::solver::dfsph::bender2017::{
     divergence_source, rest_lattice_factor, stiffness_from_source, BoundaryRise, OverRelaxation,
     ParticleFactor, TopRowStiffness, DENSITY_WARM_START, DIVERGENCE_WARM_START,
 };
+use crate::solver::dfsph::stages::DfsphStage;
 use crate::solvers::SolverStats;
 use crate::stability::largest_magnitude;
-use crate::stage::StageContext;
+use crate::stage::{CpuStage, StageContext};
 use crate::surface_tension_akinci2013::compute_normals;
 use glam::Vec3;
 use rayon::prelude::*;
+
+/// The stages of one DFSPH step for `params`, each once in order: the sort, the lists, the
+/// densities and factors, the normals with surface tension, the non-pressure forces, v*, the
+/// solves' two passes and their reactions (the solves repeat them; the move and the second
+/// neighbourhood run the first stages again).
+pub fn step_stages(params: &SphParams) -> Vec<CpuStage> {
+    let mut stages = vec![
+        CpuStage::Sort,
+        CpuStage::NeighborLists,
+        CpuStage::Dfsph(DfsphStage::Factors),
+    ];
+    if params.has_surface_tension() {
+        stages.push(CpuStage::Normals);
+    }
+    stages.extend([
+        CpuStage::Forces,
+        CpuStage::Dfsph(DfsphStage::Predict),
+        CpuStage::Dfsph(DfsphStage::Apply),
+        CpuStage::Dfsph(DfsphStage::Source),
+        CpuStage::Dfsph(DfsphStage::Reactions),
+    ]);
+    stages
+}
 
 /// DFSPH's per-step scratch arrays.
 #[derive(Clone, Debug)]

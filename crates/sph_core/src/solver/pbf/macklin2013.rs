@@ -15,7 +15,7 @@ use crate::kernel::CubicSpline;
 use crate::neighbor::lists::IndexLists;
 use crate::neighbor::pair_lanes::{lane_sum, wide_lanes, Lanes, LANES};
 use crate::params::SphParams;
-use crate::solvers::PbfSettings;
+use crate::solver::pbf::settings::PbfSettings;
 use glam::Vec3;
 use rayon::prelude::*;
 

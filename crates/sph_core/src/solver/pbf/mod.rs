@@ -11,6 +11,8 @@
 //! viscosity); the boundary's reactions are summed for the colliders every iteration.
 
 pub mod macklin2013;
+pub mod settings;
+pub mod stages;
 pub mod xsph_vorticity;
 
 use super::state::{timed, ParticleData, SolverParts};
@@ -23,11 +25,35 @@ use crate::solver::pbf::macklin2013::{
     apply_corrections, compute_corrections, compute_lambdas, constraint_violation, Constraint,
     Correction, CorrectionStep, PbfContext,
 };
+use crate::solver::pbf::stages::PbfStage;
 use crate::solver::pbf::xsph_vorticity::{confine_vorticity, vorticity, xsph_and_densities};
 use crate::solvers::SolverStats;
 use crate::stability::largest_magnitude;
+use crate::stage::CpuStage;
 use glam::Vec3;
 use rayon::prelude::*;
+
+/// The stages of one PBF step for `params`, each once in order: the sort of the predicted
+/// positions, the neighbour lists, λ and the corrections (repeated `pbf.iterations` times), the
+/// velocities, XSPH, and with vorticity confinement its two stages. The time step and the
+/// prediction come before.
+pub fn step_stages(params: &SphParams) -> Vec<CpuStage> {
+    let mut stages = vec![
+        CpuStage::Sort,
+        CpuStage::NeighborLists,
+        CpuStage::Pbf(PbfStage::Lambda),
+        CpuStage::Pbf(PbfStage::Correction),
+        CpuStage::Pbf(PbfStage::Velocity),
+        CpuStage::Pbf(PbfStage::Xsph),
+    ];
+    if params.pbf.vorticity_epsilon > 0.0 {
+        stages.extend([
+            CpuStage::Pbf(PbfStage::Vorticity),
+            CpuStage::Pbf(PbfStage::Confinement),
+        ]);
+    }
+    stages
+}
 
 /// PBF's per-step scratch arrays.
 #[derive(Clone, Debug, Default)]

@@ -1,5 +1,5 @@
 //! `CpuSolver`'s WCSPH step (`WcsphStep`): force evaluations at the stages of
-//! [`crate::stage::evaluation_stages`] (sort by cell, density and the equation of state's
+//! [`step_stages`] (sort by cell, density and the equation of state's
 //! pressure, the free surface's pressure, normals for surface tension, accelerations) around the
 //! integrator's phases ([`crate::integrate`]):
 //!
@@ -11,6 +11,8 @@
 //!
 //! Each evaluation's force on the bodies is returned for the frame's sums.
 
+pub mod stages;
+
 use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::guard::{Corrections, Guard};
 use crate::boundary::samples::{BodyForceSum, Boundary};
@@ -21,9 +23,26 @@ use crate::free_surface_pressure::extrapolate_free_surface_pressure;
 use crate::integrate;
 use crate::params::{Integrator, SphParams};
 
+use crate::solver::wcsph::stages::WcsphStage;
 use crate::stability::{adaptive_time_step, StepExtremes};
-use crate::stage::{evaluation_stages, CpuStage, StageContext};
+use crate::stage::{CpuStage, StageContext};
 use crate::surface_tension_akinci2013::compute_normals;
+
+/// The stages of one WCSPH force evaluation for `params`, in order: sort, density, the free
+/// surface's pressure, normals (with surface tension only), forces. The integrator places the
+/// time step and its integration phases around the evaluations.
+pub fn step_stages(params: &SphParams) -> Vec<CpuStage> {
+    let mut stages = vec![
+        CpuStage::Sort,
+        CpuStage::Wcsph(WcsphStage::Density),
+        CpuStage::Wcsph(WcsphStage::FreeSurfacePressure),
+    ];
+    if params.has_surface_tension() {
+        stages.push(CpuStage::Normals);
+    }
+    stages.push(CpuStage::Forces);
+    stages
+}
 
 /// WCSPH's scratch: the equation of state's pressures of the last evaluation, before the free
 /// surface's ([`crate::free_surface_pressure`]).
@@ -143,13 +162,13 @@ impl WcsphStep<'_> {
         next_time_step(parts.params, parts.particles, parts.boundary)
     }
 
-    /// One force evaluation: the stages of [`evaluation_stages`] in order at the current
+    /// One force evaluation: the stages of [`step_stages`] in order at the current
     /// positions; the viscosity term reads `velocity_predicted` unless `use_velocity`. Returns
     /// the evaluation's force on each body.
     fn evaluate(&mut self, ctx: &StageContext, use_velocity: bool) -> Vec<BodyForceSum> {
         let params = *self.parts.params;
         let mut forces = Vec::new();
-        for stage in evaluation_stages(&params) {
+        for stage in step_stages(&params) {
             let parts = &mut self.parts;
             let (neighbors, p, t) = (
                 &*parts.neighbors,
@@ -159,7 +178,7 @@ impl WcsphStep<'_> {
             let boundary = &*parts.boundary;
             match stage {
                 CpuStage::Sort => parts.sort_by_cell(),
-                CpuStage::Density => timed(&mut t.density, || {
+                CpuStage::Wcsph(WcsphStage::Density) => timed(&mut t.density, || {
                     compute_density_pressure(
                         ctx,
                         neighbors,
@@ -169,7 +188,7 @@ impl WcsphStep<'_> {
                         &mut p.pressure,
                     )
                 }),
-                CpuStage::FreeSurfacePressure => timed(&mut t.density, || {
+                CpuStage::Wcsph(WcsphStage::FreeSurfacePressure) => timed(&mut t.density, || {
                     let eos_pressure = &mut self.scratch.eos_pressure;
                     std::mem::swap(eos_pressure, &mut p.pressure);
                     p.pressure.resize(eos_pressure.len(), 0.0);
@@ -211,22 +230,13 @@ impl WcsphStep<'_> {
                         compute_accelerations(ctx, neighbors, &input, &mut p.acceleration)
                     });
                 }
-                // The integrator's phases (placed by `advance`), and the PBF and DFSPH steps'
-                // stages (which `PbfStep` and `DfsphStep` run).
+                // The integrator's phases (placed by `advance`); the other solvers' stages are
+                // never in WCSPH's list.
                 CpuStage::TimeStep
                 | CpuStage::Integrate
                 | CpuStage::NeighborLists
-                | CpuStage::PbfLambda
-                | CpuStage::PbfCorrection
-                | CpuStage::PbfVelocity
-                | CpuStage::PbfXsph
-                | CpuStage::PbfVorticity
-                | CpuStage::PbfConfinement
-                | CpuStage::DfsphFactors
-                | CpuStage::DfsphPredict
-                | CpuStage::DfsphApply
-                | CpuStage::DfsphSource
-                | CpuStage::DfsphReactions => {}
+                | CpuStage::Dfsph(_)
+                | CpuStage::Pbf(_) => {}
             }
         }
         forces

@@ -1,5 +1,5 @@
 // PBF's XSPH viscosity (Macklin & Müller 2013, eq. 17) and the final densities, at the final
-// positions (see shaders/pbf.wgsl):
+// positions (see pbf.wgsl):
 // v_i = v*_i + c Σ_j (m/ρ_j) (v*_j - v*_i) W_ij, v* the velocities of the velocity pass and ρ_j
 // the last λ pass's densities (normal.y); ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (self included);
 // pressure 0 (PBF has none); a = (v - v*) / dt + g, the step's mean acceleration (diagnostics).

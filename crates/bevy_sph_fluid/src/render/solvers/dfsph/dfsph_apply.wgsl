@@ -1,7 +1,7 @@
 // The first pass of a DFSPH Jacobi iteration (Bender & Koschier 2017, Algorithms 2 and 3):
 // first the decision, then v_i += dt a_i with
 // a_i = -Σ_j (κ_i + κ_j) g_ij - κ_i (Σ_b g_ib + Σ_b' g_ib') (the samples b' mirror κ_i; see
-// shaders/dfsph.wgsl), and the stiffness joins the solve's sum.
+// dfsph.wgsl), and the stiffness joins the solve's sum.
 // The decision (every thread takes the same): with `applied` iterations done and the last
 // source's mean error e (sum a, or FROM_B sum b), the solve goes on while
 // (applied < min or e > η) and applied < max; otherwise thread 0 closes it (the remaining

@@ -2,7 +2,7 @@
 // time-step pass, the rollback checkpoint is saved or restored, then v* = v + dt a_np with the
 // non-pressure accelerations of the forces pass and the boundary's hydrostatic rise
 // a_i^rise = -Σ_b' (p_b'^rise/ρ0²) g_ib' over the samples b' within h that mirror (none while a
-// dynamic collider is in the water; shaders/dfsph.wgsl). Thread 0 opens the constant-density solve.
+// dynamic collider is in the water; dfsph.wgsl). Thread 0 opens the constant-density solve.
 // Nothing is integrated while the clock is frozen or a state is being restored (the rest of the
 // step then leaves the restored state alone, and the move's sort rebuilds its neighbourhood).
 // Rust twins: step 3 of sph_core::solver::dfsph::DfsphStep::advance,

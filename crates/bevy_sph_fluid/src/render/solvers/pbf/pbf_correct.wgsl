@@ -3,7 +3,7 @@
 // s_corr = -k (W(r_ij) / W(Δq))^n (the artificial pressure against tensile clumping),
 // at most max(0.1 h, 2 |g| dt²) long (sph_core::solver::pbf::macklin2013::PbfContext::for_step);
 // x_i + Δp_i, over-relaxed after the first iteration, goes to the next iteration's buffer
-// (see shaders/pbf.wgsl).
+// (see pbf.wgsl).
 // The boundary's reaction (Akinci 2012's two-way coupling in PBF's position form): sample b
 // moves i by V_b λ_i ∇W_ib, so its body feels -m V_b λ_i ∇W_ib / dt² at the sample, weighted by
 // the iteration's share of the step's moves (correction_weight), summed by

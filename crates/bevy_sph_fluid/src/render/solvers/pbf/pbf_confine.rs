@@ -4,16 +4,17 @@
 
 use super::pbf_xsph::copy_final_positions;
 use crate::render::buffers::Buf;
-use crate::render::plan::{pbf_source, EvaluationPlan, PbfPhase, PBF_SOURCE_ROLES};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::pbf::phase::{pbf_source, PbfPhase, PBF_SOURCE_ROLES};
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, PbfStage};
 
 /// v_i += dt ε (N_i × ω_i); roles by the buffer holding the final positions.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_pbf_confine",
-    cpu_twin: CpuStage::PbfConfinement,
+    cpu_twin: CpuStage::Pbf(PbfStage::Confinement),
     embed: |app| embedded_asset!(app, "pbf_confine.wgsl"),
     shader: |server| load_embedded_asset!(server, "pbf_confine.wgsl"),
     bindings: &[

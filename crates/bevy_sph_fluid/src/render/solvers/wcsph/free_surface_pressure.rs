@@ -5,7 +5,7 @@ use crate::render::buffers::Buf;
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, WcsphStage};
 
 /// WCSPH: p_i = the equation of state's p_i where not 0 (the clamp's zero), else the SPH
 /// interpolant of the equation of state's pressures around i, Σ_j (m/ρ_j) p_j W_ij, at most
@@ -13,7 +13,7 @@ use sph_core::CpuStage;
 /// `Pressure`, so no particle reads a pressure another thread is writing.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_free_surface_pressure",
-    cpu_twin: CpuStage::FreeSurfacePressure,
+    cpu_twin: CpuStage::Wcsph(WcsphStage::FreeSurfacePressure),
     embed: |app| embedded_asset!(app, "free_surface_pressure.wgsl"),
     shader: |server| load_embedded_asset!(server, "free_surface_pressure.wgsl"),
     bindings: &[

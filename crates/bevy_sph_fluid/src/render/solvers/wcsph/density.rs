@@ -4,13 +4,13 @@ use crate::render::buffers::Buf;
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, WcsphStage};
 
 /// ρ_i = m Σ W_poly6 + ρ0 Σ_b V_b W_poly6 (the boundary samples), p_i = EOS(ρ_i) into the equation of state's pressures (the free-surface pass writes the pressures from them) for every particle (with `NEIGHBOR_COUNT`, the variant
 /// shader def of the debug views, also the neighbours within h).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_density",
-    cpu_twin: CpuStage::Density,
+    cpu_twin: CpuStage::Wcsph(WcsphStage::Density),
     embed: |app| embedded_asset!(app, "density.wgsl"),
     shader: |server| load_embedded_asset!(server, "density.wgsl"),
     bindings: &[

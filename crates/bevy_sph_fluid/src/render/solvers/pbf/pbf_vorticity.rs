@@ -2,16 +2,17 @@
 //! `sph_core::solver::pbf::xsph_vorticity::vorticity`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{pbf_source, EvaluationPlan, PbfPhase, PBF_SOURCE_ROLES};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::pbf::phase::{pbf_source, PbfPhase, PBF_SOURCE_ROLES};
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, PbfStage};
 
 /// ω_i at the final positions; roles by the buffer holding them.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_pbf_vorticity",
-    cpu_twin: CpuStage::PbfVorticity,
+    cpu_twin: CpuStage::Pbf(PbfStage::Vorticity),
     embed: |app| embedded_asset!(app, "pbf_vorticity.wgsl"),
     shader: |server| load_embedded_asset!(server, "pbf_vorticity.wgsl"),
     bindings: &[

@@ -9,7 +9,7 @@
 // are evaluated at the current positions, which the Jacobi iterations ping-pong between two scratch buffers the sort no longer needs:
 // iteration 0 reads `position` and writes A (`sorted_position`), odd iterations read A and
 // write B (`sorted_velocity_predicted`), even ones read B and write A (roles PBF_FROM_A,
-// PBF_FROM_B; render::plan::pbf_source). Iterations after the first are over-relaxed
+// PBF_FROM_B; render::solvers::pbf::phase::pbf_source). Iterations after the first are over-relaxed
 // (x_{k+1} = x_{k-1} + ω (x_k + Δp_k - x_{k-1})): x_{k-1} is still in the buffer iteration k
 // writes, and iteration 0 leaves x_0 in B for iteration 1. The iteration's number is in
 // clock.pbf_iteration (set by the λ pass). Each particle's λ_i and ρ_i go to `normal` (x, y);

@@ -1,6 +1,6 @@
 // PBF's velocities (Macklin & Müller 2013, Algorithm 1, lines 21-23): after the step's Jacobi
 // iterations, v_i = (x_i - x_prev,i) / dt from the final positions and the step's start
-// (`acceleration_start`, see shaders/pbf.wgsl), then the guard (sph_core::boundary::guard) on both. The
+// (`acceleration_start`, see pbf.wgsl), then the guard (sph_core::boundary::guard) on both. The
 // guarded position stays in the final buffer; the velocity goes to `sorted_velocity`, where
 // the XSPH pass reads every neighbour's. While the clock is frozen the sorted positions are
 // the final ones. The step counts as one force evaluation of the bodies' sums.

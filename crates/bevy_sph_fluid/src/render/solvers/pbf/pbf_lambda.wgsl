@@ -4,7 +4,7 @@
 // ∇_i C_i = Σ_j (m/ρ0) ∇W_ij + Σ_b V_b ∇W_ib, ∇_j C_i = -(m/ρ0) ∇W_ij,
 // λ_i = -C_i / (Σ_k |∇_k C_i|² + ε)  ->  normal[i] = (λ_i, ρ_i, C_i, 0).
 // W is the cubic spline. The pairs are those within h at the sorted predicted positions (see
-// shaders/pbf.wgsl); nothing moves while the clock is frozen.
+// pbf.wgsl); nothing moves while the clock is frozen.
 // Rust twin: sph_core::solver::pbf::macklin2013::compute_lambdas.
 #import sph::bindings::{params, position, neighbor_count, neighbor_lists, normal, boundary_position}
 #import sph::kernels::{cubic, cubic_grad}

@@ -4,7 +4,7 @@
 //   the stiffness the solve summed, twice that at a sample that mirrors κ_i, at the sample
 //   (summed by shaders/body_reactions.wgsl); the constant-density solve's pass adds the step's
 //   hydrostatic rise at the mirroring samples, m (p_b'^rise/ρ0²) g_ib', at the positions the
-//   predict pass used (shaders/dfsph.wgsl).
+//   predict pass used (dfsph.wgsl).
 // - Thread 0 adds the solve's applied iterations to the clock's sums and keeps its last mean
 //   error (the sum its last source wrote: a after an even count, b after an odd one).
 //   A solve still open whose decision would go on ran out of the passes the CPU encoded (its

@@ -4,18 +4,19 @@
 //! `sph_core::flow::pump::apply_pumps`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{DfsphPhase, EvaluationPlan};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::dfsph::phase::DfsphPhase;
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, DfsphStage};
 
 /// m κ_i g_ib on every boundary pair's body, once per solve; after the constant-density solve the
 /// solids' speculative contact on the velocity the move takes. Roles: the constant-density solve
 /// (before the move), the divergence-free solve (the step's last pass).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_dfsph_reactions",
-    cpu_twin: CpuStage::DfsphReactions,
+    cpu_twin: CpuStage::Dfsph(DfsphStage::Reactions),
     embed: |app| embedded_asset!(app, "dfsph_reactions.wgsl"),
     shader: |server| load_embedded_asset!(server, "dfsph_reactions.wgsl"),
     bindings: &[

@@ -1,7 +1,7 @@
 // PBF's vorticity (Macklin & Müller 2013, eq. 15, with the SPH volume m/ρ_j so that ω is in
 // 1/s): ω_i = Σ_j (m/ρ_j) (v_j - v_i) × ∇_j W_ij, ∇_j W_ij = -∇_i W_ij, at the final positions
 // with the velocities after XSPH and the final densities; into `sorted_acceleration` (see
-// shaders/pbf.wgsl). Only with VORTICITY. Rust twin: sph_core::solver::pbf::xsph_vorticity::vorticity.
+// pbf.wgsl). Only with VORTICITY. Rust twin: sph_core::solver::pbf::xsph_vorticity::vorticity.
 #import sph::bindings::{params, neighbor_count, neighbor_lists, velocity, density, sorted_acceleration}
 #import sph::kernels::cubic_grad
 #import sph::neighbors::list_slot

@@ -2,18 +2,19 @@
 //! `sph_core::solver::dfsph::bender2017::{density_source, divergence_source, stiffness_from_source}`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{dfsph_parity, DfsphPhase, DfsphSolve, EvaluationPlan};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::dfsph::phase::{dfsph_parity, DfsphPhase, DfsphSolve};
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, DfsphStage};
 
 /// The second pass of every Jacobi iteration, and each solve's first source (or its warm
 /// start's). Roles: per solve, the warm start, the first source, and the sources into error
 /// sum a or b ([`dfsph_parity`]).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_dfsph_source",
-    cpu_twin: CpuStage::DfsphSource,
+    cpu_twin: CpuStage::Dfsph(DfsphStage::Source),
     embed: |app| embedded_asset!(app, "dfsph_source.wgsl"),
     shader: |server| load_embedded_asset!(server, "dfsph_source.wgsl"),
     bindings: &[

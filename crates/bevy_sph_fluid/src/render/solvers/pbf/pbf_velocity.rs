@@ -2,17 +2,18 @@
 //! (`pbf_velocity.wgsl`; CPU twin: step 4 of `sph_core::solver::pbf`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{pbf_source, EvaluationPlan, PbfPhase, PBF_SOURCE_ROLES};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::pbf::phase::{pbf_source, PbfPhase, PBF_SOURCE_ROLES};
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, PbfStage};
 
 /// The finish's first pass; roles by the buffer holding the final positions (the source of
 /// iteration `iterations`, [`pbf_source`]).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_pbf_velocity",
-    cpu_twin: CpuStage::PbfVelocity,
+    cpu_twin: CpuStage::Pbf(PbfStage::Velocity),
     embed: |app| embedded_asset!(app, "pbf_velocity.wgsl"),
     shader: |server| load_embedded_asset!(server, "pbf_velocity.wgsl"),
     bindings: &[

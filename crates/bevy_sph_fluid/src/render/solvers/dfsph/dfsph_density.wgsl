@@ -7,7 +7,7 @@
 // mirrored wall and a body, whose factor the mirror would halve): then none mirrors.
 // Besides: Σ_b g_ib, Σ_b' g_ib', Σ_b v_b·g_ib, the neighbour count, the rise's floor
 // p̂_i = max((κ_i^ρ + κ_i^v) ρ0², 0) of the solves' totals, and each pair's g_ij for the solves
-// (shaders/dfsph.wgsl).
+// (dfsph.wgsl).
 // Thread 0 opens the next solve (the divergence-free one after the move).
 // Rust twins: sph_core::neighbor::lists::NeighborLists::rebuild (the densities) and
 // sph_core::solver::dfsph::bender2017::compute_factors.

@@ -3,17 +3,18 @@
 //! `sph_core::solver::dfsph::bender2017::BoundaryRise::predict`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{DfsphPhase, EvaluationPlan};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::dfsph::phase::DfsphPhase;
 use crate::render::stage::{copy_solve_arguments, Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, DfsphStage};
 
 /// The checkpoint, then v += dt (a + a_rise) for every particle, once per DFSPH step; opens the
 /// constant-density solve.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_dfsph_predict",
-    cpu_twin: CpuStage::DfsphPredict,
+    cpu_twin: CpuStage::Dfsph(DfsphStage::Predict),
     embed: |app| embedded_asset!(app, "dfsph_predict.wgsl"),
     shader: |server| load_embedded_asset!(server, "dfsph_predict.wgsl"),
     bindings: &[

@@ -4,17 +4,18 @@
 //! `sph_core::flow::pump::apply_pumps`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{pbf_source, EvaluationPlan, PbfPhase, PBF_SOURCE_ROLES};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::pbf::phase::{pbf_source, PbfPhase, PBF_SOURCE_ROLES};
 use crate::render::stage::{Dispatch, GpuStage, StageRun};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use bevy::render::render_resource::CommandEncoder;
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, PbfStage};
 
 /// The finish's second pass; roles by the buffer holding the final positions.
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_pbf_xsph",
-    cpu_twin: CpuStage::PbfXsph,
+    cpu_twin: CpuStage::Pbf(PbfStage::Xsph),
     embed: |app| embedded_asset!(app, "pbf_xsph.wgsl"),
     shader: |server| load_embedded_asset!(server, "pbf_xsph.wgsl"),
     bindings: &[

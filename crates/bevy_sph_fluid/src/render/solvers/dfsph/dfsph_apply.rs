@@ -3,17 +3,18 @@
 //! `sph_core::solver::dfsph::bender2017::apply_stiffness` and the loop of `sph_core::solver::dfsph`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{dfsph_parity, DfsphPhase, DfsphSolve, EvaluationPlan};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::dfsph::phase::{dfsph_parity, DfsphPhase, DfsphSolve};
 use crate::render::stage::{copy_solve_arguments, Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, DfsphStage};
 
 /// v += dt a_p(κ) for every particle while the solve goes on. Roles: per solve, the warm start
 /// and iterations reading error sum a or b ([`dfsph_parity`]).
 pub const STAGE: GpuStage = GpuStage {
     name: "sph_dfsph_apply",
-    cpu_twin: CpuStage::DfsphApply,
+    cpu_twin: CpuStage::Dfsph(DfsphStage::Apply),
     embed: |app| embedded_asset!(app, "dfsph_apply.wgsl"),
     shader: |server| load_embedded_asset!(server, "dfsph_apply.wgsl"),
     bindings: &[

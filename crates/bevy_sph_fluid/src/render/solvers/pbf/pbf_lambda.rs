@@ -1,21 +1,21 @@
-//! PBF's correction pass: Δp_i with the artificial pressure, into the next iteration's
-//! positions, and the bodies' reactions (`pbf_correct.wgsl`; CPU twins
-//! `sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections}`).
+//! PBF's constraint pass: λ_i and ρ_i at the iteration's positions (`pbf_lambda.wgsl`; CPU twin
+//! `sph_core::solver::pbf::macklin2013::compute_lambdas`).
 
 use crate::render::buffers::Buf;
-use crate::render::plan::{pbf_source, EvaluationPlan, PbfPhase, PBF_SOURCE_ROLES};
+use crate::render::plan::EvaluationPlan;
+use crate::render::solvers::pbf::phase::{pbf_source, PbfPhase, PBF_SOURCE_ROLES};
 use crate::render::stage::{Dispatch, GpuStage};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use sph_core::gpu_layout::WORKGROUP_SIZE;
-use sph_core::CpuStage;
+use sph_core::{CpuStage, PbfStage};
 
-/// x_i += Δp_i into the other scratch buffer, in each Jacobi iteration after the λ pass; roles
-/// by where the iteration reads the positions ([`pbf_source`]).
+/// λ_i = -C_i / (Σ_k |∇_k C_i|² + ε) for every particle, in each Jacobi iteration; roles by
+/// where the iteration reads the positions ([`pbf_source`]).
 pub const STAGE: GpuStage = GpuStage {
-    name: "sph_pbf_correct",
-    cpu_twin: CpuStage::PbfCorrection,
-    embed: |app| embedded_asset!(app, "pbf_correct.wgsl"),
-    shader: |server| load_embedded_asset!(server, "pbf_correct.wgsl"),
+    name: "sph_pbf_lambda",
+    cpu_twin: CpuStage::Pbf(PbfStage::Lambda),
+    embed: |app| embedded_asset!(app, "pbf_lambda.wgsl"),
+    shader: |server| load_embedded_asset!(server, "pbf_lambda.wgsl"),
     bindings: &[
         Buf::Position,
         Buf::SortedPosition,
@@ -25,8 +25,6 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::NeighborLists,
         Buf::BoundaryPosition,
         Buf::BoundaryCellStart,
-        Buf::BoundaryBody,
-        Buf::BodyForces,
         Buf::Clock,
     ],
     workgroup_size: WORKGROUP_SIZE,

@@ -1,5 +1,5 @@
 // A DFSPH solve's source and next stiffness (Bender & Koschier 2017, Algorithms 2 and 3, with
-// κ = p/ρ²; see shaders/dfsph.wgsl), at the current velocities:
+// κ = p/ρ²; see dfsph.wgsl), at the current velocities:
 // constant density (default):  s_i = clamp(ρ_i + dt Dρ_i/Dt - ρ0, 0, MAX_CORRECTION ρ0),
 //                              κ_i = s_i / (dt² D_i), and on the top row (s_i = 0,
 //                              ρ_i < TOP_ROW_DENSITY ρ0) as much more as lifts the particle's
@@ -8,7 +8,7 @@
 // divergence-free (DIVERGENCE_SOLVE): s_i = max(Dρ_i/Dt, 0) for particles with at least
 //                              INTERIOR_NEIGHBORS neighbours, else 0; κ_i = s_i / (dt D_i).
 // The iterations after the solve's first over-relax where s_i > η ρ0: ω κ_i + (ω - 1) κ'_i,
-// κ'_i the stiffness applied before, ω the solve's (shaders/dfsph.wgsl, over_relaxed).
+// κ'_i the stiffness applied before, ω the solve's (dfsph.wgsl, over_relaxed).
 // DFSPH_WARM: the warm start instead: κ_i = fraction × the stiffness the solve summed last
 // step where s_i > 0, else 0, and the sum starts from it.
 // Otherwise Σ s_i/ρ0 goes to the error sum the next applying pass reads (TO_B: sum b, else
