@@ -93,10 +93,10 @@ pub struct BodyMotion {
     /// The angle it turned through, start to end [rad] (0 to π).
     pub turned_rad: f32,
     /// Whether it came to rest: over the last quarter of the run (at least two samples), every
-    /// sample moved slower than `run::SETTLED_SPEED` and turned slower than
-    /// `run::SETTLED_TURN_RATE`.
+    /// sample moved slower than `run::bodies::SETTLED_SPEED` and turned slower than
+    /// `run::bodies::SETTLED_TURN_RATE`.
     pub settled: bool,
-    /// Its pose, velocity and the water's force on it every `run::BODY_SAMPLE_INTERVAL`
+    /// Its pose, velocity and the water's force on it every `run::bodies::BODY_SAMPLE_INTERVAL`
     /// of simulated time.
     pub series: Vec<BodySample>,
 }
