@@ -306,7 +306,7 @@ fn dfsph_steps_on_the_gpu_match_the_cpu_solver() {
                 clock.density_iterations_max,
                 density_iterations,
                 divergence_iterations,
-                clock.dt()
+                clock.dt
             );
             let Differences {
                 dx,

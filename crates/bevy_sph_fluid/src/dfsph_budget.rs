@@ -10,13 +10,13 @@
 //!
 //! - before any reading, each solve's most iterations (the settings');
 //! - then `m + m/4 + 8`, with `m` the most iterations one step of that solve took in the last
-//!   frames read back (the clock's `dfsph_frame_max`; at least [`WINDOW`] frames, and all
+//!   frames read back (the clock's `density_frame_max` and `divergence_frame_max`; at least [`WINDOW`] frames, and all
 //!   those of the last [`WINDOW_STEPS`] steps), clamped to the settings' least and most.
 //!   Measured on dambreak32k (docs/dfsph.md): `2 m + 8` encoded the divergence-free solve's
 //!   most (100) at nearly every frame for a mean of 32 a step; `m + m/4 + 8` encodes about 70
 //!   and cut 7 of 446 solves short (5 with `2 m + 8`); `m + 8` cut 9 short, and the doubling
 //!   that follows each (below) left it no cheaper;
-//! - a solve that ran out of passes before it converged (the clock's `dfsph_cut_short`, counted
+//! - a solve that ran out of passes before it converged (the clock's `density_cut_short` and `divergence_cut_short`, counted
 //!   by the device) enters the window as if it had needed twice the budget it had, so the next
 //!   frames encode at least double.
 //!
@@ -128,15 +128,15 @@ impl DfsphIterationBudget {
             self.solves = Default::default();
         }
         self.last_step = Some(clock.step);
-        let ran = clock.dfsph_frame_max[0] > 0 || clock.dfsph_frame_max[1] > 0;
+        let ran = clock.density_frame_max > 0 || clock.divergence_frame_max > 0;
         for (s, solve) in self.solves.iter_mut().enumerate() {
-            let cut = clock.dfsph_cut_short[s];
+            let cut = clock.dfsph_cut_short()[s];
             let newly_cut = cut.saturating_sub(solve.cut_short) > 0;
             solve.cut_short = cut;
             if newly_cut {
                 solve.push(clock.step, encoded[s].saturating_mul(2));
             } else if ran {
-                solve.push(clock.step, clock.dfsph_frame_max[s]);
+                solve.push(clock.step, clock.dfsph_frame_max()[s]);
             }
         }
     }
@@ -154,8 +154,10 @@ mod tests {
     fn reading(step: u32, most: [u32; 2], cut: [u32; 2]) -> GpuClock {
         GpuClock {
             step,
-            dfsph_frame_max: most,
-            dfsph_cut_short: cut,
+            density_frame_max: most[0],
+            divergence_frame_max: most[1],
+            density_cut_short: cut[0],
+            divergence_cut_short: cut[1],
             ..GpuClock::default()
         }
     }

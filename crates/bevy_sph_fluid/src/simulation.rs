@@ -576,7 +576,7 @@ fn sph_update_stats(
             // A clock read before a reset counts more steps than were taken since: stale.
             if let Some(clock) = clock.latest.filter(|c| c.step as u64 <= stats.step_count) {
                 stats.sim_time = clock.time();
-                stats.time_step = clock.dt();
+                stats.time_step = clock.dt;
                 stats.rollbacks = clock.rollbacks as u64;
                 stats.boundary_corrections = clock.boundary_corrections as u64;
                 stats.wall_corrections = clock.wall_corrections as u64;
@@ -587,7 +587,7 @@ fn sph_update_stats(
                 sim.dfsph_budget.observe(&clock, sim.frame.dfsph_iterations);
                 stats.dfsph_solves_cut_short = clock.solves_cut_short();
                 let scale = (-(clock.halvings as f32)).exp2();
-                sim.rule_dt = Some(f32::from_bits(clock.rule_dt_bits) * scale);
+                sim.rule_dt = Some(clock.rule_dt * scale);
                 if clock.unstable_step != 0 {
                     stats.health = SphHealth::Unstable {
                         step: clock.unstable_step as u64,

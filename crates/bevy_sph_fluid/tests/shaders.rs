@@ -255,40 +255,97 @@ fn uniform_block_matches_the_rust_layout() {
     );
 }
 
-/// Each member of the WGSL struct `name` in a composed stage: (name, byte offset).
-fn wgsl_members(stage: &str, name: &str) -> Vec<(String, usize)> {
+/// A member of a struct as both languages see it: name, byte offset, byte size and the kind of
+/// its scalars (a `vec3<f32>` and a `[f32; 3]` are both 12 bytes of floats).
+type Member = (String, usize, usize, naga::ScalarKind);
+
+/// Each member of the WGSL struct `name` in a composed stage (an `atomic<u32>` is a `u32`).
+fn wgsl_members(stage: &str, name: &str) -> Vec<Member> {
     let (path, module) = composed_stage(stage);
     let (_, ty) = module
         .types
         .iter()
         .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.contains(name)))
         .unwrap_or_else(|| panic!("{name} in {path}"));
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).unwrap();
+    let kind = |ty: naga::Handle<naga::Type>| match module.types[ty].inner {
+        naga::TypeInner::Scalar(scalar)
+        | naga::TypeInner::Vector { scalar, .. }
+        | naga::TypeInner::Atomic(scalar) => scalar.kind,
+        ref other => panic!("a member of {name} is neither a scalar nor a vector: {other:?}"),
+    };
     match &ty.inner {
         naga::TypeInner::Struct { members, .. } => members
             .iter()
-            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .map(|m| {
+                let name = m.name.clone().unwrap_or_default();
+                let size = layouter[m.ty].size as usize;
+                (name, m.offset as usize, size, kind(m.ty))
+            })
             .collect(),
         other => panic!("{name} in {path} is not a struct: {other:?}"),
     }
 }
 
-/// (field name, byte offset) of each listed field of a Rust type, in the order given.
+/// The kind of a Rust field's scalars.
+trait Scalars {
+    const KIND: naga::ScalarKind;
+}
+
+impl Scalars for f32 {
+    const KIND: naga::ScalarKind = naga::ScalarKind::Float;
+}
+
+impl Scalars for u32 {
+    const KIND: naga::ScalarKind = naga::ScalarKind::Uint;
+}
+
+impl<T: Scalars, const N: usize> Scalars for [T; N] {
+    const KIND: naga::ScalarKind = T::KIND;
+}
+
+fn scalars_of<T: Scalars>(_: &T) -> naga::ScalarKind {
+    T::KIND
+}
+
+/// Each listed field of a Rust value's type, in the order given.
 macro_rules! rust_fields {
-    ($t:ty; $($field:ident),+ $(,)?) => {
-        vec![$((stringify!($field).to_string(), std::mem::offset_of!($t, $field))),+]
+    ($value:expr; $t:ty; $($field:ident),+ $(,)?) => {
+        vec![$((
+            stringify!($field).to_string(),
+            std::mem::offset_of!($t, $field),
+            std::mem::size_of_val(&$value.$field),
+            scalars_of(&$value.$field),
+        )),+]
     };
 }
 
 #[test]
 fn every_uniform_field_sits_where_the_rust_layout_puts_it() {
-    // The same names in the same order at the same offsets: a field added, moved or renamed on
-    // one side only fails here (a field missing from this list fails the size check above).
-    let rust = rust_fields!(sph_core::gpu_layout::GpuSphParams;
-        particle_count, capacity, cell_count, table_size, grid_dims, grid_origin, box_min,
-        box_max, gravity, kernel_a, kernel_b, material, flags, time_step, rollback,
-        frame_budget, pbf_kernel, pbf, pbf_counts, dfsph, dfsph_counts, dfsph_b, drains,
-        dfsph_c, boundary_contact,
+    // The same names in the same order at the same offsets, with the same sizes and scalar
+    // kinds: a field added, moved, renamed or retyped on one side only fails here (a field
+    // missing from this list fails the size check above).
+    let params = sph_core::gpu_layout::GpuSphParams::default();
+    let rust = rust_fields!(params; sph_core::gpu_layout::GpuSphParams;
+        particle_count, capacity, cell_count, table_size, grid_dims, sort_length, grid_origin,
+        cell_size, box_min, wall_damping, box_max, fixed_dt, gravity, particle_mass, h, h_squared,
+        poly6_scale, poly6_grad, spiky_grad, viscosity_laplacian, cohesion, cohesion_offset,
+        rest_density, stiffness, viscosity, surface_tension, tait, clamp_negative_pressure,
+        adaptive_time_step, guard_colliders, max_dt, cfl_factor, viscous_limit, speed_of_sound,
+        rollback_enabled, checkpoint_interval, max_retries, recovery_steps, budget_time_bits,
+        budget_steps, budget_frame, budget_reserved, pbf_cubic_k, pbf_cubic_l, pbf_relaxation,
+        pbf_s_corr_k, pbf_inverse_w_dq, pbf_xsph_c, pbf_vorticity_epsilon, pbf_max_correction,
+        pbf_s_corr_n, pbf_iterations, pbf_max_neighbors, pbf_over_relaxation_bits,
+        dfsph_max_density_error, dfsph_max_divergence_error, dfsph_factor_epsilon,
+        dfsph_warm_start, dfsph_min_density_iterations, dfsph_max_density_iterations,
+        dfsph_min_divergence_iterations, dfsph_max_divergence_iterations, spacing,
+        dfsph_density_warm_start, dfsph_divergence_warm_start, dfsph_max_correction, drain_frame,
+        open_drains, drains_unused_z, drains_unused_w, dfsph_divergence_over_relaxation,
+        dfsph_density_over_relaxation, boundary_friction, unmirrored_samples, contact_radius,
+        contact_modulus, max_surface_pressure, surface_margin,
     );
+
     assert_eq!(wgsl_members("sph_density", "SphUniforms"), rust);
 }
 
@@ -298,6 +355,24 @@ fn clock_matches_the_rust_layout() {
         wgsl_struct_size("sph_time_step", "SphClock"),
         std::mem::size_of::<sph_core::gpu_layout::GpuClock>()
     );
+}
+
+#[test]
+fn every_clock_field_sits_where_the_rust_layout_puts_it() {
+    let clock = sph_core::gpu_layout::GpuClock::default();
+    let rust = rust_fields!(clock; sph_core::gpu_layout::GpuClock;
+        dt, step, time_ns_lo, time_ns_hi, max_speed_bits, max_acceleration_bits, unstable_step,
+        checkpoint_action, rollbacks, retries, halvings, stable_steps, has_checkpoint,
+        checkpoint_step, checkpoint_time_lo, checkpoint_time_hi, checkpoint_count, restore_count,
+        save_requested, rule_dt, checkpoint_rule_dt, boundary_corrections, wall_corrections,
+        budget_frame, budget_remaining, budget_steps_left, neighbor_list_overflows, dfsph_args_x,
+        dfsph_args_y, dfsph_args_z, dfsph_done, dfsph_applied, dfsph_error_a_lo, dfsph_error_a_hi,
+        dfsph_error_b_lo, dfsph_error_b_hi, density_iterations, density_iterations_max,
+        divergence_iterations, density_error, divergence_error, marked, tail_size, tail_frame,
+        pbf_iteration, density_frame_max, divergence_frame_max, density_cut_short,
+        divergence_cut_short, steps_run,
+    );
+    assert_eq!(wgsl_members("sph_time_step", "SphClock"), rust);
 }
 
 #[test]

@@ -263,10 +263,10 @@ pub struct SphGpuState {
     pub boundary_samples: u32,
     /// Colliders in the guard's list on the GPU.
     pub boundary_colliders: u32,
-    /// Whether some boundary sample on the GPU has friction (`GpuSphParams::dfsph_c`'s z).
+    /// Whether some boundary sample on the GPU has friction (`GpuSphParams::boundary_friction`).
     pub boundary_friction: bool,
     /// Whether the boundary samples on the GPU do not mirror DFSPH's stiffness (a dynamic
-    /// collider is among them; `GpuSphParams::dfsph_c`'s w).
+    /// collider is among them; `GpuSphParams::unmirrored_samples`).
     pub boundary_unmirrored: bool,
 }
 

@@ -90,7 +90,7 @@ pub struct GpuBoundarySamples {
     /// (`crate::solver::dfsph::bender2017`): unless a dynamic collider is in the boundary. The GPU does not
     /// let a body give way in the solves ([`crate::boundary::free_bodies`]), so it follows
     /// [`crate::Boundary::mirrors`] as if no mass were known. The plugin passes it on in
-    /// [`GpuSphParams::dfsph_c`](crate::gpu_layout::GpuSphParams::dfsph_c)'s w.
+    /// [`GpuSphParams::unmirrored_samples`](crate::gpu_layout::GpuSphParams::unmirrored_samples).
     pub mirrors: bool,
     /// The mesh colliders' hierarchies and triangles ([`crate::TriMesh::gpu_words`]), one after
     /// the other.

@@ -10,10 +10,12 @@ use crate::params::{EquationOfState, ParamError, SphParams};
 use crate::solver::dfsph::bender2017::rest_lattice_factor;
 use crate::solver::pbf::macklin2013::PbfContext;
 use bytemuck::{Pod, Zeroable};
-use glam::{UVec3, Vec3};
+use glam::UVec3;
 
-/// The uniform block every pass reads (WGSL `SphUniforms`). All fields are 4-byte scalars or
-/// 16-byte vectors in groups of four, so std140 and the Rust layout agree.
+/// The uniform block every pass reads (WGSL `SphUniforms`, the same names in the same order).
+/// Every field is a 4-byte scalar, or a 3-vector that starts a 16-byte row and is followed by a
+/// scalar, so WGSL's uniform layout and this `repr(C)` layout agree; the shader tests compare
+/// every field's offset.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuSphParams {
@@ -25,72 +27,171 @@ pub struct GpuSphParams {
     pub cell_count: u32,
     /// Spatial-hash buckets (hash mode).
     pub table_size: u32,
-    /// Grid cells along x, y, z; w = padded sort length (hash mode, a power of two).
-    pub grid_dims: [u32; 4],
-    /// Grid origin (box minimum); w = cell size h.
-    pub grid_origin: [f32; 4],
-    /// Box minimum; w = wall damping.
-    pub box_min: [f32; 4],
-    /// Box maximum; w = time step dt.
-    pub box_max: [f32; 4],
-    /// Gravity; w = particle mass.
-    pub gravity: [f32; 4],
-    /// h, h², poly6 and ∇poly6 constants.
-    pub kernel_a: [f32; 4],
-    /// ∇spiky (times the pressure-gradient correction of [`crate::stage::StageContext`]),
-    /// ∇²viscosity, cohesion and cohesion offset constants.
-    pub kernel_b: [f32; 4],
-    /// ρ0, stiffness k, viscosity μ, surface tension γ.
-    pub material: [f32; 4],
-    /// Equation of state (0 linear, 1 Tait), clamp negative pressure (0/1), adaptive time step
-    /// (0/1), colliders in the guard's list ([`Self::with_boundary`]).
-    pub flags: [u32; 4],
-    /// The time-step rule: largest dt, CFL factor λ, viscous limit 0.125 h² ρ0/μ (f32::MAX
-    /// without viscosity), speed of sound c0.
-    pub time_step: [f32; 4],
-    /// Rollback ([`crate::rollback`]): enabled (0/1), checkpoint interval, max retries, recovery
-    /// steps. All zero (off) until [`Self::with_rollback`].
-    pub rollback: [u32; 4],
-    /// Real-time mode ([`crate::frame_budget`]): the frame's time [s] as f32 bits, the steps
-    /// planned for it, the frame's number (a new number starts a new budget), 0. All zero (off)
-    /// until [`Self::with_frame_budget`].
-    pub frame_budget: [u32; 4],
-    /// PBF ([`crate::solver::pbf::macklin2013::PbfContext`]): the cubic spline's value and gradient
-    /// constants k and l, the relaxation ε [1/m²], s_corr's k in λ's units.
-    pub pbf_kernel: [f32; 4],
-    /// PBF: 1 / W(Δq), XSPH c, vorticity ε [m/s], the correction cap before the step's
-    /// gravity term ([`crate::solver::pbf::macklin2013::MAX_CORRECTION`] h) [m].
-    pub pbf: [f32; 4],
-    /// PBF: s_corr's n, the Jacobi iterations per step, [`PBF_MAX_NEIGHBORS`], the
-    /// over-relaxation ω as f32 bits.
-    pub pbf_counts: [u32; 4],
-    /// DFSPH ([`crate::solver::dfsph::bender2017`]): the largest mean density error (fraction of ρ0),
-    /// the largest mean divergence error [1/s], the cut-off of an isolated particle's factor
-    /// (a fraction of the rest lattice's D), warm start (1) or not (0).
-    pub dfsph: [f32; 4],
-    /// DFSPH: min and max constant-density iterations, min and max divergence-free iterations.
-    pub dfsph_counts: [u32; 4],
-    /// DFSPH: the spacing Δx [m] (the CFL rule's length), the warm starts' fractions
-    /// ([`crate::solver::dfsph::bender2017::DENSITY_WARM_START`], [`crate::solver::dfsph::bender2017::DIVERGENCE_WARM_START`]),
-    /// [`crate::solver::dfsph::bender2017::MAX_CORRECTION`].
-    pub dfsph_b: [f32; 4],
-    /// Drains: the main world's frame number (recorded with each sort's tail), the open drains
-    /// in [`GpuPumps`] (0 = none), 0, 0.
-    pub drains: [u32; 4],
-    /// DFSPH: the over-relaxation ω of the divergence-free solve
-    /// ([`crate::DfsphSettings::divergence_over_relaxation`]) and of the constant-density solve
-    /// ([`crate::DfsphSettings::density_over_relaxation`]); 1 when some boundary sample has
-    /// friction, else 0 ([`Self::with_boundary`]: without one DFSPH's forces pass skips the
-    /// samples and the reactions' workgroup sums, which only friction feeds there);
-    /// 1 while the boundary samples do not mirror the stiffness, else 0
-    /// ([`GpuBoundarySamples::mirrors`](crate::gpu_layout::GpuBoundarySamples::mirrors), also from
-    /// the upload).
-    pub dfsph_c: [f32; 4],
-    /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m],
-    /// its pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa]
-    /// ([`crate::stage::max_surface_pressure`]); the speculative contact's margin from the
-    /// solids' surfaces [m] ([`crate::boundary::speculative_contact::SURFACE_MARGIN`] Δx).
-    pub boundary_contact: [f32; 4],
+    /// Grid cells along x, y, z.
+    pub grid_dims: [u32; 3],
+    /// The padded sort length (hash mode, a power of two).
+    pub sort_length: u32,
+    /// Grid origin (the box minimum) [m].
+    pub grid_origin: [f32; 3],
+    /// Grid cell size, h [m].
+    pub cell_size: f32,
+    /// Box minimum [m].
+    pub box_min: [f32; 3],
+    /// Wall damping.
+    pub wall_damping: f32,
+    /// Box maximum [m].
+    pub box_max: [f32; 3],
+    /// The fixed time step dt [s] (`SphParams::time_step`).
+    pub fixed_dt: f32,
+    /// Gravity [m/s²].
+    pub gravity: [f32; 3],
+    /// Particle mass m [kg].
+    pub particle_mass: f32,
+    /// Smoothing radius h [m].
+    pub h: f32,
+    /// h² [m²].
+    pub h_squared: f32,
+    /// poly6's constant, 315/(64π h⁹).
+    pub poly6_scale: f32,
+    /// ∇poly6's constant, -945/(32π h⁹).
+    pub poly6_grad: f32,
+    /// ∇spiky's constant, -45/(π h⁶), times the pressure-gradient correction of
+    /// [`crate::stage::StageContext`].
+    pub spiky_grad: f32,
+    /// ∇²viscosity's constant, 45/(π h⁶).
+    pub viscosity_laplacian: f32,
+    /// Akinci's cohesion constant, 32/(π h⁹).
+    pub cohesion: f32,
+    /// The cohesion kernel's offset, h⁶/64.
+    pub cohesion_offset: f32,
+    /// Rest density ρ0 [kg/m³].
+    pub rest_density: f32,
+    /// Stiffness k.
+    pub stiffness: f32,
+    /// Dynamic viscosity μ.
+    pub viscosity: f32,
+    /// Surface tension γ.
+    pub surface_tension: f32,
+    /// Equation of state: 1 Tait, 0 linear.
+    pub tait: u32,
+    /// Clamp negative pressure (0/1).
+    pub clamp_negative_pressure: u32,
+    /// Adaptive time step (0/1).
+    pub adaptive_time_step: u32,
+    /// Colliders in the guard's list ([`Self::with_boundary`]).
+    pub guard_colliders: u32,
+    /// The time-step rule's largest dt [s].
+    pub max_dt: f32,
+    /// CFL factor λ.
+    pub cfl_factor: f32,
+    /// The viscous limit 0.125 h² ρ0/μ [s] (f32::MAX without viscosity).
+    pub viscous_limit: f32,
+    /// Speed of sound c0 [m/s].
+    pub speed_of_sound: f32,
+    /// Rollback ([`crate::rollback`]) on (1) or off (0); all four rollback fields are zero until
+    /// [`Self::with_rollback`].
+    pub rollback_enabled: u32,
+    /// Steps between checkpoints.
+    pub checkpoint_interval: u32,
+    /// Retries before a step is given up.
+    pub max_retries: u32,
+    /// Steps at a reduced dt after a rollback.
+    pub recovery_steps: u32,
+    /// Real-time mode ([`crate::frame_budget`]): the frame's time [s] as f32 bits; the budget
+    /// fields are zero (off) until [`Self::with_frame_budget`].
+    pub budget_time_bits: u32,
+    /// The steps planned for the frame (0: no budget).
+    pub budget_steps: u32,
+    /// The frame's number (a new number starts a new budget).
+    pub budget_frame: u32,
+    /// Unused (keeps the block in 16-byte rows).
+    pub budget_reserved: u32,
+    /// PBF ([`crate::solver::pbf::macklin2013::PbfContext`]): the cubic spline's value constant k.
+    pub pbf_cubic_k: f32,
+    /// PBF: the cubic spline's gradient constant l.
+    pub pbf_cubic_l: f32,
+    /// PBF: the relaxation ε [1/m²].
+    pub pbf_relaxation: f32,
+    /// PBF: s_corr's k in λ's units.
+    pub pbf_s_corr_k: f32,
+    /// PBF: 1 / W(Δq).
+    pub pbf_inverse_w_dq: f32,
+    /// PBF: XSPH's c.
+    pub pbf_xsph_c: f32,
+    /// PBF: vorticity confinement's ε [m/s].
+    pub pbf_vorticity_epsilon: f32,
+    /// PBF: the correction cap before the step's gravity term
+    /// ([`crate::solver::pbf::macklin2013::MAX_CORRECTION`] h) [m].
+    pub pbf_max_correction: f32,
+    /// PBF: s_corr's n.
+    pub pbf_s_corr_n: u32,
+    /// PBF: Jacobi iterations per step.
+    pub pbf_iterations: u32,
+    /// PBF: the neighbour lists' length, [`PBF_MAX_NEIGHBORS`].
+    pub pbf_max_neighbors: u32,
+    /// PBF: the over-relaxation ω as f32 bits.
+    pub pbf_over_relaxation_bits: u32,
+    /// DFSPH ([`crate::solver::dfsph::bender2017`]): the largest mean density error (a fraction of
+    /// ρ0).
+    pub dfsph_max_density_error: f32,
+    /// DFSPH: the largest mean divergence error [1/s].
+    pub dfsph_max_divergence_error: f32,
+    /// DFSPH: the cut-off of an isolated particle's factor (a fraction of the rest lattice's D).
+    pub dfsph_factor_epsilon: f32,
+    /// DFSPH: warm start (1) or not (0).
+    pub dfsph_warm_start: f32,
+    /// DFSPH: the constant-density solve's least iterations.
+    pub dfsph_min_density_iterations: u32,
+    /// DFSPH: the constant-density solve's most iterations.
+    pub dfsph_max_density_iterations: u32,
+    /// DFSPH: the divergence-free solve's least iterations.
+    pub dfsph_min_divergence_iterations: u32,
+    /// DFSPH: the divergence-free solve's most iterations.
+    pub dfsph_max_divergence_iterations: u32,
+    /// The spacing Δx [m] (DFSPH's CFL rule's length).
+    pub spacing: f32,
+    /// DFSPH: the constant-density solve's warm start fraction
+    /// ([`crate::solver::dfsph::bender2017::DENSITY_WARM_START`]).
+    pub dfsph_density_warm_start: f32,
+    /// DFSPH: the divergence-free solve's warm start fraction
+    /// ([`crate::solver::dfsph::bender2017::DIVERGENCE_WARM_START`]).
+    pub dfsph_divergence_warm_start: f32,
+    /// DFSPH: the largest correction per step
+    /// ([`crate::solver::dfsph::bender2017::MAX_CORRECTION`]).
+    pub dfsph_max_correction: f32,
+    /// Drains: the main world's frame number, recorded with each sort's tail
+    /// ([`Self::with_drains`]).
+    pub drain_frame: u32,
+    /// Drains: the open drains in [`GpuPumps`] (0 = none).
+    pub open_drains: u32,
+    /// Unused (keeps the block in 16-byte rows).
+    pub drains_unused_z: u32,
+    /// Unused (keeps the block in 16-byte rows).
+    pub drains_unused_w: u32,
+    /// DFSPH: the divergence-free solve's over-relaxation ω
+    /// ([`crate::DfsphSettings::divergence_over_relaxation`]).
+    pub dfsph_divergence_over_relaxation: f32,
+    /// DFSPH: the constant-density solve's over-relaxation ω
+    /// ([`crate::DfsphSettings::density_over_relaxation`]).
+    pub dfsph_density_over_relaxation: f32,
+    /// 1 when some boundary sample has friction, else 0 ([`Self::with_boundary`]: without one
+    /// DFSPH's forces pass skips the samples and the reactions' workgroup sums, which only
+    /// friction feeds there).
+    pub boundary_friction: f32,
+    /// 1 while the boundary samples do not mirror DFSPH's stiffness, else 0
+    /// ([`GpuBoundarySamples::mirrors`](crate::gpu_layout::GpuBoundarySamples::mirrors), from
+    /// [`Self::with_boundary`]).
+    pub unmirrored_samples: f32,
+    /// The boundary samples' contact ([`crate::stage::BoundaryContact`]): its range Δx [m].
+    pub contact_radius: f32,
+    /// The contact's pressure at r = 0, 2 ρ0 c0² [Pa].
+    pub contact_modulus: f32,
+    /// The free surface's largest pressure ρ0 |g| Δx/2 [Pa]
+    /// ([`crate::stage::max_surface_pressure`]).
+    pub max_surface_pressure: f32,
+    /// The speculative contact's margin from the solids' surfaces [m]
+    /// ([`crate::boundary::speculative_contact::SURFACE_MARGIN`] Δx).
+    pub surface_margin: f32,
 }
 
 impl GpuSphParams {
@@ -124,127 +225,124 @@ impl GpuSphParams {
         let pbf = PbfContext::of(params);
         let d = &params.dfsph;
         let (lo, hi) = (container.min(), container.max());
-        let v4 = |v: Vec3, w: f32| [v.x, v.y, v.z, w];
+        let contact = crate::stage::BoundaryContact::of(params);
         Self {
             particle_count,
             capacity,
             cell_count: dims.x * dims.y * dims.z,
             table_size: hash_table_size(capacity as usize) as u32,
-            grid_dims: [dims.x, dims.y, dims.z, sort_length(capacity)],
-            grid_origin: v4(lo, params.smoothing_radius),
-            box_min: v4(lo, params.wall_damping),
-            box_max: v4(hi, params.time_step),
-            gravity: v4(params.gravity, params.particle_mass),
-            kernel_a: [k.h, k.h2, k.poly6, k.poly6_grad],
-            kernel_b: [
-                // The pressure force's gradient constant, with the rest-lattice correction.
-                k.spiky_grad * crate::stage::pressure_gradient_scale(params, &k),
-                k.viscosity_laplacian,
-                k.cohesion,
-                k.cohesion_offset,
-            ],
-            material: [
-                params.rest_density,
-                params.stiffness,
-                params.viscosity,
-                params.surface_tension,
-            ],
-            flags: [
-                (params.equation_of_state == EquationOfState::Tait) as u32,
-                params.clamp_negative_pressure as u32,
-                params.adaptive_time_step as u32,
-                0,
-            ],
-            time_step: [
-                params.time_step,
-                params.cfl_factor,
-                crate::stability::viscous_limit(params).min(f32::MAX),
-                params.speed_of_sound(),
-            ],
-            rollback: [0; 4],
-            frame_budget: [0; 4],
-            pbf_kernel: [pbf.kernel.k, pbf.kernel.l, pbf.epsilon, pbf.s_corr_k],
-            pbf: [
-                pbf.inverse_w_dq,
-                pbf.xsph_c,
-                pbf.vorticity_epsilon,
-                pbf.max_correction,
-            ],
-            pbf_counts: [
-                pbf.s_corr_n.max(0) as u32,
-                params.pbf.iterations,
-                PBF_MAX_NEIGHBORS,
-                pbf.over_relaxation.to_bits(),
-            ],
-            dfsph: [
-                d.max_density_error,
-                d.max_divergence_error,
-                crate::solver::dfsph::bender2017::FACTOR_EPSILON * rest_lattice_factor(params),
-                d.warm_start as u32 as f32,
-            ],
-            dfsph_counts: [
-                d.min_density_iterations,
-                d.max_density_iterations,
-                d.min_divergence_iterations,
-                d.max_divergence_iterations,
-            ],
-            dfsph_b: [
-                params.spacing(),
-                crate::solver::dfsph::bender2017::DENSITY_WARM_START,
-                crate::solver::dfsph::bender2017::DIVERGENCE_WARM_START,
-                crate::solver::dfsph::bender2017::MAX_CORRECTION,
-            ],
-            drains: [0; 4],
-            dfsph_c: [
-                params.dfsph.divergence_over_relaxation,
-                params.dfsph.density_over_relaxation,
-                0.0,
-                0.0,
-            ],
-            boundary_contact: {
-                let contact = crate::stage::BoundaryContact::of(params);
-                [
-                    contact.radius,
-                    contact.modulus,
-                    crate::stage::max_surface_pressure(params),
-                    crate::boundary::speculative_contact::SURFACE_MARGIN * contact.radius,
-                ]
-            },
+            grid_dims: dims.to_array(),
+            sort_length: sort_length(capacity),
+            grid_origin: lo.to_array(),
+            cell_size: params.smoothing_radius,
+            box_min: lo.to_array(),
+            wall_damping: params.wall_damping,
+            box_max: hi.to_array(),
+            fixed_dt: params.time_step,
+            gravity: params.gravity.to_array(),
+            particle_mass: params.particle_mass,
+            h: k.h,
+            h_squared: k.h2,
+            poly6_scale: k.poly6,
+            poly6_grad: k.poly6_grad,
+            // The pressure force's gradient constant, with the rest-lattice correction.
+            spiky_grad: k.spiky_grad * crate::stage::pressure_gradient_scale(params, &k),
+            viscosity_laplacian: k.viscosity_laplacian,
+            cohesion: k.cohesion,
+            cohesion_offset: k.cohesion_offset,
+            rest_density: params.rest_density,
+            stiffness: params.stiffness,
+            viscosity: params.viscosity,
+            surface_tension: params.surface_tension,
+            tait: (params.equation_of_state == EquationOfState::Tait) as u32,
+            clamp_negative_pressure: params.clamp_negative_pressure as u32,
+            adaptive_time_step: params.adaptive_time_step as u32,
+            guard_colliders: 0,
+            max_dt: params.time_step,
+            cfl_factor: params.cfl_factor,
+            viscous_limit: crate::stability::viscous_limit(params).min(f32::MAX),
+            speed_of_sound: params.speed_of_sound(),
+            rollback_enabled: 0,
+            checkpoint_interval: 0,
+            max_retries: 0,
+            recovery_steps: 0,
+            budget_time_bits: 0,
+            budget_steps: 0,
+            budget_frame: 0,
+            budget_reserved: 0,
+            pbf_cubic_k: pbf.kernel.k,
+            pbf_cubic_l: pbf.kernel.l,
+            pbf_relaxation: pbf.epsilon,
+            pbf_s_corr_k: pbf.s_corr_k,
+            pbf_inverse_w_dq: pbf.inverse_w_dq,
+            pbf_xsph_c: pbf.xsph_c,
+            pbf_vorticity_epsilon: pbf.vorticity_epsilon,
+            pbf_max_correction: pbf.max_correction,
+            pbf_s_corr_n: pbf.s_corr_n.max(0) as u32,
+            pbf_iterations: params.pbf.iterations,
+            pbf_max_neighbors: PBF_MAX_NEIGHBORS,
+            pbf_over_relaxation_bits: pbf.over_relaxation.to_bits(),
+            dfsph_max_density_error: d.max_density_error,
+            dfsph_max_divergence_error: d.max_divergence_error,
+            dfsph_factor_epsilon: crate::solver::dfsph::bender2017::FACTOR_EPSILON
+                * rest_lattice_factor(params),
+            dfsph_warm_start: d.warm_start as u32 as f32,
+            dfsph_min_density_iterations: d.min_density_iterations,
+            dfsph_max_density_iterations: d.max_density_iterations,
+            dfsph_min_divergence_iterations: d.min_divergence_iterations,
+            dfsph_max_divergence_iterations: d.max_divergence_iterations,
+            spacing: params.spacing(),
+            dfsph_density_warm_start: crate::solver::dfsph::bender2017::DENSITY_WARM_START,
+            dfsph_divergence_warm_start: crate::solver::dfsph::bender2017::DIVERGENCE_WARM_START,
+            dfsph_max_correction: crate::solver::dfsph::bender2017::MAX_CORRECTION,
+            drain_frame: 0,
+            open_drains: 0,
+            drains_unused_z: 0,
+            drains_unused_w: 0,
+            dfsph_divergence_over_relaxation: d.divergence_over_relaxation,
+            dfsph_density_over_relaxation: d.density_over_relaxation,
+            boundary_friction: 0.0,
+            unmirrored_samples: 0.0,
+            contact_radius: contact.radius,
+            contact_modulus: contact.modulus,
+            max_surface_pressure: crate::stage::max_surface_pressure(params),
+            surface_margin: crate::boundary::speculative_contact::SURFACE_MARGIN * contact.radius,
         }
     }
 
     /// The same block with a frame budget: `duration` seconds split among `steps` steps on the
     /// device, for the frame numbered `frame`.
     pub fn with_frame_budget(mut self, duration: f32, steps: u32, frame: u32) -> Self {
-        self.frame_budget = [duration.to_bits(), steps, frame, 0];
+        self.budget_time_bits = duration.to_bits();
+        self.budget_steps = steps;
+        self.budget_frame = frame;
         self
     }
 
-    /// The same block with what the boundary upload knows: the colliders in the guard's list
-    /// (`flags`' w), whether some boundary sample has friction and whether the samples do not
-    /// mirror DFSPH's stiffness (`dfsph_c`'s z and w, 1 or 0).
+    /// The same block with what the boundary upload knows: the colliders in the guard's list,
+    /// whether some boundary sample has friction and whether the samples do not mirror DFSPH's
+    /// stiffness (1 or 0).
     pub fn with_boundary(mut self, colliders: u32, friction: bool, unmirrored: bool) -> Self {
-        self.flags[3] = colliders;
-        self.dfsph_c[2] = if friction { 1.0 } else { 0.0 };
-        self.dfsph_c[3] = if unmirrored { 1.0 } else { 0.0 };
+        self.guard_colliders = colliders;
+        self.boundary_friction = if friction { 1.0 } else { 0.0 };
+        self.unmirrored_samples = if unmirrored { 1.0 } else { 0.0 };
         self
     }
 
     /// The same block with the drains' frame: the main world's frame `number` and the open
     /// drains in [`GpuPumps`](crate::gpu_layout::GpuPumps) (0 = none).
     pub fn with_drains(mut self, number: u32, open: u32) -> Self {
-        self.drains = [number, open, 0, 0];
+        self.drain_frame = number;
+        self.open_drains = open;
         self
     }
 
     /// The same block with the rollback settings of `rollback`.
     pub fn with_rollback(mut self, rollback: &crate::rollback::Rollback) -> Self {
-        self.rollback = [
-            rollback.enabled as u32,
-            rollback.checkpoint_interval,
-            rollback.max_retries,
-            crate::rollback::RECOVERY_STEPS,
-        ];
+        self.rollback_enabled = rollback.enabled as u32;
+        self.checkpoint_interval = rollback.checkpoint_interval;
+        self.max_retries = rollback.max_retries;
+        self.recovery_steps = crate::rollback::RECOVERY_STEPS;
         self
     }
 }

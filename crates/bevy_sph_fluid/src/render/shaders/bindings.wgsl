@@ -41,7 +41,7 @@
 @group(0) @binding(25) var<storage, read_write> boundary_position: array<vec4<f32>>;
 @group(0) @binding(26) var<storage, read_write> boundary_velocity: array<vec4<f32>>;
 @group(0) @binding(27) var<storage, read_write> boundary_cell_start: array<u32>;
-// The colliders, for the guard (params.flags.w of them).
+// The colliders, for the guard (params.guard_colliders of them).
 @group(0) @binding(28) var<storage, read_write> colliders: array<GpuCollider>;
 // Each boundary sample's body (0 the walls, k + 1 collider slot k), in the samples' order.
 @group(0) @binding(29) var<storage, read_write> boundary_body: array<u32>;

@@ -24,7 +24,7 @@ var<private> reaction_moment: vec3<f32>;
 
 // sph_core::gpu_layout::body_force_unit: a thousandth of a particle's standard weight [N].
 fn body_force_unit() -> f32 {
-    return max(params.gravity.w * 9.81e-3, 1.0e-30);
+    return max(params.particle_mass * 9.81e-3, 1.0e-30);
 }
 
 // sph_core::gpu_layout::body_moment_unit: the moments' unit, 16 times finer [N m].
@@ -33,12 +33,12 @@ fn body_moment_unit() -> f32 {
 }
 
 // Whether the sums are read: SphColliderForce reports colliders only, so while none is in the
-// boundary (params.flags.w counts them all, for the guard) nothing is summed, not even the walls'
+// boundary (params.guard_colliders counts them all, for the guard) nothing is summed, not even the walls'
 // (body 0), which no reader asks for. Then the passes skip the workgroup sums and their two
 // barriers (on dambreak32k about 5 of the forces pass's 19 ms). A uniform's value, so the
 // barriers below stay in uniform control flow.
 fn reactions_read() -> bool {
-    return params.flags.w > 0u;
+    return params.guard_colliders > 0u;
 }
 
 fn to_units(v: f32, unit: f32) -> i32 {

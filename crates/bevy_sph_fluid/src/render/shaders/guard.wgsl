@@ -209,8 +209,8 @@ fn guard(x_in: vec3<f32>, v_in: vec3<f32>) -> PositionVelocity {
     var v = v_in;
     var corrected = false;
     // A thousandth of the spacing (h / 2) deep before it counts (sph_core::boundary::guard::tolerance).
-    let tolerance = 5e-4 * params.kernel_a.x;
-    for (var k = 0u; k < params.flags.w; k++) {
+    let tolerance = 5e-4 * params.h;
+    for (var k = 0u; k < params.guard_colliders; k++) {
         let surface = collider_surface(k, x, -tolerance);
         if surface.w >= -tolerance {
             continue;

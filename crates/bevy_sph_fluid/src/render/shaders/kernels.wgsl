@@ -6,90 +6,90 @@
 
 // W_poly6 = 315/(64π h⁹) (h² - r²)³, branch-free (Müller 2003 eq. 20).
 fn poly6(r2: f32) -> f32 {
-    let d = max(params.kernel_a.y - r2, 0.0);
-    return params.kernel_a.z * d * d * d;
+    let d = max(params.h_squared - r2, 0.0);
+    return params.poly6_scale * d * d * d;
 }
 
 // ∇W_poly6 = -945/(32π h⁹) (h² - r²)² r.
 fn poly6_grad(r: vec3<f32>, r2: f32) -> vec3<f32> {
-    if r2 >= params.kernel_a.y {
+    if r2 >= params.h_squared {
         return vec3<f32>(0.0);
     }
-    let d = params.kernel_a.y - r2;
-    return r * (params.kernel_a.w * d * d);
+    let d = params.h_squared - r2;
+    return r * (params.poly6_grad * d * d);
 }
 
 // ∇W_spiky = -45/(π h⁶) (h - r)² r/|r|; zero for coincident particles.
 fn spiky_grad(r: vec3<f32>, r_len: f32) -> vec3<f32> {
-    let h = params.kernel_a.x;
+    let h = params.h;
     if r_len >= h || r_len <= 0.0 {
         return vec3<f32>(0.0);
     }
     let d = h - r_len;
-    return r * (params.kernel_b.x * d * d / r_len);
+    return r * (params.spiky_grad * d * d / r_len);
 }
 
 // ∇²W_viscosity = 45/(π h⁶) (h - r) (Müller 2003 eq. 22).
 fn viscosity_laplacian(r_len: f32) -> f32 {
-    let h = params.kernel_a.x;
+    let h = params.h;
     if r_len >= h {
         return 0.0;
     }
-    return params.kernel_b.y * (h - r_len);
+    return params.viscosity_laplacian * (h - r_len);
 }
 
 // Akinci 2013 eq. 2 cohesion spline.
 fn cohesion(r_len: f32) -> f32 {
-    let h = params.kernel_a.x;
+    let h = params.h;
     if r_len >= h || r_len <= 0.0 {
         return 0.0;
     }
     let d = h - r_len;
     let core = d * d * d * r_len * r_len * r_len;
     if 2.0 * r_len > h {
-        return params.kernel_b.z * core;
+        return params.cohesion * core;
     }
-    return params.kernel_b.z * (2.0 * core - params.kernel_b.w);
+    return params.cohesion * (2.0 * core - params.cohesion_offset);
 }
 
 // PBF's cubic spline (sph_core::kernel::CubicSpline, normalised on the rest lattice):
 // W = k (6q²(q - 1) + 1) for q = r/h <= 1/2, k 2(1 - q)³ up to 1.
 fn cubic(r_len: f32) -> f32 {
-    let q = r_len / params.kernel_a.x;
+    let q = r_len / params.h;
     if q >= 1.0 {
         return 0.0;
     }
     if q <= 0.5 {
-        return params.pbf_kernel.x * (6.0 * q * q * (q - 1.0) + 1.0);
+        return params.pbf_cubic_k * (6.0 * q * q * (q - 1.0) + 1.0);
     }
     let d = 1.0 - q;
-    return params.pbf_kernel.x * 2.0 * d * d * d;
+    return params.pbf_cubic_k * 2.0 * d * d * d;
 }
 
 // ∇W of the cubic spline for r = x_i - x_j: l q(3q - 2) r/|r| up to q = 1/2, -l (1 - q)² r/|r|
 // beyond; zero at r = 0 and beyond h.
 fn cubic_grad(r: vec3<f32>, r_len: f32) -> vec3<f32> {
-    let h = params.kernel_a.x;
+    let h = params.h;
     let q = r_len / h;
     if q >= 1.0 || r_len <= 1.0e-9 * h {
         return vec3<f32>(0.0);
     }
     var slope: f32;
     if q <= 0.5 {
-        slope = params.pbf_kernel.y * q * (3.0 * q - 2.0);
+        slope = params.pbf_cubic_l * q * (3.0 * q - 2.0);
     } else {
         let d = 1.0 - q;
-        slope = -params.pbf_kernel.y * d * d;
+        slope = -params.pbf_cubic_l * d * d;
     }
     return r * (slope / r_len);
 }
 
 // Linear p = k (ρ - ρ0) or Tait p = k ((ρ/ρ0)⁷ - 1), optionally clamped at zero.
 fn eos_pressure(rho: f32) -> f32 {
-    let rho0 = params.material.x;
-    let k = params.material.y;
+    let rho0 = params.rest_density;
+    let k = params.stiffness;
     var p: f32;
-    if params.flags.x == 1u {
+    if params.tait == 1u {
         let ratio = rho / rho0;
         let r2 = ratio * ratio;
         let r3 = r2 * ratio;
@@ -97,7 +97,7 @@ fn eos_pressure(rho: f32) -> f32 {
     } else {
         p = k * (rho - rho0);
     }
-    if params.flags.y == 1u {
+    if params.clamp_negative_pressure == 1u {
         p = max(p, 0.0);
     }
     return p;
@@ -120,9 +120,9 @@ fn collide_axis(x: f32, v: f32, lo: f32, hi: f32, damping: f32) -> vec2<f32> {
 }
 
 fn collide(x: vec3<f32>, v: vec3<f32>) -> PositionVelocity {
-    let lo = params.box_min.xyz;
-    let hi = params.box_max.xyz;
-    let damping = params.box_min.w;
+    let lo = params.box_min;
+    let hi = params.box_max;
+    let damping = params.wall_damping;
     let cx = collide_axis(x.x, v.x, lo.x, hi.x, damping);
     let cy = collide_axis(x.y, v.y, lo.y, hi.y, damping);
     let cz = collide_axis(x.z, v.z, lo.z, hi.z, damping);
@@ -131,5 +131,5 @@ fn collide(x: vec3<f32>, v: vec3<f32>) -> PositionVelocity {
 
 // Whether x lies beyond the box (the guard's clamp then counts a correction; sph_core::boundary::guard).
 fn outside_box(x: vec3<f32>) -> bool {
-    return any(x < params.box_min.xyz) || any(x > params.box_max.xyz);
+    return any(x < params.box_min) || any(x > params.box_max);
 }

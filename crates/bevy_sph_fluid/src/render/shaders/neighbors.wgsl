@@ -6,8 +6,8 @@
 #import sph::bindings::{params, cell_start, bucket_start, bucket_end, boundary_cell_start}
 
 fn grid_cell(p: vec3<f32>) -> vec3<i32> {
-    let c = vec3<i32>(floor((p - params.grid_origin.xyz) / params.grid_origin.w));
-    return clamp(c, vec3<i32>(0), vec3<i32>(params.grid_dims.xyz) - 1);
+    let c = vec3<i32>(floor((p - params.grid_origin) / params.cell_size));
+    return clamp(c, vec3<i32>(0), vec3<i32>(params.grid_dims) - 1);
 }
 
 fn grid_index(c: vec3<i32>) -> u32 {
@@ -17,7 +17,7 @@ fn grid_index(c: vec3<i32>) -> u32 {
 
 // (i, j, k) = floor(x / h).
 fn hash_cell(p: vec3<f32>) -> vec3<i32> {
-    return vec3<i32>(floor(p / params.grid_origin.w));
+    return vec3<i32>(floor(p / params.cell_size));
 }
 
 // The design's hash: (i·73856093 xor j·19349663 xor k·83492791) mod n, in wrapping u32.
@@ -70,7 +70,7 @@ fn neighbor_range(c: vec3<i32>, q: u32) -> vec2<u32> {
 // The first and last cell of grid row q (dy, dz) spanning x-1..x+1 around the cell c, or (1, 0)
 // when the row lies outside the grid.
 fn grid_row_cells(c: vec3<i32>, q: u32) -> vec2<u32> {
-    let dims = vec3<i32>(params.grid_dims.xyz);
+    let dims = vec3<i32>(params.grid_dims);
     let y = c.y + i32(q % 3u) - 1;
     let z = c.z + i32(q / 3u) - 1;
     if y < 0 || y >= dims.y || z < 0 || z >= dims.z {
@@ -92,7 +92,7 @@ fn grid_row_cells(c: vec3<i32>, q: u32) -> vec2<u32> {
 const LIST_TILE: u32 = 8u;
 
 fn list_slot(i: u32, k: u32) -> u32 {
-    return tiled_slot(i, k, params.pbf_counts.z);
+    return tiled_slot(i, k, params.pbf_max_neighbors);
 }
 
 // Entry k of particle i in tiles of LIST_TILE particles with `rows` entries each.

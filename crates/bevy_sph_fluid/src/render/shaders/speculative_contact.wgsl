@@ -1,5 +1,5 @@
 // The solids' speculative contact (Rust twin: sph_core::boundary::speculative_contact): the next drift may
-// bring a particle no closer than the margin (params.boundary_contact.w, a tenth of a spacing) to
+// bring a particle no closer than the margin (params.surface_margin, a tenth of a spacing) to
 // the exact surface of a collider or of the box. For each surface within reach, taken one after
 // another, the velocity the drift starts from, v' = v_c + (a + a_s) dt, may approach it at most
 // at (φ - margin)/dt relative to the solid there: (v' - v_s)·n >= -max(φ - margin, 0)/dt. The
@@ -16,7 +16,7 @@
 // drift's velocity takes it times step = κ dt.
 fn stopping(phi: f32, n: vec3<f32>, v_solid: vec3<f32>, v_next: vec3<f32>, dt: f32, step: f32) -> vec3<f32> {
     let approach = dot(v_next - v_solid, n);
-    let allowed = -max(phi - params.boundary_contact.w, 0.0) / dt;
+    let allowed = -max(phi - params.surface_margin, 0.0) / dt;
     if approach < allowed {
         return n * ((allowed - approach) / step);
     }
@@ -32,13 +32,13 @@ fn speculative_contact(x: vec3<f32>, v_c: vec3<f32>, a: vec3<f32>, dt: f32, kick
     if !(step > 0.0) {
         return vec3<f32>(0.0);
     }
-    let m = params.gravity.w;
+    let m = params.particle_mass;
     // Farther surfaces cannot be reached by the next drift (twice the reach covers a wedge).
-    let reach = params.boundary_contact.w + 2.0 * length(v_c + a * step) * dt;
+    let reach = params.surface_margin + 2.0 * length(v_c + a * step) * dt;
     var extra = vec3<f32>(0.0);
     // The box's six faces (body 0, the walls).
-    let lo = x - params.box_min.xyz;
-    let hi = params.box_max.xyz - x;
+    let lo = x - params.box_min;
+    let hi = params.box_max - x;
     let phis = array<f32, 6>(lo.x, hi.x, lo.y, hi.y, lo.z, hi.z);
     let normals = array<vec3<f32>, 6>(
         vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(-1.0, 0.0, 0.0),
@@ -55,7 +55,7 @@ fn speculative_contact(x: vec3<f32>, v_c: vec3<f32>, a: vec3<f32>, dt: f32, kick
             }
         }
     }
-    for (var k = 0u; k < params.flags.w; k++) {
+    for (var k = 0u; k < params.guard_colliders; k++) {
         let surface = collider_surface(k, x, reach);
         if surface.w >= reach {
             continue;

@@ -2,61 +2,178 @@
 #define_import_path sph::types
 
 struct SphUniforms {
+    // Live particles.
     particle_count: u32,
+    // Particle slots in every buffer.
     capacity: u32,
+    // Dense-grid cells (grid mode).
     cell_count: u32,
+    // Spatial-hash buckets (hash mode).
     table_size: u32,
-    // xyz: grid cells per axis; w: bitonic sort length (a power of two).
-    grid_dims: vec4<u32>,
-    // xyz: grid origin (box minimum); w: cell size h.
-    grid_origin: vec4<f32>,
-    // xyz: box minimum; w: wall damping.
-    box_min: vec4<f32>,
-    // xyz: box maximum; w: time step dt.
-    box_max: vec4<f32>,
-    // xyz: gravity; w: particle mass.
-    gravity: vec4<f32>,
-    // h, h², 315/(64π h⁹), -945/(32π h⁹)
-    kernel_a: vec4<f32>,
-    // -45/(π h⁶), 45/(π h⁶), 32/(π h⁹), h⁶/64
-    kernel_b: vec4<f32>,
-    // ρ0, stiffness k, viscosity μ, surface tension γ
-    material: vec4<f32>,
-    // x: Tait (1) or linear (0); y: clamp negative pressure; z: adaptive time step; w: the
-    // colliders in the guard's list (from the boundary upload)
-    flags: vec4<u32>,
-    // largest dt, CFL factor λ, viscous limit 0.125 h² ρ0/μ, speed of sound c0
-    time_step: vec4<f32>,
-    // rollback: enabled (0/1), checkpoint interval, max retries, recovery steps
-    rollback: vec4<u32>,
-    // real-time mode (sph_core::frame_budget): the frame's time [s] as f32 bits, the steps
-    // planned for it, the frame's number, 0; all zero when off
-    frame_budget: vec4<u32>,
-    // PBF (sph_core::solver::pbf::macklin2013::PbfContext): the cubic spline's k and l, the relaxation
-    // ε [1/m²], s_corr's k in λ's units
-    pbf_kernel: vec4<f32>,
-    // PBF: 1 / W(Δq), XSPH c, vorticity ε [m/s], the correction cap before gravity's term [m]
-    pbf: vec4<f32>,
-    // PBF: s_corr's n, iterations per step, the neighbour lists' length, 0
-    pbf_counts: vec4<u32>,
-    // DFSPH (sph_core::solver::dfsph::bender2017): the largest mean density error (fraction of ρ0), the
-    // largest mean divergence error [1/s], the factor's cut-off, warm start (1) or not (0)
-    dfsph: vec4<f32>,
-    // DFSPH: min and max constant-density iterations, min and max divergence-free iterations
-    dfsph_counts: vec4<u32>,
-    // DFSPH: the spacing Δx [m], the warm starts' fractions of the last stiffness (density,
-    // divergence), the largest correction per step (fraction of ρ0)
-    dfsph_b: vec4<f32>,
-    // Drains: the main world's frame number, the open drains in SphPumps (0 = none), 0, 0.
-    drains: vec4<u32>,
-    // DFSPH: the divergence-free solve's over-relaxation ω, the constant-density solve's ω;
-    // 1 when some boundary sample has friction, else 0; 1 while the boundary samples do not
-    // mirror the stiffness, else 0 (z and w from the boundary upload)
-    dfsph_c: vec4<f32>,
-    // The boundary samples' contact (sph_core::stage::BoundaryContact): its range Δx [m], its
-    // pressure at r = 0, 2 ρ0 c0² [Pa]; the free surface's largest pressure ρ0 |g| Δx/2 [Pa];
-    // the speculative contact's margin from the solids' surfaces [m]
-    boundary_contact: vec4<f32>,
+    // Grid cells along x, y, z.
+    grid_dims: vec3<u32>,
+    // The padded sort length (hash mode, a power of two).
+    sort_length: u32,
+    // Grid origin (the box minimum) [m].
+    grid_origin: vec3<f32>,
+    // Grid cell size, h [m].
+    cell_size: f32,
+    // Box minimum [m].
+    box_min: vec3<f32>,
+    // Wall damping.
+    wall_damping: f32,
+    // Box maximum [m].
+    box_max: vec3<f32>,
+    // The fixed time step dt [s] (`SphParams::time_step`).
+    fixed_dt: f32,
+    // Gravity [m/s²].
+    gravity: vec3<f32>,
+    // Particle mass m [kg].
+    particle_mass: f32,
+    // Smoothing radius h [m].
+    h: f32,
+    // h² [m²].
+    h_squared: f32,
+    // poly6's constant, 315/(64π h⁹).
+    poly6_scale: f32,
+    // ∇poly6's constant, -945/(32π h⁹).
+    poly6_grad: f32,
+    // ∇spiky's constant, -45/(π h⁶), times the pressure-gradient correction of
+    // sph_core::stage::StageContext.
+    spiky_grad: f32,
+    // ∇²viscosity's constant, 45/(π h⁶).
+    viscosity_laplacian: f32,
+    // Akinci's cohesion constant, 32/(π h⁹).
+    cohesion: f32,
+    // The cohesion kernel's offset, h⁶/64.
+    cohesion_offset: f32,
+    // Rest density ρ0 [kg/m³].
+    rest_density: f32,
+    // Stiffness k.
+    stiffness: f32,
+    // Dynamic viscosity μ.
+    viscosity: f32,
+    // Surface tension γ.
+    surface_tension: f32,
+    // Equation of state: 1 Tait, 0 linear.
+    tait: u32,
+    // Clamp negative pressure (0/1).
+    clamp_negative_pressure: u32,
+    // Adaptive time step (0/1).
+    adaptive_time_step: u32,
+    // Colliders in the guard's list (GpuSphParams::with_boundary).
+    guard_colliders: u32,
+    // The time-step rule's largest dt [s].
+    max_dt: f32,
+    // CFL factor λ.
+    cfl_factor: f32,
+    // The viscous limit 0.125 h² ρ0/μ [s] (f32::MAX without viscosity).
+    viscous_limit: f32,
+    // Speed of sound c0 [m/s].
+    speed_of_sound: f32,
+    // Rollback (sph_core::rollback) on (1) or off (0); all four rollback fields are zero until
+    // GpuSphParams::with_rollback.
+    rollback_enabled: u32,
+    // Steps between checkpoints.
+    checkpoint_interval: u32,
+    // Retries before a step is given up.
+    max_retries: u32,
+    // Steps at a reduced dt after a rollback.
+    recovery_steps: u32,
+    // Real-time mode (sph_core::frame_budget): the frame's time [s] as f32 bits; the budget fields
+    // are zero (off) until GpuSphParams::with_frame_budget.
+    budget_time_bits: u32,
+    // The steps planned for the frame (0: no budget).
+    budget_steps: u32,
+    // The frame's number (a new number starts a new budget).
+    budget_frame: u32,
+    // Unused (keeps the block in 16-byte rows).
+    budget_reserved: u32,
+    // PBF (sph_core::solver::pbf::macklin2013::PbfContext): the cubic spline's value constant k.
+    pbf_cubic_k: f32,
+    // PBF: the cubic spline's gradient constant l.
+    pbf_cubic_l: f32,
+    // PBF: the relaxation ε [1/m²].
+    pbf_relaxation: f32,
+    // PBF: s_corr's k in λ's units.
+    pbf_s_corr_k: f32,
+    // PBF: 1 / W(Δq).
+    pbf_inverse_w_dq: f32,
+    // PBF: XSPH's c.
+    pbf_xsph_c: f32,
+    // PBF: vorticity confinement's ε [m/s].
+    pbf_vorticity_epsilon: f32,
+    // PBF: the correction cap before the step's gravity term
+    // (sph_core::solver::pbf::macklin2013::MAX_CORRECTION h) [m].
+    pbf_max_correction: f32,
+    // PBF: s_corr's n.
+    pbf_s_corr_n: u32,
+    // PBF: Jacobi iterations per step.
+    pbf_iterations: u32,
+    // PBF: the neighbour lists' length, PBF_MAX_NEIGHBORS.
+    pbf_max_neighbors: u32,
+    // PBF: the over-relaxation ω as f32 bits.
+    pbf_over_relaxation_bits: u32,
+    // DFSPH (sph_core::solver::dfsph::bender2017): the largest mean density error (a fraction of
+    // ρ0).
+    dfsph_max_density_error: f32,
+    // DFSPH: the largest mean divergence error [1/s].
+    dfsph_max_divergence_error: f32,
+    // DFSPH: the cut-off of an isolated particle's factor (a fraction of the rest lattice's D).
+    dfsph_factor_epsilon: f32,
+    // DFSPH: warm start (1) or not (0).
+    dfsph_warm_start: f32,
+    // DFSPH: the constant-density solve's least iterations.
+    dfsph_min_density_iterations: u32,
+    // DFSPH: the constant-density solve's most iterations.
+    dfsph_max_density_iterations: u32,
+    // DFSPH: the divergence-free solve's least iterations.
+    dfsph_min_divergence_iterations: u32,
+    // DFSPH: the divergence-free solve's most iterations.
+    dfsph_max_divergence_iterations: u32,
+    // The spacing Δx [m] (DFSPH's CFL rule's length).
+    spacing: f32,
+    // DFSPH: the constant-density solve's warm start fraction
+    // (sph_core::solver::dfsph::bender2017::DENSITY_WARM_START).
+    dfsph_density_warm_start: f32,
+    // DFSPH: the divergence-free solve's warm start fraction
+    // (sph_core::solver::dfsph::bender2017::DIVERGENCE_WARM_START).
+    dfsph_divergence_warm_start: f32,
+    // DFSPH: the largest correction per step
+    // (sph_core::solver::dfsph::bender2017::MAX_CORRECTION).
+    dfsph_max_correction: f32,
+    // Drains: the main world's frame number, recorded with each sort's tail
+    // (GpuSphParams::with_drains).
+    drain_frame: u32,
+    // Drains: the open drains in GpuPumps (0 = none).
+    open_drains: u32,
+    // Unused (keeps the block in 16-byte rows).
+    drains_unused_z: u32,
+    // Unused (keeps the block in 16-byte rows).
+    drains_unused_w: u32,
+    // DFSPH: the divergence-free solve's over-relaxation ω
+    // (sph_core::DfsphSettings::divergence_over_relaxation).
+    dfsph_divergence_over_relaxation: f32,
+    // DFSPH: the constant-density solve's over-relaxation ω
+    // (sph_core::DfsphSettings::density_over_relaxation).
+    dfsph_density_over_relaxation: f32,
+    // 1 when some boundary sample has friction, else 0 (GpuSphParams::with_boundary: without one
+    // DFSPH's forces pass skips the samples and the reactions' workgroup sums, which only friction
+    // feeds there).
+    boundary_friction: f32,
+    // 1 while the boundary samples do not mirror DFSPH's stiffness, else 0
+    // (GpuBoundarySamples::mirrors, from GpuSphParams::with_boundary).
+    unmirrored_samples: f32,
+    // The boundary samples' contact (sph_core::stage::BoundaryContact): its range Δx [m].
+    contact_radius: f32,
+    // The contact's pressure at r = 0, 2 ρ0 c0² [Pa].
+    contact_modulus: f32,
+    // The free surface's largest pressure ρ0 |g| Δx/2 [Pa]
+    // (sph_core::stage::max_surface_pressure).
+    max_surface_pressure: f32,
+    // The speculative contact's margin from the solids' surfaces [m]
+    // (sph_core::boundary::speculative_contact::SURFACE_MARGIN Δx).
+    surface_margin: f32,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).

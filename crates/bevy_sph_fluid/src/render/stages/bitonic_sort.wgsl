@@ -8,7 +8,7 @@
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
-    if i >= params.grid_dims.w {
+    if i >= params.sort_length {
         return;
     }
     let l = i ^ step.j;

@@ -23,7 +23,7 @@ const MARKED_KEY: u32 = 0xfffffffeu;
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
 #ifdef SEARCH_HASH
-    if i >= params.grid_dims.w {
+    if i >= params.sort_length {
         return;
     }
     if i >= params.particle_count {
@@ -78,7 +78,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef PRE_PBF
     if integrating {
     acceleration_start[i] = vec4<f32>(x, 0.0);
-    let v = velocity[i].xyz + params.gravity.xyz * dt;
+    let v = velocity[i].xyz + params.gravity * dt;
     let moved = guard(x + v * dt, v);
     x = moved.x;
     velocity[i] = vec4<f32>(moved.v, 0.0);
@@ -97,7 +97,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // Drains: a particle inside an open drain is marked (its id's high bit) and sorted to the
     // tail of the live range, after every cell, where no neighbour loop visits it; the sort's
     // pass 2 records how many (docs/scenes.md).
-    if !was_drained && params.drains.y > 0u && in_open_sink(x) {
+    if !was_drained && params.open_drains > 0u && in_open_sink(x) {
         position[i] = vec4<f32>(position[i].xyz, bitcast<f32>(bitcast<u32>(position[i].w) | DRAINED_BIT));
     }
     if drained(position[i].w) {

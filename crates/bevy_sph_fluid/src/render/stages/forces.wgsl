@@ -45,7 +45,7 @@
 // max(ρ, ρ0)², the density the pressure terms divide by: a free-surface particle's SPH density
 // is short by the air's share of its kernel (sph_core::forces::pressure_density_squared).
 fn pressure_density_squared(rho: f32) -> f32 {
-    let r = max(rho, params.material.x);
+    let r = max(rho, params.rest_density);
     return r * r;
 }
 
@@ -59,7 +59,7 @@ fn viscosity_velocity(j: u32) -> vec3<f32> {
 
 // p̄_i = Σ_j (p_j/ρ_j) W_ij / Σ_j W_ij/ρ_j, i included (sph_core::forces::pressure_around).
 fn pressure_around(x_i: vec3<f32>, c: vec3<i32>) -> f32 {
-    let h2 = params.kernel_a.y;
+    let h2 = params.h_squared;
     var weighted = 0.0;
     var weights = 0.0;
     for (var q = 0u; q < neighbor_range_count(); q++) {
@@ -86,14 +86,14 @@ fn pressure_around(x_i: vec3<f32>, c: vec3<i32>) -> f32 {
 // p_c = 2 ρ0 c0² q² (1 + (8 q)⁴), q = 1 - r/Δx, zero beyond Δx
 // (sph_core::stage::BoundaryContact::push and ::pressure).
 fn contact_push(r: vec3<f32>, r_len: f32, volume: f32) -> vec3<f32> {
-    let closer = max(1.0 - r_len / params.boundary_contact.x, 0.0);
+    let closer = max(1.0 - r_len / params.contact_radius, 0.0);
     let q2 = closer * closer;
     let steep = 64.0 * q2;
-    let p_c = params.boundary_contact.y * q2 * (1.0 + steep * steep);
+    let p_c = params.contact_modulus * q2 * (1.0 + steep * steep);
     if p_c <= 0.0 {
         return vec3<f32>(0.0);
     }
-    return spiky_grad(r, r_len) * (-volume * p_c / params.material.x);
+    return spiky_grad(r, r_len) * (-volume * p_c / params.rest_density);
 }
 
 // The time step the contact stops approaches within: the step's, chosen by the time-step pass,
@@ -106,7 +106,7 @@ fn contact_dt() -> f32 {
 #ifdef POST_LEAPFROG_KICK
     return step_dt();
 #else
-    return params.time_step.x;
+    return params.max_dt;
 #endif
 #endif
 }
@@ -146,7 +146,7 @@ fn contact_shares(x_i: vec3<f32>, g: vec3<i32>, n: vec3<f32>, force: vec3<f32>) 
             let sample = boundary_position[b];
             let r = x_i - sample.xyz;
             let r_len = sqrt(dot(r, r));
-            if r_len < params.boundary_contact.x {
+            if r_len < params.contact_radius {
                 let w = max(dot(contact_push(r, r_len, sample.w), n), 0.0);
                 along += w;
                 if reacting && w > 0.0 {
@@ -159,11 +159,11 @@ fn contact_shares(x_i: vec3<f32>, g: vec3<i32>, n: vec3<f32>, force: vec3<f32>) 
 }
 
 // Whether the boundary samples add anything in this pass: DFSPH's pressure solves answer for
-// the boundary, so here only a sample with friction does (params.dfsph_c.z); otherwise always.
+// the boundary, so here only a sample with friction does (params.boundary_friction); otherwise always.
 // dambreak32k's walls have none: its samples' loop is skipped.
 fn samples_act() -> bool {
 #ifdef SOLVER_DFSPH
-    return params.dfsph_c.z > 0.0;
+    return params.boundary_friction > 0.0;
 #else
     return true;
 #endif
@@ -191,8 +191,8 @@ fn particle(i: u32) {
     let x_i = x.xyz;
     let rho_i = density[i];
     let p_i = pressure[i] / pressure_density_squared(rho_i);
-    let m = params.gravity.w;
-    let h2 = params.kernel_a.y;
+    let m = params.particle_mass;
+    let h2 = params.h_squared;
     let v_i = viscosity_velocity(i);
 #ifdef SURFACE_TENSION
     let n_i = normal[i].xyz;
@@ -237,24 +237,24 @@ fn particle(i: u32) {
             viscosity_sum += (viscosity_velocity(j) - v_i) * (viscosity_laplacian(r_len) / rho_j);
 #endif
 #ifdef SURFACE_TENSION
-            let correction = 2.0 * params.material.x / (rho_i + rho_j);
+            let correction = 2.0 * params.rest_density / (rho_i + rho_j);
             var pull = vec3<f32>(0.0);
             if r_len > 0.0 {
                 pull = r * (m * cohesion(r_len) / r_len);
             }
-            surface -= params.material.w * correction * (pull + (n_i - normal[j].xyz));
+            surface -= params.surface_tension * correction * (pull + (n_i - normal[j].xyz));
 #endif
 #ifndef SOLVER_DFSPH
         }
 #endif
     }
     // The boundary samples (Rust twin: sph_core::forces::boundary_acceleration_at).
-    let rho0 = params.material.x;
+    let rho0 = params.rest_density;
     // The wall mirrors p_i, or where the clamp made it zero the Shepard average of the pressure
     // around i (computed only then, at the first sample within h; -1 until then).
     var p_wall = -1.0;
     var own = 0.0;
-    let viscous = params.material.z / rho_i;
+    let viscous = params.viscosity / rho_i;
     var wall = vec3<f32>(0.0);
     // The contact's pushes, and the samples' velocities weighted by their push.
     var push_sum = vec3<f32>(0.0);
@@ -275,7 +275,7 @@ fn particle(i: u32) {
             let r_len = sqrt(r2);
 #ifndef SOLVER_DFSPH
             // The velocity is read only within the contact's range.
-            if r_len < params.boundary_contact.x {
+            if r_len < params.contact_radius {
                 let push = contact_push(r, r_len, sample.w);
                 let weight = length(push);
                 push_sum += push;
@@ -295,7 +295,7 @@ fn particle(i: u32) {
                 own = p_wall / pressure_density_squared(rho_i);
             }
             // r = x_i - x_b, so g·(x_b - x_i) = -g·r.
-            let p_b = max(p_wall - rho0 * dot(params.gravity.xyz, r), 0.0);
+            let p_b = max(p_wall - rho0 * dot(params.gravity, r), 0.0);
             let mirrored = own + p_b / (rho0 * rho0);
             var a_b = spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
 #endif
@@ -315,7 +315,7 @@ fn particle(i: u32) {
             }
         }
     }
-    var a = pressure_sum * m + viscosity_sum * (params.material.z * m / rho_i) + wall + params.gravity.xyz;
+    var a = pressure_sum * m + viscosity_sum * (params.viscosity * m / rho_i) + wall + params.gravity;
 #ifdef SURFACE_TENSION
     a += surface;
 #endif
@@ -354,7 +354,7 @@ fn particle(i: u32) {
 #endif
 #ifdef SOLVER_DFSPH
     // DFSPH's CFL rule reads max |v + a_np dt_max| (sph_core::solver::dfsph::next_time_step).
-    record_speed(i, velocity[i].xyz + a * params.time_step.x);
+    record_speed(i, velocity[i].xyz + a * params.max_dt);
 #endif
 #ifdef POST_KDK
     let v = pumped(x_i, collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v, dt);

@@ -12,7 +12,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if k == 0u {
         // The drained particles' keys sort last: record how many (as the grid's prefix sum).
         clock.tail_size = atomicExchange(&clock.marked, 0u);
-        clock.tail_frame = params.drains.x;
+        clock.tail_frame = params.drain_frame;
     }
     let key = sort_keys[k];
     if key >= params.table_size {

@@ -1,6 +1,6 @@
 // PBF's neighbour lists (Macklin & Müller 2013, Algorithm 1, line 5): after the sort of the
 // predicted positions x*, the particles j != i within h of i at x*, at most
-// sph_core::gpu_layout::PBF_MAX_NEIGHBORS (params.pbf_counts.z) of them (neighbour k at list_slot(i, k)), and their
+// sph_core::gpu_layout::PBF_MAX_NEIGHBORS (params.pbf_max_neighbors) of them (neighbour k at list_slot(i, k)), and their
 // number in neighbor_count. The step's other PBF passes loop over these lists and evaluate the
 // kernel at their own positions. A particle with more neighbours keeps the first ones found and
 // is counted in the clock. Rust twin: sph_core::neighbor::lists::NeighborLists::rebuild.
@@ -15,8 +15,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let x_i = position[i].xyz;
     let c = home_cell(x_i);
-    let h2 = params.kernel_a.y;
-    let most = params.pbf_counts.z;
+    let h2 = params.h_squared;
+    let most = params.pbf_max_neighbors;
     var count = 0u;
     var overflow = false;
     for (var q = 0u; q < neighbor_range_count(); q++) {

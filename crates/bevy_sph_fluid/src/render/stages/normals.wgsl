@@ -12,7 +12,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let x_i = position[i].xyz;
     let c = home_cell(x_i);
-    let h2 = params.kernel_a.y;
+    let h2 = params.h_squared;
     var sum = vec3<f32>(0.0);
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
@@ -25,5 +25,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
-    normal[i] = vec4<f32>(params.kernel_a.x * params.gravity.w * sum, 0.0);
+    normal[i] = vec4<f32>(params.h * params.particle_mass * sum, 0.0);
 }

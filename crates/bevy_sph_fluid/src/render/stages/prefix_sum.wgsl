@@ -39,6 +39,6 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
         // The live particles in cells; the drained ones follow (their cell is n).
         cell_start[n] = partial[t];
         clock.tail_size = atomicExchange(&clock.marked, 0u);
-        clock.tail_frame = params.drains.x;
+        clock.tail_frame = params.drain_frame;
     }
 }

@@ -59,8 +59,7 @@ fn main() {
     atomicStore(&clock.max_acceleration_bits, 0u);
     let v_max = bitcast<f32>(speed_bits);
     let a_max = bitcast<f32>(acceleration_bits);
-    let h = params.grid_origin.w;
-    let rollback = params.rollback;
+    let h = params.cell_size;
     let checked = clock.step > 0u;
 #ifdef SOLVER_PBF
     // PBF moves particles by positions: only a non-finite state is unstable
@@ -71,8 +70,8 @@ fn main() {
 #endif
     var rule_dt: f32;
     if unstable {
-        let can_retry = rollback.x != 0u && clock.has_checkpoint != 0u;
-        if !can_retry || clock.retries >= rollback.z {
+        let can_retry = params.rollback_enabled != 0u && clock.has_checkpoint != 0u;
+        if !can_retry || clock.retries >= params.max_retries {
             clock.unstable_step = clock.step;
             if can_retry {
                 restore();
@@ -92,40 +91,40 @@ fn main() {
     } else {
         if checked {
             clock.stable_steps += 1u;
-            if clock.halvings > 0u && clock.stable_steps >= rollback.w {
+            if clock.halvings > 0u && clock.stable_steps >= params.recovery_steps {
                 clock.halvings -= 1u;
                 clock.stable_steps = 0u;
             }
         }
-        rule_dt = params.time_step.x;
+        rule_dt = params.max_dt;
 #ifdef SOLVER_PBF
         // PBF's rule (sph_core::solver::pbf::next_time_step): min(time_step, λ h / v_max) with
         // v_max = max |v + g dt_max|, as the finish pass records it.
-        if params.flags.z != 0u && v_max > 0.0 {
-            rule_dt = min(rule_dt, params.time_step.y * h / v_max);
+        if params.adaptive_time_step != 0u && v_max > 0.0 {
+            rule_dt = min(rule_dt, params.cfl_factor * h / v_max);
         }
 #else
 #ifdef SOLVER_DFSPH
         // DFSPH's rule (sph_core::solver::dfsph::bender2017::dfsph_time_step): min(time_step, λ Δx / v_max,
         // 0.125 h² ρ0/μ) with v_max = max |v + a_np dt_max|, as the forces pass records it.
-        if params.flags.z != 0u {
+        if params.adaptive_time_step != 0u {
             if v_max > 0.0 {
-                rule_dt = min(rule_dt, params.time_step.y * params.dfsph_b.x / v_max);
+                rule_dt = min(rule_dt, params.cfl_factor * params.spacing / v_max);
             }
-            rule_dt = min(rule_dt, params.time_step.z);
+            rule_dt = min(rule_dt, params.viscous_limit);
         }
 #else
-        if params.flags.z != 0u {
-            rule_dt = min(rule_dt, params.time_step.y * h / (params.time_step.w + v_max));
-            rule_dt = min(rule_dt, params.time_step.z);
+        if params.adaptive_time_step != 0u {
+            rule_dt = min(rule_dt, params.cfl_factor * h / (params.speed_of_sound + v_max));
+            rule_dt = min(rule_dt, params.viscous_limit);
             if a_max > 0.0 {
                 rule_dt = min(rule_dt, 0.25 * sqrt(h / a_max));
             }
         }
 #endif
 #endif
-        let due = clock.has_checkpoint == 0u || clock.save_requested != 0u || clock.step >= clock.checkpoint_step + rollback.y;
-        if rollback.x != 0u && due {
+        let due = clock.has_checkpoint == 0u || clock.save_requested != 0u || clock.step >= clock.checkpoint_step + params.checkpoint_interval;
+        if params.rollback_enabled != 0u && due {
             clock.checkpoint_action = SAVE;
             clock.has_checkpoint = 1u;
             clock.checkpoint_step = clock.step;
@@ -139,12 +138,11 @@ fn main() {
     }
     clock.rule_dt = rule_dt;
     var dt = rule_dt * scale();
-    let budget = params.frame_budget;
-    if budget.y != 0u {
-        if clock.budget_frame != budget.z {
-            clock.budget_frame = budget.z;
-            clock.budget_remaining = bitcast<f32>(budget.x);
-            clock.budget_steps_left = budget.y;
+    if params.budget_steps != 0u {
+        if clock.budget_frame != params.budget_frame {
+            clock.budget_frame = params.budget_frame;
+            clock.budget_remaining = bitcast<f32>(params.budget_time_bits);
+            clock.budget_steps_left = params.budget_steps;
         }
         let left = max(clock.budget_steps_left, 1u);
         dt = min(dt, max(clock.budget_remaining, 0.0) / f32(left));

@@ -38,16 +38,16 @@ const HIGH_WORD: f32 = 4.294967296;
 const UNITS_PER_ONE: f32 = 1.0e9;
 
 fn mass() -> f32 {
-    return params.gravity.w;
+    return params.particle_mass;
 }
 
 fn rest_density() -> f32 {
-    return params.material.x;
+    return params.rest_density;
 }
 
 // The particle spacing Δx (the CFL rule's length).
 fn spacing() -> f32 {
-    return params.dfsph_b.x;
+    return params.spacing;
 }
 
 struct Factor {
@@ -80,9 +80,9 @@ fn mirrors(i: u32) -> bool {
 }
 
 // Whether the boundary samples mirror κ_i and hold the rise: unless a dynamic collider is in the
-// water, and then none does (params.dfsph_c.w; sph_core::gpu_layout::GpuBoundarySamples::mirrors).
+// water, and then none does (params.unmirrored_samples; sph_core::gpu_layout::GpuBoundarySamples::mirrors).
 fn samples_mirror() -> bool {
-    return params.dfsph_c.w == 0.0;
+    return params.unmirrored_samples == 0.0;
 }
 
 // p̂_i = max((κ_i^ρ + κ_i^v) ρ0², 0) of the solves' totals when the factors pass ran: the
@@ -95,7 +95,7 @@ fn rise_floor(i: u32) -> f32 {
 // ρ0 g·(x_b - x_i), no lower than -p̂ (Rust twin: sph_core::solver::dfsph::bender2017::BoundaryRise).
 fn rise_over_rho0_squared(x_i: vec3<f32>, x_b: vec3<f32>, p_floor: f32) -> f32 {
     let rho0 = rest_density();
-    let rise = max(rho0 * dot(params.gravity.xyz, x_b - x_i), -p_floor);
+    let rise = max(rho0 * dot(params.gravity, x_b - x_i), -p_floor);
     return rise / (rho0 * rho0);
 }
 
@@ -114,9 +114,9 @@ fn set_stiffness(i: u32, k: f32) {
 // over-relaxation of sph_core::solver::dfsph::bender2017::stiffness_from_source.
 fn over_relaxed(k: f32, previous: f32) -> f32 {
 #ifdef DIVERGENCE_SOLVE
-    let omega = params.dfsph_c.x;
+    let omega = params.dfsph_divergence_over_relaxation;
 #else
-    let omega = params.dfsph_c.y;
+    let omega = params.dfsph_density_over_relaxation;
 #endif
     return omega * k + (omega - 1.0) * previous;
 }
@@ -160,7 +160,7 @@ const PAIR_ZERO: f32 = 16384.0;
 // sph::kernels::cubic_grad), above its l (1 - q)² beyond q = 1/2. Rust twin:
 // sph_core::gpu_dfsph_pairs::scale.
 fn pair_scale() -> f32 {
-    return mass() * params.pbf_kernel.y / 3.0;
+    return mass() * params.pbf_cubic_l / 3.0;
 }
 
 // g_ij in steps of scale / PAIR_STEPS, clamped to ±PAIR_STEPS (ties to even): what a packed pair
@@ -196,7 +196,7 @@ fn unpack_pair(e: vec2<u32>, scale: f32) -> Pair {
 // The entry of pairs k and k + 1 (k even): tiles of LIST_TILE particles as the lists, half as
 // many rows.
 fn pairs_slot(i: u32, k: u32) -> u32 {
-    return tiled_slot(i, k / 2u, params.pbf_counts.z / 2u);
+    return tiled_slot(i, k / 2u, params.pbf_max_neighbors / 2u);
 }
 
 // Pairs k and k + 1 of particle i (k even; `second` means nothing when k + 1 is past the list).
@@ -238,22 +238,22 @@ fn goes_on(applied: u32, error: f32, least: u32, most: u32, eta: f32) -> bool {
 }
 
 // The solve's tolerance η: the constant-density solve's largest mean compression
-// (params.dfsph.x), the divergence-free solve's largest mean compression rate [1/s] (.y).
+// (params.dfsph_max_density_error), the divergence-free solve's largest mean compression rate [1/s] (.y).
 fn tolerance() -> f32 {
 #ifdef DIVERGENCE_SOLVE
-    return params.dfsph.y;
+    return params.dfsph_max_divergence_error;
 #else
-    return params.dfsph.x;
+    return params.dfsph_max_density_error;
 #endif
 }
 
-// goes_on with the solve's least and most iterations (params.dfsph_counts: constant density
-// x, y; divergence-free z, w) and its tolerance.
+// goes_on with the solve's least and most iterations (params.dfsph_min_* and
+// params.dfsph_max_*_iterations) and its tolerance.
 fn solve_goes_on(applied: u32, error: f32) -> bool {
 #ifdef DIVERGENCE_SOLVE
-    let counts = params.dfsph_counts.zw;
+    let counts = vec2(params.dfsph_min_divergence_iterations, params.dfsph_max_divergence_iterations);
 #else
-    let counts = params.dfsph_counts.xy;
+    let counts = vec2(params.dfsph_min_density_iterations, params.dfsph_max_density_iterations);
 #endif
     return goes_on(applied, error, counts.x, counts.y, tolerance());
 }

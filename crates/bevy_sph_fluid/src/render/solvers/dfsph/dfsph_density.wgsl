@@ -2,7 +2,7 @@
 // over the lists' pairs and the boundary samples within h,
 // ρ_i = m Σ_j W_ij (self included) + Σ_b Ψ_b W_ib,
 // D_i = (Σ_j g_ij + Σ_b g_ib + Σ_b' g_ib')·(Σ_j g_ij + Σ_b g_ib) + Σ_j |g_ij|²  ->  1/D_i (0
-// below the cut-off params.dfsph.z), b' the samples that mirror κ_i (none while a dynamic
+// below the cut-off params.dfsph_factor_epsilon), b' the samples that mirror κ_i (none while a dynamic
 // collider is in the water, sph_core::Boundary::mirrors); unless that D is below half of D without them (a particle pinched between a
 // mirrored wall and a body, whose factor the mirror would halve): then none mirrors.
 // Besides: Σ_b g_ib, Σ_b' g_ib', Σ_b v_b·g_ib, the neighbour count, the rise's floor
@@ -50,7 +50,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let x_i = position[i].xyz;
     let m = mass();
     let rho0 = rest_density();
-    let h2 = params.kernel_a.y;
+    let h2 = params.h_squared;
     var fluid_sums = FluidSums(m * cubic(0.0), vec3<f32>(0.0), 0.0);
     let scale = pair_scale();
     let fluid = neighbor_count[i];
@@ -97,7 +97,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let mirrored = once + dot(mirrored_grad, sum + boundary_grad);
     let mirror = mirrored >= 0.5 * once;
     let d = select(once, mirrored, mirror);
-    let inverse = select(0.0, 1.0 / d, d > params.dfsph.z);
+    let inverse = select(0.0, 1.0 / d, d > params.dfsph_factor_epsilon);
     let totals = velocity_predicted[i];
     let p_floor = max((totals.x + totals.y) * rho0 * rho0, 0.0);
     density[i] = rho;

@@ -23,7 +23,7 @@ fn rise(i: u32) -> vec3<f32> {
     }
     let x_i = position[i].xyz;
     let p_floor = rise_floor(i);
-    let h2 = params.kernel_a.y;
+    let h2 = params.h_squared;
     let rho0 = rest_density();
     let cell = grid_cell(x_i);
     for (var q = 0u; q < 9u; q++) {

@@ -43,7 +43,7 @@ fn particle(i: u32) {
     // The factors pass counted the samples within h at these positions: none, no reaction;
     // a drained particle gives none either, nor any while no sum is read.
     if (k != 0.0 || rises) && kept && boundary_neighbors(i) > 0.0 && reactions_read() {
-        let h2 = params.kernel_a.y;
+        let h2 = params.h_squared;
         let rho0 = rest_density();
         let mirror_samples = samples_mirror();
         let cell = grid_cell(x_i);

@@ -48,7 +48,7 @@ fn source(i: u32) -> f32 {
     return max(rate, 0.0);
 #else
     let rho0 = rest_density();
-    return clamp(density[i] + step_dt() * rate - rho0, 0.0, params.dfsph_b.w * rho0);
+    return clamp(density[i] + step_dt() * rate - rho0, 0.0, params.dfsph_max_correction * rho0);
 #endif
 }
 
@@ -86,7 +86,7 @@ fn top_row_target(i: u32, s: f32) -> f32 {
     if weights <= 0.0 {
         return -1.0;
     }
-    let cap = length(params.gravity.xyz) * spacing() / (2.0 * rho0);
+    let cap = length(params.gravity) * spacing() / (2.0 * rho0);
     return min(sum / weights, cap);
 }
 
@@ -99,9 +99,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let dt = step_dt();
 #ifdef DFSPH_WARM
 #ifdef DIVERGENCE_SOLVE
-        let fraction = params.dfsph_b.z;
+        let fraction = params.dfsph_divergence_warm_start;
 #else
-        let fraction = params.dfsph_b.y;
+        let fraction = params.dfsph_density_warm_start;
 #endif
         let k = select(0.0, total(i) * fraction, s > 0.0);
         set_stiffness(i, k);
@@ -128,7 +128,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         // neighbours' is positive: no target); the apply pass adds k to the sum.
         var fresh = false;
 #ifdef DFSPH_FIRST
-        fresh = params.dfsph.w == 0.0;
+        fresh = params.dfsph_warm_start == 0.0;
 #endif
         var before = 0.0;
         var lift_to = -1.0;
@@ -139,7 +139,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         set_stiffness(i, k + max(lift_to - (before + k), 0.0));
 #endif
 #ifdef DFSPH_FIRST
-        if params.dfsph.w == 0.0 {
+        if params.dfsph_warm_start == 0.0 {
             set_total(i, 0.0);
         }
 #endif

@@ -44,7 +44,7 @@ fn write_next_position(i: u32, x: vec3<f32>) {
 
 // The over-relaxation ω of the iterations after the first.
 fn over_relaxation() -> f32 {
-    return bitcast<f32>(params.pbf_counts.w);
+    return bitcast<f32>(params.pbf_over_relaxation_bits);
 }
 
 // Particle i's next position from its corrected one, x_k + Δp_k: over-relaxed against x_{k-1}
@@ -72,7 +72,7 @@ fn correction_weight() -> f32 {
     let omega = over_relaxation();
     var sum = 0.0;
     var power = 1.0;
-    for (var m = k; m < params.pbf_counts.y; m++) {
+    for (var m = k; m < params.pbf_iterations; m++) {
         sum += power;
         power *= omega - 1.0;
     }
@@ -114,10 +114,10 @@ fn write_current_position(i: u32, x: vec3<f32>) {
 
 // The particle mass m.
 fn mass() -> f32 {
-    return params.gravity.w;
+    return params.particle_mass;
 }
 
 // ρ0.
 fn rest_density() -> f32 {
-    return params.material.x;
+    return params.rest_density;
 }

@@ -35,11 +35,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         n = eta / eta_len;
     }
     let dt = step_dt();
-    let push = cross(n, omega_i) * params.pbf.z;
+    let push = cross(n, omega_i) * params.pbf_vorticity_epsilon;
     var v = velocity[i].xyz + push * dt;
     acceleration[i] = vec4<f32>(acceleration[i].xyz + push, 0.0);
     v = pumped(x_i, v, dt);
-    record_speed(i, v + params.gravity.xyz * params.box_max.w);
+    record_speed(i, v + params.gravity * params.fixed_dt);
     record_probes(i, x_i, v);
     velocity[i] = vec4<f32>(v, 0.0);
 }

@@ -32,19 +32,19 @@ fn main(
 
 // (W(r) / W(Δq))^n by repeated products (n is small, 1 to 8).
 fn s_corr(w: f32) -> f32 {
-    let base = w * params.pbf.x;
+    let base = w * params.pbf_inverse_w_dq;
     var power = 1.0;
-    for (var k = 0u; k < params.pbf_counts.x; k++) {
+    for (var k = 0u; k < params.pbf_s_corr_n; k++) {
         power *= base;
     }
-    return -params.pbf_kernel.w * power;
+    return -params.pbf_s_corr_k * power;
 }
 
 fn particle(i: u32) {
     let sorted = position[i].xyz;
     let x_i = current_position(i);
     let l_i = normal[i].x;
-    let h2 = params.kernel_a.y;
+    let h2 = params.h_squared;
     let m = mass();
     let scale = m / rest_density();
     var sum = vec3<f32>(0.0);
@@ -76,8 +76,8 @@ fn particle(i: u32) {
             }
         }
     }
-    let g = length(params.gravity.xyz);
-    let cap = max(params.pbf.w, 2.0 * g * dt * dt);
+    let g = length(params.gravity);
+    let cap = max(params.pbf_max_correction, 2.0 * g * dt * dt);
     let length_sum = length(sum);
     if length_sum > cap {
         sum *= cap / length_sum;

@@ -21,7 +21,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let sorted = position[i].xyz;
     let x_i = current_position(i);
-    let h2 = params.kernel_a.y;
+    let h2 = params.h_squared;
     let m = mass();
     let rho0 = rest_density();
     let scale = m / rho0;
@@ -55,6 +55,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     let constraint = max(rho / rho0 - 1.0, 0.0);
-    let lambda = -constraint / (dot(grad_i, grad_i) + squares + params.pbf_kernel.z);
+    let lambda = -constraint / (dot(grad_i, grad_i) + squares + params.pbf_relaxation);
     normal[i] = vec4<f32>(lambda, rho, constraint, 0.0);
 }

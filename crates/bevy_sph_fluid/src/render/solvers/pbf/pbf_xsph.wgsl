@@ -23,7 +23,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let sorted = position[i].xyz;
     let x_i = current_position(i);
     let v_i = sorted_velocity[i].xyz;
-    let h2 = params.kernel_a.y;
+    let h2 = params.h_squared;
     let m = mass();
     var smoothing = vec3<f32>(0.0);
     var fluid = cubic(0.0);
@@ -51,11 +51,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     density[i] = m * fluid + rest_density() * solid;
     pressure[i] = 0.0;
     let dt = step_dt();
-    var v = v_i + smoothing * params.pbf.y;
-    acceleration[i] = vec4<f32>((v - v_i) / dt + params.gravity.xyz, 0.0);
+    var v = v_i + smoothing * params.pbf_xsph_c;
+    acceleration[i] = vec4<f32>((v - v_i) / dt + params.gravity, 0.0);
 #ifndef VORTICITY
     v = pumped(x_i, v, dt);
-    record_speed(i, v + params.gravity.xyz * params.box_max.w);
+    record_speed(i, v + params.gravity * params.fixed_dt);
     record_probes(i, x_i, v);
 #endif
     velocity[i] = vec4<f32>(v, 0.0);

@@ -13,7 +13,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let x_i = position[i].xyz;
     let c = home_cell(x_i);
-    let h2 = params.kernel_a.y;
+    let h2 = params.h_squared;
     var sum = 0.0;
     var neighbors = 0u;
     for (var q = 0u; q < neighbor_range_count(); q++) {
@@ -38,7 +38,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             boundary += sample.w * poly6(dot(r, r));
         }
     }
-    let rho = params.gravity.w * sum + params.material.x * boundary;
+    let rho = params.particle_mass * sum + params.rest_density * boundary;
     density[i] = rho;
     pressure_eos[i] = eos_pressure(rho);
 #ifdef NEIGHBOR_COUNT

@@ -1,7 +1,7 @@
 // p_i = pressure_eos[i] where not 0 (a negative one, with the clamp off, is kept); at the free
 // surface, where the clamped equation of state gives 0, the average of the pressures around i
 // over the neighbours that have one, Σ_j V_j p_j W_poly6 / Σ_{p_j > 0} V_j W_poly6 (V_j = m/ρ_j;
-// 0 without such a neighbour), at most params.boundary_contact.z = ρ0 |g| Δx/2.
+// 0 without such a neighbour), at most params.max_surface_pressure = ρ0 |g| Δx/2.
 // Rust twin: sph_core::free_surface_pressure.
 #import sph::bindings::{params, position, density, pressure, pressure_eos}
 #import sph::kernels::poly6
@@ -20,7 +20,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let x_i = position[i].xyz;
     let c = home_cell(x_i);
-    let h2 = params.kernel_a.y;
+    let h2 = params.h_squared;
     var weighted = 0.0;
     var weights = 0.0;
     for (var q = 0u; q < neighbor_range_count(); q++) {
@@ -41,5 +41,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if weights > 0.0 {
         average = weighted / weights;
     }
-    pressure[i] = min(average, params.boundary_contact.z);
+    pressure[i] = min(average, params.max_surface_pressure);
 }
