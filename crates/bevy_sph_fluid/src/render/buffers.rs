@@ -1,22 +1,13 @@
 //! GPU buffers: structure-of-arrays particle state sized by capacity, the sorted copies, the
-//! grid and hash arrays, the rollback checkpoint, the uniform block; spawns are uploaded at the
-//! end of the live range. Every storage buffer is a [`Buf`] with a fixed binding in group 0
+//! grid and hash arrays, the rollback checkpoint, the uniform block, and their allocation (each
+//! frame's writes are in `prepare`). Every storage buffer is a [`Buf`] with a fixed binding in group 0
 //! (`shaders/bindings.wgsl`); each stage binds the ones it declares.
 
-use super::extract::ExtractedSphFrame;
 use super::plan::VariantKey;
-use crate::api::STATUS_PREPARING_BUFFERS;
-use crate::shared::SphRenderFeedback;
 use bevy::prelude::*;
-use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{BindGroup, Buffer, BufferDescriptor, BufferUsages};
-use bevy::render::renderer::{RenderDevice, RenderQueue};
-use bevy::render::storage::GpuShaderBuffer;
-use sph_core::gpu_dfsph_pairs;
-use sph_core::gpu_layout::{
-    bitonic_steps, list_entries, sort_length, GpuClock, GpuCollider, GpuSphParams,
-};
-use sph_core::neighbor::grid::DenseGrid;
+use bevy::render::renderer::RenderDevice;
+use sph_core::gpu_layout::{bitonic_steps, list_entries, sort_length, GpuCollider, GpuSphParams};
 use sph_core::neighbor::hash::hash_table_size;
 use sph_core::NeighborSearch;
 use sph_core::Solver;
@@ -254,11 +245,11 @@ pub struct SphGpuState {
     /// Why the buffers are not ready.
     pub status: Option<String>,
     /// Spawns that arrived before the buffers were ready.
-    pending_spawns: Vec<PendingSpawn>,
+    pub(super) pending_spawns: Vec<PendingSpawn>,
     /// The boundary generation last uploaded (0: none).
-    boundary_generation: u64,
+    pub(super) boundary_generation: u64,
     /// The membership of the boundary last uploaded (`Boundary::membership`).
-    boundary_membership: u64,
+    pub(super) boundary_membership: u64,
     /// Boundary samples on the GPU.
     pub boundary_samples: u32,
     /// Colliders in the guard's list on the GPU.
@@ -271,9 +262,10 @@ pub struct SphGpuState {
 }
 
 /// New particles waiting for upload: first slot, positions (w = id), velocities.
-type PendingSpawn = (u32, Vec<[f32; 4]>, Vec<[f32; 4]>);
+pub(super) type PendingSpawn = (u32, Vec<[f32; 4]>, Vec<[f32; 4]>);
 
-fn storage_buffer(device: &RenderDevice, label: &'static str, bytes: u64) -> Buffer {
+/// A storage buffer of `bytes` (at least 16) that copies may read and write.
+pub(super) fn storage_buffer(device: &RenderDevice, label: &'static str, bytes: u64) -> Buffer {
     device.create_buffer(&BufferDescriptor {
         label: Some(label),
         size: bytes.max(16),
@@ -284,7 +276,7 @@ fn storage_buffer(device: &RenderDevice, label: &'static str, bytes: u64) -> Buf
 
 /// Allocates every buffer; the normals and the hash arrays only when the variant needs them (a
 /// 16-byte placeholder keeps their binding valid otherwise).
-fn allocate(
+pub(super) fn allocate(
     device: &RenderDevice,
     capacity: u32,
     grid_dims: UVec3,
@@ -392,328 +384,5 @@ fn allocate(
             usage: BufferUsages::INDIRECT | BufferUsages::COPY_DST,
             mapped_at_creation: false,
         }),
-    }
-}
-
-/// Allocates buffers when the capacity, grid or readable buffers change, applies resets and
-/// spawns, and writes the uniform block.
-pub(crate) fn prepare_sph_buffers(
-    frame: Res<ExtractedSphFrame>,
-    assets: Res<RenderAssets<GpuShaderBuffer>>,
-    device: Res<RenderDevice>,
-    queue: Res<RenderQueue>,
-    feedback: Res<SphRenderFeedback>,
-    mut state: ResMut<SphGpuState>,
-) {
-    if !frame.active {
-        return;
-    }
-    let Some(handles) = &frame.buffers else {
-        return;
-    };
-    // Spawns and resets are queued first, so nothing is lost while the buffers get ready.
-    if frame.reset {
-        state.pending_spawns.clear();
-        state.particle_count = 0;
-        state.forces_stale = true;
-        feedback.update(|f| f.step_count = 0);
-    }
-    if !frame.spawn_positions.is_empty() {
-        state.pending_spawns.push((
-            frame.spawn_offset,
-            frame.spawn_positions.clone(),
-            frame.spawn_velocities.clone(),
-        ));
-    }
-    let readable = [
-        &handles.position,
-        &handles.velocity,
-        &handles.acceleration,
-        &handles.density,
-        &handles.pressure,
-        &handles.neighbor_count,
-        &handles.clock,
-        &handles.body_forces,
-        &handles.probes,
-    ]
-    .map(|h| assets.get(h).map(|b| b.buffer.clone()));
-    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(pressure), Some(neighbor_count), Some(clock), Some(body_forces), Some(probes)] =
-        readable
-    else {
-        state.status = Some(STATUS_PREPARING_BUFFERS.into());
-        return;
-    };
-    let grid = match DenseGrid::new(&frame.container, frame.params.smoothing_radius) {
-        Ok(grid) => grid,
-        Err(e) => {
-            state.status = Some(format!("gpu: {e}"));
-            state.bind_groups.clear();
-            return;
-        }
-    };
-    let key = VariantKey::of(&frame.params, frame.neighbor_counts);
-    if key.solver == Solver::Dfsph && frame.capacity > gpu_dfsph_pairs::MAX_PARTICLES {
-        state.status = Some(format!(
-            "gpu: DFSPH holds at most {} particles on the GPU (its pairs keep 18-bit indices); \
-             the capacity is {}: use the CPU backend or another solver",
-            gpu_dfsph_pairs::MAX_PARTICLES,
-            frame.capacity
-        ));
-        state.bind_groups.clear();
-        return;
-    }
-    let needs_allocation = state.buffers.as_ref().is_none_or(|b| {
-        b.capacity != frame.capacity
-            || b.grid_dims != grid.dims
-            || b.key.search != key.search
-            || b.key.surface_tension != key.surface_tension
-            || b.key.solver != key.solver
-            || b.at(Buf::Position).id() != position.id()
-            || b.at(Buf::Density).id() != density.id()
-    });
-    if needs_allocation {
-        // The readable state buffers are assets and survive a reallocation (a new container or
-        // h keeps the particles); the rest is re-derived: forces are re-evaluated.
-        let buffers = allocate(
-            &device,
-            frame.capacity,
-            grid.dims,
-            key,
-            [
-                position,
-                velocity,
-                acceleration,
-                density,
-                pressure,
-                neighbor_count,
-                clock,
-                body_forces,
-                probes,
-            ],
-        );
-        let bytes_per_particle = (buffers.bytes / frame.capacity.max(1) as u64) as u32;
-        feedback.update(|f| f.gpu_bytes_per_particle = bytes_per_particle);
-        // A new checkpoint buffer holds nothing yet.
-        queue.write_buffer(
-            buffers.at(Buf::Clock),
-            GpuClock::HAS_CHECKPOINT_OFFSET,
-            &0u32.to_ne_bytes(),
-        );
-        state.buffers = Some(buffers);
-        state.generation += 1;
-        state.forces_stale = true;
-    }
-    state.status = None;
-    let Some(buffers) = state.buffers.clone() else {
-        return;
-    };
-    if frame.reset {
-        // Time, steps and the instability freeze start again.
-        queue.write_buffer(
-            buffers.at(Buf::Clock),
-            0,
-            bytemuck::bytes_of(&GpuClock::default()),
-        );
-    }
-    // The pumps, then the open drains in the slots left.
-    let (pumps, _) = sph_core::gpu_layout::GpuPumps::with_sinks(&frame.pumps, &frame.sinks);
-    if frame.steps > 0 {
-        queue.write_buffer(buffers.at(Buf::Pumps), 0, bytemuck::bytes_of(&pumps));
-        // The probes with zero sums; the closing kicks sum the frame's steps.
-        queue.write_buffer(
-            buffers.at(Buf::Probes),
-            0,
-            bytemuck::bytes_of(&sph_core::gpu_layout::GpuProbes::of(
-                &frame.probes,
-                &frame.container,
-                frame.params.spacing(),
-                frame.number,
-            )),
-        );
-        // This frame's sums of the fluid's force on each body start from zero; the readback
-        // copies them after the frame's passes.
-        queue.write_buffer(
-            buffers.at(Buf::BodyForces),
-            0,
-            bytemuck::bytes_of(&sph_core::gpu_layout::GpuBodyForces::default()),
-        );
-        // DFSPH's most iterations per step are this frame's (src/dfsph_budget.rs reads them).
-        queue.write_buffer(
-            buffers.at(Buf::Clock),
-            GpuClock::DFSPH_FRAME_MAX_OFFSET,
-            &[0; 8],
-        );
-    }
-    // Every frame, with steps or not, stamps the force sums with its number: the readback then
-    // tells how many frames old the newest forces are (`sph_plan_frame` holds the water while
-    // they are too old).
-    queue.write_buffer(
-        buffers.at(Buf::BodyForces),
-        sph_core::gpu_layout::GpuBodyForces::FRAME_OFFSET,
-        &frame.number.to_ne_bytes(),
-    );
-    for (offset, positions, velocities) in std::mem::take(&mut state.pending_spawns) {
-        let offset = offset as u64;
-        let zeros = vec![[0.0f32; 4]; positions.len()];
-        let write = |buf: Buf, data: &[[f32; 4]]| {
-            queue.write_buffer(buffers.at(buf), 16 * offset, bytemuck::cast_slice(data));
-        };
-        write(Buf::Position, &positions);
-        write(Buf::Velocity, &velocities);
-        // DFSPH keeps its solves' stiffness sums there (the warm starts): new particles have none.
-        if buffers.key.solver == Solver::Dfsph {
-            write(Buf::VelocityPredicted, &zeros);
-        } else {
-            write(Buf::VelocityPredicted, &velocities);
-        }
-        write(Buf::Acceleration, &zeros);
-        write(Buf::AccelerationStart, &zeros);
-        state.forces_stale = true;
-        // The new particles join the rollback checkpoint at the next stable step.
-        queue.write_buffer(
-            buffers.at(Buf::Clock),
-            GpuClock::SAVE_REQUESTED_OFFSET,
-            &1u32.to_ne_bytes(),
-        );
-    }
-    if !frame.reset && frame.spawn_offset < state.particle_count {
-        // The main world dropped the drained particles from the tail (docs/scenes.md): a
-        // checkpoint from before holds them among the live ones, so it cannot be restored.
-        queue.write_buffer(
-            buffers.at(Buf::Clock),
-            GpuClock::HAS_CHECKPOINT_OFFSET,
-            &0u32.to_ne_bytes(),
-        );
-    }
-    state.particle_count = frame.particle_count();
-    if state.last_params != Some(frame.params) {
-        state.forces_stale = true;
-        state.last_params = Some(frame.params);
-    }
-    if let Some((_, samples)) = &frame.boundary {
-        // A collider joined or left: the kick's forces are re-evaluated first, as on the CPU.
-        if samples.membership != state.boundary_membership {
-            state.forces_stale = true;
-            state.boundary_membership = samples.membership;
-        }
-    }
-    if state.forces_stale {
-        // The re-evaluation records the acceleration the next kick uses; the one recorded with
-        // the old state or parameters must not bound the adaptive step.
-        queue.write_buffer(
-            buffers.at(Buf::Clock),
-            std::mem::offset_of!(GpuClock, max_acceleration_bits) as u64,
-            &[0; 4],
-        );
-    }
-    if let Some((generation, samples)) = &frame.boundary {
-        if *generation != state.boundary_generation || needs_allocation {
-            upload_boundary(&device, &queue, &mut state, samples);
-            state.boundary_generation = *generation;
-            // DFSPH's factors hold the boundary samples near each particle (as the CPU, which
-            // rebuilds its neighbourhood when the boundary moved): the frame's first step
-            // starts from a new neighbourhood.
-            if frame.params.solver == Solver::Dfsph {
-                state.forces_stale = true;
-            }
-        }
-    }
-    let mut uniforms = GpuSphParams::with_grid(
-        &frame.params,
-        &frame.container,
-        grid.dims,
-        frame.capacity,
-        state.particle_count,
-    )
-    .with_rollback(&frame.rollback)
-    .with_boundary(
-        state.boundary_colliders,
-        state.boundary_friction,
-        state.boundary_unmirrored,
-    )
-    .with_drains(frame.number, pumps.sink_count);
-    if let Some((duration, number)) = frame.budget {
-        uniforms = uniforms.with_frame_budget(duration, frame.steps, number);
-    }
-    queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
-}
-
-/// Writes the boundary samples; their buffers are reallocated (and the bind groups rebuilt) only
-/// when the samples outgrow them, never the particle buffers.
-fn upload_boundary(
-    device: &RenderDevice,
-    queue: &RenderQueue,
-    state: &mut SphGpuState,
-    samples: &sph_core::gpu_layout::GpuBoundarySamples,
-) {
-    let Some(buffers) = state.buffers.as_mut() else {
-        return;
-    };
-    let need = (16 * samples.position.len() as u64).max(16);
-    let collider_bytes =
-        (std::mem::size_of::<GpuCollider>() * samples.colliders.len().max(1)) as u64;
-    let mut grown = false;
-    let body_bytes = (4 * samples.body.len() as u64).max(16);
-    let mesh_bytes = (16 * samples.meshes.len() as u64).max(16);
-    for (buf, need) in [
-        (Buf::BoundaryPosition, need),
-        (Buf::BoundaryVelocity, need),
-        (Buf::Colliders, collider_bytes),
-        (Buf::BoundaryBody, body_bytes),
-        (Buf::Meshes, mesh_bytes),
-    ] {
-        if buffers.at(buf).size() < need {
-            let old = buffers.at(buf).size();
-            // Room for growth, so a collider added at run time rarely reallocates.
-            // Storage bindings are sized in multiples of 4 bytes; 16 keeps vec4 arrays whole.
-            let bytes = (need + need / 4).next_multiple_of(16);
-            buffers.storage[buf as usize - 1] = storage_buffer(device, buf.label(), bytes);
-            buffers.bytes += bytes - old;
-            grown = true;
-        }
-    }
-    let starts = bytemuck::cast_slice(&samples.cell_start);
-    if buffers.at(Buf::BoundaryCellStart).size() < starts.len() as u64 {
-        // The grid and the samples disagree (a container change in flight): skip this frame.
-        return;
-    }
-    if !samples.position.is_empty() {
-        queue.write_buffer(
-            buffers.at(Buf::BoundaryPosition),
-            0,
-            bytemuck::cast_slice(&samples.position),
-        );
-        queue.write_buffer(
-            buffers.at(Buf::BoundaryVelocity),
-            0,
-            bytemuck::cast_slice(&samples.velocity),
-        );
-        queue.write_buffer(
-            buffers.at(Buf::BoundaryBody),
-            0,
-            bytemuck::cast_slice(&samples.body),
-        );
-    }
-    queue.write_buffer(buffers.at(Buf::BoundaryCellStart), 0, starts);
-    if !samples.colliders.is_empty() {
-        queue.write_buffer(
-            buffers.at(Buf::Colliders),
-            0,
-            bytemuck::cast_slice(&samples.colliders),
-        );
-    }
-    if !samples.meshes.is_empty() {
-        queue.write_buffer(
-            buffers.at(Buf::Meshes),
-            0,
-            bytemuck::cast_slice(&samples.meshes),
-        );
-    }
-    state.boundary_samples = samples.position.len() as u32;
-    state.boundary_colliders = samples.colliders.len() as u32;
-    state.boundary_friction = samples.velocity.iter().any(|v| v[3] > 0.0);
-    state.boundary_unmirrored = !samples.mirrors;
-    if grown {
-        state.generation += 1;
     }
 }

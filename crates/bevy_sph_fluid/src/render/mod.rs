@@ -1,13 +1,15 @@
-//! The render world, one way: the frame plan is extracted (`extract`), the GPU buffers are
-//! prepared (`buffers`), the pipelines of the scene's stage list are queued and bound
-//! (`pipelines`, from the registry in `stages` and the solvers' folders in `solvers`), and `simulate` encodes the stages once per
-//! force evaluation of every step. This module only wires them.
+//! The render world, one way: the frame plan is extracted (`extract`), the GPU buffers
+//! (`buffers`) are prepared (`prepare`), the pipelines of the scene's stage list are queued and
+//! bound (`pipelines`, from the registry in `stages` and the solvers' folders in `solvers`), and
+//! `simulate` encodes the stages once per force evaluation of every step. This module only
+//! wires them.
 
 pub mod buffers;
 pub mod extract;
 pub mod limits;
 pub mod pipelines;
 pub mod plan;
+pub mod prepare;
 pub mod simulate;
 pub mod solvers;
 pub mod stage;
@@ -60,7 +62,7 @@ pub(crate) fn build(app: &mut App) {
         .add_systems(
             Render,
             (
-                (pipelines::queue_sph_pipelines, buffers::prepare_sph_buffers)
+                (pipelines::queue_sph_pipelines, prepare::prepare_sph_buffers)
                     .in_set(RenderSystems::PrepareResources),
                 pipelines::prepare_sph_bind_groups.in_set(RenderSystems::PrepareBindGroups),
             ),
