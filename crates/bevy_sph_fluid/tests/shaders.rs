@@ -234,17 +234,28 @@ fn composed_stage(name: &str) -> (String, naga::Module) {
     (path, module)
 }
 
-/// The size naga lays out for the WGSL struct named `name` in `stage`.
-fn wgsl_struct_size(stage: &str, name: &str) -> usize {
+/// The WGSL struct named `name` in `stage`: the composed module, the struct's type and naga's
+/// layout of the module's types.
+fn wgsl_struct(
+    stage: &str,
+    name: &str,
+) -> (naga::Module, naga::Handle<naga::Type>, naga::proc::Layouter) {
     let (path, module) = composed_stage(stage);
     let ty = module
         .types
         .iter()
         .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.contains(name)))
+        .map(|(handle, _)| handle)
         .unwrap_or_else(|| panic!("{name} in {path}"));
     let mut layouter = naga::proc::Layouter::default();
     layouter.update(module.to_ctx()).unwrap();
-    layouter[ty.0].size as usize
+    (module, ty, layouter)
+}
+
+/// The size naga lays out for the WGSL struct named `name` in `stage`.
+fn wgsl_struct_size(stage: &str, name: &str) -> usize {
+    let (_, ty, layouter) = wgsl_struct(stage, name);
+    layouter[ty].size as usize
 }
 
 #[test]
@@ -261,21 +272,14 @@ type Member = (String, usize, usize, naga::ScalarKind);
 
 /// Each member of the WGSL struct `name` in a composed stage (an `atomic<u32>` is a `u32`).
 fn wgsl_members(stage: &str, name: &str) -> Vec<Member> {
-    let (path, module) = composed_stage(stage);
-    let (_, ty) = module
-        .types
-        .iter()
-        .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.contains(name)))
-        .unwrap_or_else(|| panic!("{name} in {path}"));
-    let mut layouter = naga::proc::Layouter::default();
-    layouter.update(module.to_ctx()).unwrap();
+    let (module, ty, layouter) = wgsl_struct(stage, name);
     let kind = |ty: naga::Handle<naga::Type>| match module.types[ty].inner {
         naga::TypeInner::Scalar(scalar)
         | naga::TypeInner::Vector { scalar, .. }
         | naga::TypeInner::Atomic(scalar) => scalar.kind,
         ref other => panic!("a member of {name} is neither a scalar nor a vector: {other:?}"),
     };
-    match &ty.inner {
+    match &module.types[ty].inner {
         naga::TypeInner::Struct { members, .. } => members
             .iter()
             .map(|m| {
@@ -284,7 +288,7 @@ fn wgsl_members(stage: &str, name: &str) -> Vec<Member> {
                 (name, m.offset as usize, size, kind(m.ty))
             })
             .collect(),
-        other => panic!("{name} in {path} is not a struct: {other:?}"),
+        other => panic!("{name} in {stage} is not a struct: {other:?}"),
     }
 }
 

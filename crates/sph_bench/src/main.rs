@@ -4,13 +4,14 @@
 //!
 //! The modules, top down (each imports only modules below it; `tests/module_imports.rs` fails on
 //! any import cycle): export, fuzz, trade, soak, validate, run, hydrostatic, sim, plot, progress,
-//! args, martin_moyce, report, scenarios.
+//! args, martin_moyce, report, scenarios, physical_checks.
 
 mod args;
 mod export;
 mod fuzz;
 mod hydrostatic;
 mod martin_moyce;
+mod physical_checks;
 mod plot;
 mod progress;
 mod report;

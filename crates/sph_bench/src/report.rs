@@ -1,5 +1,7 @@
 //! The JSON report of one run.
 
+use crate::physical_checks::orifice::OrificeFigures;
+use crate::physical_checks::u_tube::UTubeFigures;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -274,4 +276,10 @@ pub struct Report {
     /// The hydrostatic scenario: pressure against depth.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub hydrostatic: Option<HydrostaticFigures>,
+    /// The U-tube scenario: the period against the textbook's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub u_tube: Option<UTubeFigures>,
+    /// The orifice scenario: the discharge coefficient against the textbook's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orifice: Option<OrificeFigures>,
 }

@@ -1,5 +1,6 @@
 //! The scenarios of `sph-bench`: their scenes, emitters and default durations.
 
+use crate::physical_checks::{orifice as sluice, u_tube as tube};
 use sph_core::boundary::collider::{Collider, ColliderMotion, ColliderShape, Pose};
 use sph_core::glam::{Quat, Vec3};
 use sph_core::scenario::{dam_break, hydrostatic, Scene};
@@ -35,13 +36,17 @@ pub enum Scenario {
     Gate,
     /// The hydrostatic tank with a static box held at mid-depth: the water's force on it.
     Buoyancy,
+    /// A U-tube's water column oscillating: its period against 2π √(L / 2g).
+    UTube,
+    /// A tank emptying through a slot under a sluice: its discharge against Cd b W √(2 g H).
+    Orifice,
     /// A scene file (`sph-bench run --scene FILE`), not a named scenario (not in [`Self::ALL`]).
     SceneFile,
 }
 
 impl Scenario {
     /// Every scenario.
-    pub const ALL: [Scenario; 7] = [
+    pub const ALL: [Scenario; 9] = [
         Scenario::DamBreak,
         Scenario::Hydrostatic,
         Scenario::PipeFill,
@@ -49,6 +54,8 @@ impl Scenario {
         Scenario::Obstacles,
         Scenario::Gate,
         Scenario::Buoyancy,
+        Scenario::UTube,
+        Scenario::Orifice,
     ];
 
     /// The command-line name.
@@ -61,6 +68,8 @@ impl Scenario {
             Scenario::Obstacles => "obstacles",
             Scenario::Gate => "gate",
             Scenario::Buoyancy => "buoyancy",
+            Scenario::UTube => "u-tube",
+            Scenario::Orifice => "orifice",
             Scenario::SceneFile => "scene-file",
         }
     }
@@ -79,6 +88,12 @@ impl Scenario {
                 "two basins (0.3 and 0.1 m) and a gate lifted at 0.5 m/s from 0.2 s, 3.2 s"
             }
             Scenario::Buoyancy => "the hydrostatic tank with a box held at mid-depth, 1 s",
+            Scenario::UTube => {
+                "a U-tube's column oscillates: its period against 2π √(L/2g) (1.187 s), 3 s"
+            }
+            Scenario::Orifice => {
+                "a tank empties through a 4 cm slot: its discharge against 0.61 b W √(2gH), 1 s"
+            }
             Scenario::SceneFile => "a scene file (--scene FILE), 2 s",
         }
     }
@@ -282,6 +297,8 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
         Scenario::Obstacles => obstacles(),
         Scenario::Gate => gate(),
         Scenario::Buoyancy => buoyancy(particles),
+        Scenario::UTube => u_tube(),
+        Scenario::Orifice => orifice(),
         // Built from its file by `scene_run::setup_from_file`; here an empty dam break.
         Scenario::SceneFile => setup(Scenario::DamBreak, particles, a),
     }
@@ -502,4 +519,121 @@ fn buoyancy(particles: usize) -> Setup {
         lift: None,
     }];
     s
+}
+
+/// A setup of `scene` with static `colliders`, free-slip walls, for `duration` seconds.
+fn still_setup(
+    scenario: Scenario,
+    scene: Scene,
+    colliders: Vec<ScenarioCollider>,
+    duration: f64,
+) -> Setup {
+    Setup {
+        scenario,
+        capacity: scene.particle_count(),
+        duration,
+        column_width_a: None,
+        water_depth: None,
+        rollback: Rollback::default(),
+        emitter: None,
+        colliders,
+        gate_x: None,
+        walls: true,
+        wall_friction: None,
+        extras: None,
+        scene,
+    }
+}
+
+/// A static box from `min` to `max`, named `name`.
+fn slab(name: &str, min: Vec3, max: Vec3) -> ScenarioCollider {
+    ScenarioCollider {
+        name: name.into(),
+        path: None,
+        collider: placed(
+            ColliderShape::Cuboid {
+                half_extents: 0.5 * (max - min),
+            },
+            0.5 * (min + max),
+            Quat::IDENTITY,
+        ),
+        lift: None,
+    }
+}
+
+/// The U-tube of [`crate::physical_checks::u_tube`]: the divider runs through the container's
+/// side walls and lid, the left leg starts `AMPLITUDE` above the rest level, the right one as
+/// much below.
+fn u_tube() -> Setup {
+    use tube::{AMPLITUDE, CHANNEL, DEPTH, DIVIDER, HEIGHT, LEG, REST_LEVEL, SPACING};
+    let params = SphParams::from_spacing(SpacingDerivation {
+        spacing: SPACING,
+        // As the dam break's √(2 g H) of its column: it sets WCSPH's speed of sound for the
+        // column's weight (the swing itself is slower, about 0.3 m/s).
+        expected_peak_speed: (2.0 * 9.81 * (REST_LEVEL + AMPLITUDE)).sqrt(),
+        ..Default::default()
+    });
+    let width = tube::width();
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(width, HEIGHT, DEPTH));
+    let block = |x0: f32, x1: f32, top: f32| {
+        BlockSpawn::new(Vec3::new(x0, 0.0, 0.0), Vec3::new(x1, top, DEPTH), SPACING)
+    };
+    let scene = Scene {
+        params,
+        container,
+        blocks: vec![
+            block(0.0, LEG, REST_LEVEL + AMPLITUDE),
+            block(LEG, LEG + DIVIDER, CHANNEL),
+            block(LEG + DIVIDER, width, REST_LEVEL - AMPLITUDE),
+        ],
+    };
+    let margin = 2.0 * SPACING;
+    let divider = slab(
+        "divider",
+        Vec3::new(LEG, CHANNEL, -margin),
+        Vec3::new(LEG + DIVIDER, HEIGHT + margin, DEPTH + margin),
+    );
+    still_setup(Scenario::UTube, scene, vec![divider], tube::DURATION)
+}
+
+/// The sluice of [`crate::physical_checks::orifice`]: a table under the tank (through the
+/// container's floor and walls) and a divider over its end leaving the slot, the water
+/// `HEAD` deep behind it.
+fn orifice() -> Setup {
+    use sluice::{DEPTH, DIVIDER, HEAD, HEIGHT, LENGTH, SLOT, SPACING, TABLE_HEIGHT, TANK_LENGTH};
+    let params = SphParams::from_spacing(SpacingDerivation {
+        spacing: SPACING,
+        // The jet's fall to the basin's floor from the water's surface.
+        expected_peak_speed: (2.0 * 9.81 * (HEAD + TABLE_HEIGHT)).sqrt(),
+        ..Default::default()
+    });
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(LENGTH, HEIGHT, DEPTH));
+    let water = BlockSpawn::new(
+        Vec3::new(0.0, TABLE_HEIGHT, 0.0),
+        Vec3::new(TANK_LENGTH, TABLE_HEIGHT + HEAD, DEPTH),
+        SPACING,
+    );
+    let scene = Scene {
+        params,
+        container,
+        blocks: vec![water],
+    };
+    let margin = 2.0 * SPACING;
+    let end = TANK_LENGTH + DIVIDER;
+    let table = slab(
+        "table",
+        Vec3::new(-margin, -margin, -margin),
+        Vec3::new(end, TABLE_HEIGHT, DEPTH + margin),
+    );
+    let divider = slab(
+        "divider",
+        Vec3::new(TANK_LENGTH, TABLE_HEIGHT + SLOT, -margin),
+        Vec3::new(end, HEIGHT + margin, DEPTH + margin),
+    );
+    still_setup(
+        Scenario::Orifice,
+        scene,
+        vec![table, divider],
+        sluice::DURATION,
+    )
 }

@@ -251,6 +251,12 @@ pub fn run_setup(
         report.dam_break = Some(figures);
     }
     report.hydrostatic = samples.hydrostatic.map(|h| h.finish(&params));
+    report.u_tube = samples
+        .u_tube
+        .map(|u| u.finish(params.gravity.length() as f64));
+    report.orifice = samples
+        .orifice
+        .map(|o| o.finish(params.gravity.length() as f64));
     Ok(report)
 }
 

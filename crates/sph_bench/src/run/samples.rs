@@ -1,11 +1,14 @@
 //! What a run measures on the particle state: the samples taken every [`SAMPLE_INTERVAL`] while
-//! it runs (the dam break's front, the tank's layers, the density error), the diagnostics, and
+//! it runs (the dam break's front, the tank's layers, the U-tube's legs, the sluice's tank, the
+//! density error), the diagnostics, and
 //! the level difference of a gated tank at the end.
 
 use crate::args::Backend;
 use crate::hydrostatic::HydrostaticSampler;
+use crate::physical_checks::orifice::OrificeSampler;
+use crate::physical_checks::u_tube::UTubeSampler;
 use crate::report::DamBreakFigures;
-use crate::scenarios::{Setup, G};
+use crate::scenarios::{Scenario, Setup, G};
 use crate::sim::State;
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
@@ -19,6 +22,8 @@ pub const SAMPLE_INTERVAL: f64 = 0.01;
 pub(super) struct Samples {
     pub(super) dam_break: Option<DamBreakFigures>,
     pub(super) hydrostatic: Option<HydrostaticSampler>,
+    pub(super) u_tube: Option<UTubeSampler>,
+    pub(super) orifice: Option<OrificeSampler>,
     /// The largest mean compression error seen [%].
     pub(super) density_error_peak: f32,
     /// Σ and count of the sampled mean compression errors [%].
@@ -42,12 +47,18 @@ impl Samples {
             hydrostatic: setup
                 .water_depth
                 .map(|_| HydrostaticSampler::new(setup, end)),
+            u_tube: (setup.scenario == Scenario::UTube).then(UTubeSampler::default),
+            orifice: (setup.scenario == Scenario::Orifice).then(OrificeSampler::default),
             density_error_peak: 0.0,
         }
     }
 
     pub(super) fn wanted(&self) -> bool {
-        self.track_density || self.dam_break.is_some() || self.hydrostatic.is_some()
+        self.track_density
+            || self.dam_break.is_some()
+            || self.hydrostatic.is_some()
+            || self.u_tube.is_some()
+            || self.orifice.is_some()
     }
 
     /// The mean of the sampled mean compression errors, or `end` without samples.
@@ -73,6 +84,12 @@ impl Samples {
         }
         if let Some(h) = &mut self.hydrostatic {
             h.record(setup, time, state);
+        }
+        if let Some(u) = &mut self.u_tube {
+            u.record(time, &state.positions);
+        }
+        if let Some(o) = &mut self.orifice {
+            o.record(time, &state.positions);
         }
     }
 }
