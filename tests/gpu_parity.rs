@@ -208,7 +208,8 @@ fn differences(s: &SphSnapshot, cpu: &CpuSolver, block: &BlockSpawn, what: &str)
         .fold(0.0, f32::max);
     eprintln!(
         "{what}: worst |Δx| {dx:.2e} m (moved up to {moved:.2e} m), |Δv| {dv:.2e} m/s \
-         (v_max {v_max:.3} m/s), density {drho:.2e} relative"
+         (v_max {v_max:.3} m/s), density {drho:.2e} relative, pressure {dp:.2e} Pa \
+         (p_max {p_max:.1} Pa)"
     );
     Differences {
         dx,
@@ -222,7 +223,8 @@ fn differences(s: &SphSnapshot, cpu: &CpuSolver, block: &BlockSpawn, what: &str)
 }
 
 /// PBF (Macklin & Müller 2013) on the GPU: three steps at PBF's own dt (1/120 s) from the same
-/// jittered block give the CPU solver's positions, velocities and densities, in both search
+/// jittered block give the CPU solver's positions, velocities, densities and the pressures the
+/// step's λ stand for, in both search
 /// modes, with and without vorticity confinement. Both take the pairs within h at the predicted
 /// positions for the whole step and evaluate the kernel at the iteration's positions.
 #[test]
@@ -256,14 +258,21 @@ fn pbf_steps_on_the_gpu_match_the_cpu_solver() {
                 dx,
                 dv,
                 drho,
+                dp,
+                p_max,
                 v_max,
                 moved,
-                ..
             } = differences(&s, &cpu, &block, &what);
             assert!(moved > 1e-3, "{what}: the water moves");
             assert!(dx <= 1e-6, "{what}: positions differ by {dx} m");
             assert!(dv <= 1e-4 * v_max, "{what}: velocities differ by {dv} m/s");
             assert!(drho <= 2e-5, "{what}: densities differ by {drho}");
+            // The pressure the step's λ stand for (Λ summed over the iterations).
+            assert!(p_max > 10.0, "{what}: the block is compressed ({p_max} Pa)");
+            assert!(
+                dp <= 1e-3 * p_max,
+                "{what}: pressures differ by {dp} Pa of {p_max}"
+            );
         }
     }
 }

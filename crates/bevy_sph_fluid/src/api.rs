@@ -477,7 +477,8 @@ pub struct SphSnapshot {
     /// Densities [kg/m³].
     pub densities: Vec<f32>,
     /// Pressures [Pa] (WCSPH: the equation of state's; DFSPH: (κ^ρ + κ^v) ρ² of the solves, the
-    /// pressure its accelerations carry; PBF: 0).
+    /// pressure its accelerations carry; PBF: -ρ0 Λ / dt², the pressure its step's weighted λ sum
+    /// Λ stands for, `sph_core::solver::pbf::macklin2013::equivalent_pressure`).
     pub pressures: Vec<f32>,
     /// Neighbours within h (GPU backend, while [`SphControl::record_neighbor_counts`]).
     pub neighbor_counts: Option<Vec<u32>>,

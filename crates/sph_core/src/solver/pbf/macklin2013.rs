@@ -518,6 +518,24 @@ pub struct CorrectionStep<'a> {
     pub corrections: &'a [Correction],
 }
 
+/// The pressure equivalent to a particle's λ over a step of `dt`, p_i = -ρ0 Λ_i / dt² with
+/// Λ_i = Σ_k c_k λ_k the step's λ weighted as its corrections reach the moves
+/// ([`correction_weight`]). The step moves particle i by Σ_k u_k = (m/ρ0) Σ_j (Λ_i + Λ_j) ∇W_ij
+/// (and Λ_i V_b ∇W_ib at the samples), where the symmetric SPH pressure force would move it by
+/// dt² a_i = -(m/ρ0²) dt² Σ_j (p_i + p_j) ∇W_ij: the two agree for this p. So a tank at rest
+/// reads ρ0 g depth where its λ holds the water up against gravity's dt² of prediction. The
+/// artificial pressure s_corr and the correction cap are not in it. Never negative (λ ≤ 0:
+/// only compression is a violation).
+#[inline]
+pub fn equivalent_pressure(ctx: &PbfContext, lambda_sum: f32, dt: f32) -> f32 {
+    let p = -ctx.rest_density * lambda_sum / (dt * dt);
+    if p.is_finite() {
+        p.max(0.0)
+    } else {
+        0.0
+    }
+}
+
 /// Moves every particle by its over-relaxed correction, x += u_k ([`over_relax`]; `moved`
 /// holds u_{k-1} and receives u_k), and returns the fluid's force on each boundary body from
 /// the iteration (Akinci 2012's two-way coupling in PBF's position form): sample b moves
@@ -655,6 +673,74 @@ mod tests {
             fluid_pairs > 20_000,
             "{fluid_pairs} pairs: the block is dense enough to test"
         );
+    }
+
+    /// The pressure the step's λ stand for moves the water as the λ do: with s_corr off and no
+    /// cap, the corrections (m/ρ0) Σ_j (λ_i + λ_j) ∇W_ij of a random λ field equal the symmetric
+    /// SPH pressure's dt² a_i = -dt² (m/ρ0²) Σ_j (p_i + p_j) ∇W_ij at p = equivalent_pressure.
+    #[test]
+    fn the_equivalent_pressure_moves_the_water_as_its_lambda_do() {
+        let params = SphParams::water();
+        let (h, dx) = (params.smoothing_radius, params.spacing());
+        let mut ctx = PbfContext::of(&params);
+        ctx.s_corr_k = 0.0;
+        ctx.max_correction = f32::MAX;
+        let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::splat(12.0 * dx));
+        let mut rng = SplitMix64::new(11);
+        let raw: Vec<Vec3> = (0..512)
+            .map(|k| {
+                let lattice = Vec3::new((k % 8) as f32, ((k / 8) % 8) as f32, (k / 64) as f32);
+                let jitter = Vec3::new(rng.range(-0.2, 0.2), rng.range(-0.2, 0.2), 0.0);
+                (lattice + jitter + Vec3::splat(2.0)) * dx
+            })
+            .collect();
+        let mut neighbors = Neighbors::new(params.neighbor_search, &container, h, 512).unwrap();
+        let order = neighbors.sort(&raw).to_vec();
+        let positions: Vec<Vec3> = order.iter().map(|&i| raw[i as usize]).collect();
+        let mut lists = IndexLists::default();
+        lists.rebuild_indices(&neighbors, &positions, None);
+        // λ [m²] of a squeezed block.
+        let scale = 0.03 * dx * dx;
+        let constraint: Vec<Constraint> = (0..512)
+            .map(|_| Constraint {
+                lambda: -scale * rng.range(0.0, 1.0),
+                density: params.rest_density,
+            })
+            .collect();
+        let mut corrections = vec![Correction::default(); 512];
+        compute_corrections(
+            &ctx,
+            &lists,
+            &positions,
+            None,
+            &constraint,
+            &mut corrections,
+        );
+        let dt = 1.0 / 120.0;
+        let p: Vec<f32> = constraint
+            .iter()
+            .map(|c| equivalent_pressure(&ctx, c.lambda, dt))
+            .collect();
+        assert!(p.iter().all(|&p| p >= 0.0) && p.iter().any(|&p| p > 0.0));
+        let factor = -dt * dt * ctx.mass / (ctx.rest_density * ctx.rest_density);
+        let mut worst: f32 = 0.0;
+        let mut largest: f32 = 0.0;
+        for i in 0..512 {
+            let mut moved = Vec3::ZERO;
+            for j in 0..512 {
+                let r = positions[i] - positions[j];
+                let r2 = r.length_squared();
+                if j == i || r2 >= h * h {
+                    continue;
+                }
+                let f = ctx.kernel.value_and_gradient_factor(r2).1;
+                moved += r * (f * (p[i] + p[j]) * factor);
+            }
+            worst = worst.max((moved - corrections[i].delta).length());
+            largest = largest.max(corrections[i].delta.length());
+        }
+        assert!(largest > 1e-6 * dx, "the λ move the water ({largest} m)");
+        assert!(worst <= 1e-4 * largest, "{worst} m of {largest} m");
     }
 
     /// The bodies' reactions summed per particle in the correction pass equal the pair-by-pair

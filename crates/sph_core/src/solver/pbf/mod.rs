@@ -4,7 +4,8 @@
 //! 1. v += dt g; predicted positions x* = x + dt v; the guard;
 //! 2. neighbour sort and lists on the predicted positions;
 //! 3. `iterations` times: λ_i, then the corrections Δp_i, x* += Δp (over-relaxed after the first);
-//! 4. v = (x* - x) / dt, the guard, XSPH viscosity; x = x*;
+//! 4. v = (x* - x) / dt, the guard, XSPH viscosity; x = x*; the pressure equivalent to the
+//!    step's λ ([`macklin2013::equivalent_pressure`]);
 //! 5. optionally, vorticity confinement.
 //!
 //! Viscosity and surface tension of the WCSPH forces pass are not applied (XSPH stands for the
@@ -22,8 +23,8 @@ use crate::frame_budget::StepDt;
 use crate::neighbor::lists::IndexLists;
 use crate::params::SphParams;
 use crate::solver::pbf::macklin2013::{
-    apply_corrections, compute_corrections, compute_lambdas, constraint_violation, Constraint,
-    Correction, CorrectionStep, PbfContext,
+    apply_corrections, compute_corrections, compute_lambdas, constraint_violation,
+    correction_weight, equivalent_pressure, Constraint, Correction, CorrectionStep, PbfContext,
 };
 use crate::solver::pbf::stages::PbfStage;
 use crate::solver::pbf::xsph_vorticity::{confine_vorticity, vorticity, xsph_and_densities};
@@ -60,6 +61,8 @@ pub fn step_stages(params: &SphParams) -> Vec<CpuStage> {
 pub(super) struct PbfScratch {
     lists: IndexLists,
     constraint: Vec<Constraint>,
+    /// Each particle's Σ_k c_k λ_k over the step's iterations ([`equivalent_pressure`]).
+    lambda_sum: Vec<f32>,
     corrections: Vec<Correction>,
     /// Each particle's move in the last iteration (for the over-relaxation).
     moved: Vec<Vec3>,
@@ -140,6 +143,7 @@ impl PbfStep<'_> {
         let (p, t) = (&mut *self.parts.particles, &mut *self.parts.timings);
         let n = p.len();
         s.constraint.resize(n, Constraint::default());
+        s.lambda_sum.resize(n, 0.0);
         s.corrections.resize(n, Correction::default());
         s.velocity.resize(n, Vec3::ZERO);
         // The passes read only the neighbours' indices (they evaluate the kernel at the moving
@@ -163,6 +167,14 @@ impl PbfStep<'_> {
                     Some(boundary),
                     &mut s.constraint,
                 );
+                let weight = correction_weight(&ctx, k, iterations);
+                s.lambda_sum
+                    .par_iter_mut()
+                    .zip(s.constraint.par_iter())
+                    .for_each(|(sum, c)| {
+                        let before = if k == 0 { 0.0 } else { *sum };
+                        *sum = before + weight * c.lambda;
+                    });
                 compute_corrections(
                     &ctx,
                     &s.lists,
@@ -244,7 +256,10 @@ impl PbfStep<'_> {
             });
         }
         let inverse_dt = 1.0 / dt;
-        p.pressure.iter_mut().for_each(|pressure| *pressure = 0.0);
+        p.pressure
+            .par_iter_mut()
+            .zip(s.lambda_sum.par_iter())
+            .for_each(|(pressure, &sum)| *pressure = equivalent_pressure(&ctx, sum, dt));
         // The step's mean acceleration, for the stability check and the diagnostics.
         p.acceleration
             .par_iter_mut()

@@ -12,11 +12,12 @@
 // PBF_FROM_B; render::solvers::pbf::phase::pbf_source). Iterations after the first are over-relaxed
 // (x_{k+1} = x_{k-1} + ω (x_k + Δp_k - x_{k-1})): x_{k-1} is still in the buffer iteration k
 // writes, and iteration 0 leaves x_0 in B for iteration 1. The iteration's number is in
-// clock.pbf_iteration (set by the λ pass). Each particle's λ_i and ρ_i go to `normal` (x, y);
-// the velocities before XSPH to `sorted_velocity`, the vorticity ω to `sorted_acceleration`.
+// clock.pbf_iteration (set by the λ pass). Each particle's λ_i and ρ_i go to `normal` (x, y),
+// the step's weighted λ sum to its w (sum_lambda); the velocities before XSPH to
+// `sorted_velocity`, the vorticity ω to `sorted_acceleration`.
 #define_import_path sph::pbf
 
-#import sph::bindings::{params, position, sorted_position, sorted_velocity_predicted, clock}
+#import sph::bindings::{params, position, sorted_position, sorted_velocity_predicted, normal, clock}
 
 // The current position of particle j (the iteration's source buffer).
 fn current_position(j: u32) -> vec3<f32> {
@@ -82,6 +83,24 @@ fn correction_weight() -> f32 {
     return omega * sum;
 }
 
+// Adds particle i's λ of the iteration under way, weighted by its share of the step's moves,
+// to Λ_i = Σ_k c_k λ_k in normal[i].w (the first iteration starts it): the pressure the step's
+// λ stand for is -ρ0 Λ_i / dt² (pbf_xsph). Only the w of i's own slot is written, while the pass
+// reads the neighbours' λ in x. Rust twin: the λ sums of sph_core::solver::pbf's step and
+// sph_core::solver::pbf::macklin2013::equivalent_pressure.
+fn sum_lambda(i: u32, l_i: f32) {
+#ifdef PBF_FROM_A
+    let before = normal[i].w;
+#else
+#ifdef PBF_FROM_B
+    let before = normal[i].w;
+#else
+    let before = 0.0;
+#endif
+#endif
+    normal[i].w = before + correction_weight() * l_i;
+}
+
 // Counts the iterations in clock.pbf_iteration: the λ pass's first thread (`i` = 0) sets it.
 fn count_iteration(i: u32) {
     if i != 0u {
@@ -121,3 +140,14 @@ fn mass() -> f32 {
 fn rest_density() -> f32 {
     return params.rest_density;
 }
+
+// The pressure a step's weighted λ sum stands for, -ρ0 Λ / dt², never negative.
+// Rust twin: sph_core::solver::pbf::macklin2013::equivalent_pressure.
+fn equivalent_pressure(lambda_sum: f32, dt: f32) -> f32 {
+    let p = -rest_density() * lambda_sum / (dt * dt);
+    if p > 0.0 && p < 3.0e38 {
+        return p;
+    }
+    return 0.0;
+}
+

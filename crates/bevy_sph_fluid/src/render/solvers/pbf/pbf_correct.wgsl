@@ -8,12 +8,13 @@
 // moves i by V_b λ_i ∇W_ib, so its body feels -m V_b λ_i ∇W_ib / dt² at the sample, weighted by
 // the iteration's share of the step's moves (correction_weight), summed by
 // shaders/body_reactions.wgsl over the step's iterations.
+// The iteration's λ_i joins the step's sum Λ_i (normal.w, pbf.wgsl's sum_lambda).
 // Rust twins: sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections}.
 #import sph::bindings::{params, position, neighbor_count, neighbor_lists, normal, boundary_position, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen}
-#import sph::pbf::{current_position, write_next_position, mass, rest_density, relaxed_position, correction_weight}
+#import sph::pbf::{current_position, write_next_position, mass, rest_density, relaxed_position, correction_weight, sum_lambda}
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
 
@@ -44,6 +45,7 @@ fn particle(i: u32) {
     let sorted = position[i].xyz;
     let x_i = current_position(i);
     let l_i = normal[i].x;
+    sum_lambda(i, l_i);
     let h2 = params.h_squared;
     let m = mass();
     let scale = m / rest_density();

@@ -2,9 +2,10 @@
 // positions (see pbf.wgsl):
 // v_i = v*_i + c Σ_j (m/ρ_j) (v*_j - v*_i) W_ij, v* the velocities of the velocity pass and ρ_j
 // the last λ pass's densities (normal.y); ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (self included);
-// pressure 0 (PBF has none); a = (v - v*) / dt + g, the step's mean acceleration (diagnostics).
+// the pressure the step's λ stand for, -ρ0 Λ_i / dt² (Λ_i in normal.w, see pbf.wgsl); a = (v - v*) / dt + g, the step's mean acceleration (diagnostics).
 // Without VORTICITY this is the step's last pass: pumps, |v + g dt_max| for the time-step
-// rule, probes. Rust twins: sph_core::solver::pbf::macklin2013::{xsph, compute_densities}, then
+// rule, probes. Rust twins: sph_core::solver::pbf::macklin2013::{xsph, compute_densities,
+// equivalent_pressure}, then
 // sph_core::flow::pump::apply_pumps.
 #import sph::bindings::{params, position, neighbor_count, neighbor_lists, velocity, sorted_velocity, acceleration, density, pressure, normal, boundary_position}
 #import sph::kernels::cubic
@@ -12,7 +13,7 @@
 #import sph::clock::{step_dt, frozen, record_speed}
 #import sph::pumps::pumped
 #import sph::probes::record_probes
-#import sph::pbf::{current_position, mass, rest_density}
+#import sph::pbf::{current_position, mass, rest_density, equivalent_pressure}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -49,8 +50,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     density[i] = m * fluid + rest_density() * solid;
-    pressure[i] = 0.0;
     let dt = step_dt();
+    pressure[i] = equivalent_pressure(normal[i].w, dt);
     var v = v_i + smoothing * params.pbf_xsph_c;
     acceleration[i] = vec4<f32>((v - v_i) / dt + params.gravity, 0.0);
 #ifndef VORTICITY
