@@ -1,4 +1,4 @@
-//! A water surface drawn from the particles in screen space, per camera: add [`SphSurface`] to
+//! A water surface drawn from the particles in screen space, per camera: add [`SphSurface`](crate::SphSurface) to
 //! a `Camera3d`. The passes, each a `.rs` + `.wgsl` pair over the scaled targets of the view:
 //! `depth` (nearest sphere impostor), `thickness` (summed chords), `filter` (narrow-range
 //! smoothing of the depth, Truong & Yuksel 2018), `normals` (of the smoothed depth), then

@@ -162,7 +162,7 @@ pub struct GpuSphParams {
     /// Drains: the main world's frame number, recorded with each sort's tail
     /// ([`Self::with_drains`]).
     pub drain_frame: u32,
-    /// Drains: the open drains in [`GpuPumps`] (0 = none).
+    /// Drains: the open drains in [`GpuPumps`](crate::gpu_layout::GpuPumps) (0 = none).
     pub open_drains: u32,
     /// Unused (keeps the block in 16-byte rows).
     pub drains_unused_z: u32,
