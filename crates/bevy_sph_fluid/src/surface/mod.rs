@@ -1,5 +1,6 @@
-//! A water surface drawn from the particles in screen space, per camera: add [`SphSurface`](crate::SphSurface) to
-//! a `Camera3d`. The passes, each a `.rs` + `.wgsl` pair over the scaled targets of the view:
+//! A water surface drawn from the particles in screen space, per camera: add
+//! [`SphSurface`](crate::SphSurface) to a `Camera3d`. The passes, each a `.rs` + `.wgsl` pair
+//! over the scaled targets of the view:
 //! `depth` (nearest sphere impostor), `thickness` (summed chords), `filter` (narrow-range
 //! smoothing of the depth, Truong & Yuksel 2018), `normals` (of the smoothed depth), then
 //! `composite` (Fresnel, refraction, absorption, highlight) into the view's colour before
