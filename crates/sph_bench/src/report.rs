@@ -1,6 +1,7 @@
 //! The JSON report of one run.
 
 use crate::physical_checks::orifice::OrificeFigures;
+use crate::physical_checks::thin_wall::ThinWallFigures;
 use crate::physical_checks::u_tube::UTubeFigures;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -282,4 +283,7 @@ pub struct Report {
     /// The orifice scenario: the discharge coefficient against the textbook's.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub orifice: Option<OrificeFigures>,
+    /// The thin-wall scenario: the water that passed the wall.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub thin_wall: Option<ThinWallFigures>,
 }

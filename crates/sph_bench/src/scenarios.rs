@@ -1,6 +1,6 @@
 //! The scenarios of `sph-bench`: their scenes, emitters and default durations.
 
-use crate::physical_checks::{orifice as sluice, u_tube as tube};
+use crate::physical_checks::{orifice as sluice, thin_wall as jet, u_tube as tube};
 use sph_core::boundary::collider::{Collider, ColliderMotion, ColliderShape, Pose};
 use sph_core::glam::{Quat, Vec3};
 use sph_core::scenario::{dam_break, hydrostatic, Scene};
@@ -40,13 +40,15 @@ pub enum Scenario {
     UTube,
     /// A tank emptying through a slot under a sluice: its discharge against Cd b W √(2 g H).
     Orifice,
+    /// A 3 m/s jet against a wall one spacing thick: the water that passes it.
+    ThinWall,
     /// A scene file (`sph-bench run --scene FILE`), not a named scenario (not in [`Self::ALL`]).
     SceneFile,
 }
 
 impl Scenario {
     /// Every scenario.
-    pub const ALL: [Scenario; 9] = [
+    pub const ALL: [Scenario; 10] = [
         Scenario::DamBreak,
         Scenario::Hydrostatic,
         Scenario::PipeFill,
@@ -56,6 +58,7 @@ impl Scenario {
         Scenario::Buoyancy,
         Scenario::UTube,
         Scenario::Orifice,
+        Scenario::ThinWall,
     ];
 
     /// The command-line name.
@@ -70,6 +73,7 @@ impl Scenario {
             Scenario::Buoyancy => "buoyancy",
             Scenario::UTube => "u-tube",
             Scenario::Orifice => "orifice",
+            Scenario::ThinWall => "thin-wall",
             Scenario::SceneFile => "scene-file",
         }
     }
@@ -94,6 +98,7 @@ impl Scenario {
             Scenario::Orifice => {
                 "a tank empties through a 4 cm slot: its discharge against 0.61 b W √(2gH), 1 s"
             }
+            Scenario::ThinWall => "a 3 m/s jet against a wall one spacing thick, 1.2 s",
             Scenario::SceneFile => "a scene file (--scene FILE), 2 s",
         }
     }
@@ -299,6 +304,7 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
         Scenario::Buoyancy => buoyancy(particles),
         Scenario::UTube => u_tube(),
         Scenario::Orifice => orifice(),
+        Scenario::ThinWall => thin_wall(),
         // Built from its file by `scene_run::setup_from_file`; here an empty dam break.
         Scenario::SceneFile => setup(Scenario::DamBreak, particles, a),
     }
@@ -636,4 +642,33 @@ fn orifice() -> Setup {
         vec![table, divider],
         sluice::DURATION,
     )
+}
+
+/// The jet of [`crate::physical_checks::thin_wall`] against a wall one spacing thick through the
+/// container's side walls and lid.
+fn thin_wall() -> Setup {
+    use jet::{JET_AT, JET_RADIUS, JET_SPEED, SIZE, SPACING, WALL_THICKNESS, WALL_X};
+    let params = SphParams::from_spacing(SpacingDerivation {
+        spacing: SPACING,
+        expected_peak_speed: (JET_SPEED * JET_SPEED + 2.0 * 9.81 * SIZE.y).sqrt(),
+        ..Default::default()
+    });
+    let container = BoxContainer::from_min_max(Vec3::ZERO, SIZE);
+    let mut pipe = PipeEmitter::new(JET_AT, Vec3::X, JET_RADIUS, JET_SPEED, SPACING);
+    pipe.total = Some(jet::JET_TOTAL);
+    let margin = 2.0 * SPACING;
+    let wall = slab(
+        "wall",
+        Vec3::new(WALL_X, -margin, -margin),
+        Vec3::new(WALL_X + WALL_THICKNESS, SIZE.y + margin, SIZE.z + margin),
+    );
+    let scene = Scene {
+        params,
+        container,
+        blocks: Vec::new(),
+    };
+    let mut setup = still_setup(Scenario::ThinWall, scene, vec![wall], jet::DURATION);
+    setup.emitter = Some(pipe);
+    setup.capacity = jet::JET_TOTAL as usize;
+    setup
 }

@@ -251,12 +251,10 @@ pub fn run_setup(
         report.dam_break = Some(figures);
     }
     report.hydrostatic = samples.hydrostatic.map(|h| h.finish(&params));
-    report.u_tube = samples
-        .u_tube
-        .map(|u| u.finish(params.gravity.length() as f64));
-    report.orifice = samples
-        .orifice
-        .map(|o| o.finish(params.gravity.length() as f64));
+    let g = params.gravity.length() as f64;
+    report.u_tube = samples.u_tube.map(|u| u.finish(g));
+    report.orifice = samples.orifice.map(|o| o.finish(g));
+    report.thin_wall = samples.thin_wall.map(|w| w.finish());
     Ok(report)
 }
 

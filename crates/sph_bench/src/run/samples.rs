@@ -6,6 +6,7 @@
 use crate::args::Backend;
 use crate::hydrostatic::HydrostaticSampler;
 use crate::physical_checks::orifice::OrificeSampler;
+use crate::physical_checks::thin_wall::ThinWallSampler;
 use crate::physical_checks::u_tube::UTubeSampler;
 use crate::report::DamBreakFigures;
 use crate::scenarios::{Scenario, Setup, G};
@@ -24,6 +25,7 @@ pub(super) struct Samples {
     pub(super) hydrostatic: Option<HydrostaticSampler>,
     pub(super) u_tube: Option<UTubeSampler>,
     pub(super) orifice: Option<OrificeSampler>,
+    pub(super) thin_wall: Option<ThinWallSampler>,
     /// The largest mean compression error seen [%].
     pub(super) density_error_peak: f32,
     /// Σ and count of the sampled mean compression errors [%].
@@ -49,6 +51,7 @@ impl Samples {
                 .map(|_| HydrostaticSampler::new(setup, end)),
             u_tube: (setup.scenario == Scenario::UTube).then(UTubeSampler::default),
             orifice: (setup.scenario == Scenario::Orifice).then(OrificeSampler::default),
+            thin_wall: (setup.scenario == Scenario::ThinWall).then(ThinWallSampler::default),
             density_error_peak: 0.0,
         }
     }
@@ -59,6 +62,7 @@ impl Samples {
             || self.hydrostatic.is_some()
             || self.u_tube.is_some()
             || self.orifice.is_some()
+            || self.thin_wall.is_some()
     }
 
     /// The mean of the sampled mean compression errors, or `end` without samples.
@@ -90,6 +94,9 @@ impl Samples {
         }
         if let Some(o) = &mut self.orifice {
             o.record(time, &state.positions);
+        }
+        if let Some(w) = &mut self.thin_wall {
+            w.record(&state.positions);
         }
     }
 }
