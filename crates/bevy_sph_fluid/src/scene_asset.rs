@@ -119,8 +119,15 @@ pub(crate) fn add_systems(app: &mut App, schedule: bevy::ecs::schedule::Interned
         );
 }
 
+/// The resources a scene file sets: the parameters, the reset it asks for, and its errors.
+#[derive(bevy::ecs::system::SystemParam)]
+struct SceneTargets<'w> {
+    params: ResMut<'w, SphParams>,
+    control: ResMut<'w, SphControl>,
+    stats: ResMut<'w, SphStats>,
+}
+
 /// Builds a scene's entities when its asset loads or changes; reports files that fail.
-#[allow(clippy::too_many_arguments)]
 fn sph_apply_scenes(
     mut commands: Commands,
     mut events: MessageReader<AssetEvent<SphSceneAsset>>,
@@ -128,23 +135,10 @@ fn sph_apply_scenes(
     scenes: Query<(Entity, &SphScene)>,
     members: Query<(Entity, &SphSceneMember)>,
     assets: Res<Assets<SphSceneAsset>>,
-    mut params: ResMut<SphParams>,
-    mut control: ResMut<SphControl>,
-    mut stats: ResMut<SphStats>,
+    mut targets: SceneTargets,
 ) {
     for failure in failures.read() {
-        // The loader's own error (file, line, field, value, allowed) without the wrapping.
-        let scene_error = match &failure.error {
-            AssetLoadError::AssetLoaderError(e) => e.error().downcast_ref::<SceneError>(),
-            _ => None,
-        };
-        let error = match scene_error {
-            Some(e) => format!("scene {e}"),
-            None => format!("scene {}: {}", failure.path, failure.error),
-        };
-        warn!("SphFluidPlugin: {error}; the running scene stays");
-        stats.scene_error = Some(error.clone());
-        stats.error = Some(error);
+        report_failure(failure, &mut targets.stats);
     }
     // A load or reload may send both events in one frame: each scene is rebuilt once.
     let mut changed: Vec<AssetId<SphSceneAsset>> = Vec::new();
@@ -168,70 +162,107 @@ fn sph_apply_scenes(
                     commands.entity(entity).despawn();
                 }
             }
-            let setup = &asset.0;
-            params.0 = setup.params;
-            control.reset = true;
-            let member = SphSceneMember(root);
-            commands
-                .entity(root)
-                .insert(SphSceneControls(setup.controls.clone()));
-            commands.spawn((SphContainer(setup.container), member));
-            let mut collider_entities = Vec::with_capacity(setup.colliders.len());
-            for c in &setup.colliders {
-                let pose = c.collider.pose;
-                let transform =
-                    Transform::from_translation(pose.translation).with_rotation(pose.rotation);
-                let mut entity = commands.spawn((
-                    SphCollider {
-                        shape: c.collider.shape.clone(),
-                        motion: c.collider.motion,
-                        slip: c.collider.slip,
-                    },
-                    transform,
-                    // In place this frame, before transform propagation: the scene's blocks
-                    // spawn around it in the same frame.
-                    GlobalTransform::from(transform),
-                    Name::new(c.name.clone()),
-                    member,
-                ));
-                if !c.path.is_empty() {
-                    entity.insert(SphColliderPath(c.clone()));
-                }
-                if let Some(body) = c.body {
-                    entity.insert(SphDynamicBody(body));
-                }
-                if let Some(hinge) = c.hinge {
-                    entity.insert(SphHinge(hinge));
-                }
-                collider_entities.push(entity.id());
-            }
-            for &(block, velocity) in &setup.blocks {
-                commands.spawn((SphBlockSpawn { block, velocity }, member));
-            }
-            for emitter in &setup.emitters {
-                commands.spawn((SphEmitter(emitter.clone()), member));
-            }
-            let (sinks, pumps) = spawn_flow_devices(&mut commands, setup, member);
-            for binding in &setup.bindings {
-                let entities = match binding.target {
-                    ControlTarget::Position { .. } => &collider_entities,
-                    ControlTarget::PumpStrength { .. } => &pumps,
-                    ControlTarget::DrainOpen => &sinks,
-                };
-                if let Some(&entity) = entities.get(binding.index) {
-                    commands.entity(entity).insert(SphControlBinding(*binding));
-                }
-            }
-            if stats.scene_error.take().is_some()
-                && stats
-                    .error
-                    .as_deref()
-                    .is_some_and(|e| e.starts_with("scene "))
-            {
-                stats.error = None;
-            }
+            spawn_scene(&mut commands, root, &asset.0, &mut targets);
         }
     }
+}
+
+/// A scene file that failed to load: the loader's own error (file, line, field, value, allowed)
+/// in the stats and the log; the running scene stays.
+fn report_failure(failure: &AssetLoadFailedEvent<SphSceneAsset>, stats: &mut SphStats) {
+    let scene_error = match &failure.error {
+        AssetLoadError::AssetLoaderError(e) => e.error().downcast_ref::<SceneError>(),
+        _ => None,
+    };
+    let error = match scene_error {
+        Some(e) => format!("scene {e}"),
+        None => format!("scene {}: {}", failure.path, failure.error),
+    };
+    warn!("SphFluidPlugin: {error}; the running scene stays");
+    stats.scene_error = Some(error.clone());
+    stats.error = Some(error);
+}
+
+/// Spawns the entities of the scene `setup` under `root` and sets its parameters; a scene that
+/// loads clears the error of one that did not.
+fn spawn_scene(
+    commands: &mut Commands,
+    root: Entity,
+    setup: &SceneSetup,
+    targets: &mut SceneTargets,
+) {
+    targets.params.0 = setup.params;
+    targets.control.reset = true;
+    let member = SphSceneMember(root);
+    commands
+        .entity(root)
+        .insert(SphSceneControls(setup.controls.clone()));
+    commands.spawn((SphContainer(setup.container), member));
+    let collider_entities = spawn_colliders(commands, setup, member);
+    for &(block, velocity) in &setup.blocks {
+        commands.spawn((SphBlockSpawn { block, velocity }, member));
+    }
+    for emitter in &setup.emitters {
+        commands.spawn((SphEmitter(emitter.clone()), member));
+    }
+    let (sinks, pumps) = spawn_flow_devices(commands, setup, member);
+    for binding in &setup.bindings {
+        let entities = match binding.target {
+            ControlTarget::Position { .. } => &collider_entities,
+            ControlTarget::PumpStrength { .. } => &pumps,
+            ControlTarget::DrainOpen => &sinks,
+        };
+        if let Some(&entity) = entities.get(binding.index) {
+            commands.entity(entity).insert(SphControlBinding(*binding));
+        }
+    }
+    let stats = &mut targets.stats;
+    if stats.scene_error.take().is_some()
+        && stats
+            .error
+            .as_deref()
+            .is_some_and(|e| e.starts_with("scene "))
+    {
+        stats.error = None;
+    }
+}
+
+/// The scene's colliders, in place this frame, with their paths, bodies and hinges; returns
+/// their entities in the file's order.
+fn spawn_colliders(
+    commands: &mut Commands,
+    setup: &SceneSetup,
+    member: SphSceneMember,
+) -> Vec<Entity> {
+    let mut collider_entities = Vec::with_capacity(setup.colliders.len());
+    for c in &setup.colliders {
+        let pose = c.collider.pose;
+        let transform = Transform::from_translation(pose.translation).with_rotation(pose.rotation);
+        let mut entity = commands.spawn((
+            SphCollider {
+                shape: c.collider.shape.clone(),
+                motion: c.collider.motion,
+                slip: c.collider.slip,
+            },
+            transform,
+            // In place this frame, before transform propagation: the scene's blocks spawn
+            // around it in the same frame.
+            GlobalTransform::from(transform),
+            Name::new(c.name.clone()),
+            member,
+        ));
+        if !c.path.is_empty() {
+            entity.insert(SphColliderPath(c.clone()));
+        }
+        if let Some(body) = c.body {
+            entity.insert(SphDynamicBody(body));
+        }
+        if let Some(hinge) = c.hinge {
+            entity.insert(SphHinge(hinge));
+        }
+        collider_entities.push(entity.id());
+    }
+    collider_entities
 }
 
 /// The scene's drains, pumps and probes, named as in the file; returns the drains' and the

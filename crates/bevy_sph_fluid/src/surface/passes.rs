@@ -30,10 +30,54 @@ struct Pipelines<'a> {
     filter: [&'a RenderPipeline; 2],
     normals: &'a RenderPipeline,
     composite: &'a RenderPipeline,
+    /// The filter's, normals' and composite's resources (their bind-group layouts).
+    layouts: (
+        &'a SurfaceFilterPipelines,
+        &'a SurfaceNormalsPipeline,
+        &'a SurfaceCompositePipeline,
+    ),
+}
+
+/// The surface's pipeline resources (each exists once its pipelines are queued) and the cache
+/// that compiles them.
+#[derive(bevy::ecs::system::SystemParam)]
+pub(crate) struct SurfacePipelineResources<'w> {
+    depth: Option<Res<'w, SurfaceDepthPipeline>>,
+    thickness: Option<Res<'w, SurfaceThicknessPipeline>>,
+    filter: Option<Res<'w, SurfaceFilterPipelines>>,
+    normals: Option<Res<'w, SurfaceNormalsPipeline>>,
+    composite: Option<Res<'w, SurfaceCompositePipeline>>,
+    cache: Res<'w, PipelineCache>,
+}
+
+impl SurfacePipelineResources<'_> {
+    /// Every pipeline of the passes, with the view's composite `variant`, once all are compiled.
+    fn compiled(&self, variant: &SurfaceCompositeVariant) -> Option<Pipelines<'_>> {
+        let (Some(depth), Some(thickness), Some(filter), Some(normals), Some(composite)) = (
+            &self.depth,
+            &self.thickness,
+            &self.filter,
+            &self.normals,
+            &self.composite,
+        ) else {
+            return None;
+        };
+        let cache = &self.cache;
+        Some(Pipelines {
+            depth: cache.get_render_pipeline(depth.0)?,
+            thickness: cache.get_render_pipeline(thickness.0)?,
+            filter: [
+                cache.get_render_pipeline(filter.directions[0])?,
+                cache.get_render_pipeline(filter.directions[1])?,
+            ],
+            normals: cache.get_render_pipeline(normals.pipeline)?,
+            composite: cache.get_render_pipeline(variant.pipeline)?,
+            layouts: (filter, normals, composite),
+        })
+    }
 }
 
 /// Draws the water surface of the current view.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn sph_surface_passes(
     view: ViewQuery<(
         &ViewTarget,
@@ -45,38 +89,15 @@ pub(crate) fn sph_surface_passes(
     particles: Res<SurfaceParticles>,
     buffers: Res<RenderAssets<GpuShaderBuffer>>,
     uniforms: Res<SurfaceUniforms>,
-    depth: Option<Res<SurfaceDepthPipeline>>,
-    thickness: Option<Res<SurfaceThicknessPipeline>>,
-    filter: Option<Res<SurfaceFilterPipelines>>,
-    normals: Option<Res<SurfaceNormalsPipeline>>,
-    composite: Option<Res<SurfaceCompositePipeline>>,
-    cache: Res<PipelineCache>,
+    pipeline_resources: SurfacePipelineResources,
     mut ctx: RenderContext,
 ) {
     let (target, view_depth, resources, variant, settings) = view.into_inner();
-    let (Some(depth), Some(thickness), Some(filter), Some(normals), Some(composite)) =
-        (depth, thickness, filter, normals, composite)
-    else {
+    let Some(pipelines) = pipeline_resources.compiled(variant) else {
         return;
     };
-    let pipelines = (
-        cache.get_render_pipeline(depth.0),
-        cache.get_render_pipeline(thickness.0),
-        cache.get_render_pipeline(filter.directions[0]),
-        cache.get_render_pipeline(filter.directions[1]),
-        cache.get_render_pipeline(normals.pipeline),
-        cache.get_render_pipeline(variant.pipeline),
-    );
-    let (Some(d), Some(t), Some(h), Some(v), Some(n), Some(c)) = pipelines else {
-        return;
-    };
-    let pipelines = Pipelines {
-        depth: d,
-        thickness: t,
-        filter: [h, v],
-        normals: n,
-        composite: c,
-    };
+    let cache = &pipeline_resources.cache;
+    let (filter, normals, composite) = pipelines.layouts;
     let Some(positions) = particles
         .position
         .as_ref()
@@ -85,7 +106,7 @@ pub(crate) fn sph_surface_passes(
         return;
     };
     let device = ctx.render_device().clone();
-    let Some(impostors) = impostor_bind_group(&device, &cache, &uniforms, &positions.buffer) else {
+    let Some(impostors) = impostor_bind_group(&device, cache, &uniforms, &positions.buffer) else {
         return;
     };
     let Some(uniform) = uniforms.0.binding() else {
