@@ -47,6 +47,7 @@ pub mod spawn;
 pub mod stability;
 pub mod stage;
 pub mod surface_tension_akinci2013;
+pub mod whitewater;
 
 pub use boundary::collider::{Collider, ColliderMotion, ColliderShape, Pose, Slip};
 pub use boundary::samples::{BodyForce, Boundary, ColliderId};
