@@ -29,6 +29,18 @@ fn block(min: Vec3, n: [usize; 3]) -> Vec<Vec3> {
     out
 }
 
+/// Two slabs one spacing apart at 3 m/s towards each other: the view of their water.
+fn colliding_slabs() -> FluidView {
+    let left = block(Vec3::ZERO, [4, 6, 6]);
+    let right = block(Vec3::new(4.0 * DX, 0.0, 0.0), [4, 6, 6]);
+    let velocities: Vec<Vec3> = (0..left.len())
+        .map(|_| Vec3::X * 3.0)
+        .chain((0..right.len()).map(|_| Vec3::X * -3.0))
+        .collect();
+    let positions: Vec<Vec3> = left.into_iter().chain(right).collect();
+    FluidView::new(&positions, &velocities, &container(), H).unwrap()
+}
+
 #[test]
 fn limits_clamp_to_zero_and_one() {
     let limits = Limits { min: 1.0, max: 3.0 };
@@ -58,15 +70,7 @@ fn water_at_rest_sheds_nothing_and_water_moving_as_one_traps_no_air() {
 
 #[test]
 fn two_streams_running_into_each_other_trap_air_and_shed_spray() {
-    // Two slabs one spacing apart at 3 m/s towards each other.
-    let left = block(Vec3::ZERO, [4, 6, 6]);
-    let right = block(Vec3::new(4.0 * DX, 0.0, 0.0), [4, 6, 6]);
-    let velocities: Vec<Vec3> = (0..left.len())
-        .map(|_| Vec3::X * 3.0)
-        .chain((0..right.len()).map(|_| Vec3::X * -3.0))
-        .collect();
-    let positions: Vec<Vec3> = left.into_iter().chain(right).collect();
-    let fluid = FluidView::new(&positions, &velocities, &container(), H).unwrap();
+    let fluid = colliding_slabs();
     let most = (0..fluid.len())
         .map(|i| fluid.potentials(i).trapped_air)
         .fold(0.0, f32::max);
@@ -174,14 +178,7 @@ fn spray_falls_ballistically_and_foam_dies_with_its_lifetime() {
 
 #[test]
 fn a_full_pool_counts_every_particle_it_refuses() {
-    let left = block(Vec3::ZERO, [4, 6, 6]);
-    let right = block(Vec3::new(4.0 * DX, 0.0, 0.0), [4, 6, 6]);
-    let velocities: Vec<Vec3> = (0..left.len())
-        .map(|_| Vec3::X * 3.0)
-        .chain((0..right.len()).map(|_| Vec3::X * -3.0))
-        .collect();
-    let positions: Vec<Vec3> = left.into_iter().chain(right).collect();
-    let fluid = FluidView::new(&positions, &velocities, &container(), H).unwrap();
+    let fluid = colliding_slabs();
     let mut white = Whitewater::new(WhitewaterSettings::default(), container(), 3, 7);
     let mut offered = 0;
     for _ in 0..10 {
