@@ -708,14 +708,8 @@ mod tests {
             })
             .collect();
         let mut corrections = vec![Correction::default(); 512];
-        compute_corrections(
-            &ctx,
-            &lists,
-            &positions,
-            None,
-            &constraint,
-            &mut corrections,
-        );
+        let (lambdas, out) = (&constraint, &mut corrections);
+        compute_corrections(&ctx, &lists, &positions, None, lambdas, out);
         let dt = 1.0 / 120.0;
         let p: Vec<f32> = constraint
             .iter()
