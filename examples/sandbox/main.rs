@@ -75,24 +75,7 @@ fn main() {
         SphBackend::Gpu
     };
     let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(WindowPlugin {
-                primary_window: Some(Window {
-                    title: "Aquaplay SPH sandbox".into(),
-                    resolution: (1280, 720).into(),
-                    ..default()
-                }),
-                ..default()
-            })
-            // The example's own shader, found however the binary is started.
-            .set(AssetPlugin {
-                file_path: concat!(env!("CARGO_MANIFEST_DIR"), "/assets").into(),
-                // Edit a scene file and the sandbox reloads it.
-                watch_for_changes_override: Some(true),
-                ..default()
-            }),
-    );
+    app.add_plugins(default_plugins());
     if !no_gpu_timings {
         // Per-stage GPU milliseconds in the panel (timestamp queries).
         app.add_plugins(RenderDiagnosticsPlugin);
@@ -140,6 +123,26 @@ fn main() {
             .run_if(in_state(AppState::Running)),
     )
     .run();
+}
+
+/// Bevy's default plugins with the sandbox's 1280×720 window and its assets, hot-reloaded.
+fn default_plugins() -> bevy::app::PluginGroupBuilder {
+    DefaultPlugins
+        .set(WindowPlugin {
+            primary_window: Some(Window {
+                title: "Aquaplay SPH sandbox".into(),
+                resolution: (1280, 720).into(),
+                ..default()
+            }),
+            ..default()
+        })
+        // The example's own shader, found however the binary is started.
+        .set(AssetPlugin {
+            file_path: concat!(env!("CARGO_MANIFEST_DIR"), "/assets").into(),
+            // Edit a scene file and the sandbox reloads it.
+            watch_for_changes_override: Some(true),
+            ..default()
+        })
 }
 
 fn spawn_camera_and_light(mut commands: Commands) {
