@@ -131,7 +131,7 @@ fn readable_buffers(
     handles: &crate::api::SphGpuBuffers,
     assets: &RenderAssets<GpuShaderBuffer>,
 ) -> Option<[Buffer; 9]> {
-    let readable = [
+    let handles = [
         &handles.position,
         &handles.velocity,
         &handles.acceleration,
@@ -141,24 +141,12 @@ fn readable_buffers(
         &handles.clock,
         &handles.body_forces,
         &handles.probes,
-    ]
-    .map(|h| assets.get(h).map(|b| b.buffer.clone()));
-    let [Some(position), Some(velocity), Some(acceleration), Some(density), Some(pressure), Some(neighbor_count), Some(clock), Some(body_forces), Some(probes)] =
-        readable
-    else {
-        return None;
-    };
-    Some([
-        position,
-        velocity,
-        acceleration,
-        density,
-        pressure,
-        neighbor_count,
-        clock,
-        body_forces,
-        probes,
-    ])
+    ];
+    let mut readable = Vec::with_capacity(handles.len());
+    for handle in handles {
+        readable.push(assets.get(handle)?.buffer.clone());
+    }
+    readable.try_into().ok()
 }
 
 /// Refuses, by name, a scene the device's buffers cannot hold.
