@@ -130,6 +130,7 @@ mod tests {
         assert_eq!(t.particles, [2_000, 8_000]);
         assert_eq!(t.out_dir, PathBuf::from("docs"));
         assert!(t.dambreak32k);
+        assert!(t.checks);
         assert_eq!(t.substeps, 10);
         let Ok(Command::Soak(s)) = parse(&["soak"]) else {
             panic!("not a soak");

@@ -80,6 +80,10 @@ pub struct TradeArgs {
     /// Include the 31,250-particle peer scene.
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub dambreak32k: bool,
+    /// Run the physical checks: every solver at its defaults in the tank at rest, the held box,
+    /// the thin wall, the U-tube, the orifice and the dam break (CPU).
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
+    pub checks: bool,
     /// Steps per frame on the GPU backend [steps].
     #[arg(long, value_name = "K", value_parser = substeps, default_value = "10")]
     pub substeps: u32,

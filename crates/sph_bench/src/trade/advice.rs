@@ -1,5 +1,6 @@
 //! Which solver to pick: the advice of `trade.md`, chosen from the measured rows by stated rules.
 
+use super::checks::rests_and_meets_solids;
 use super::table::{real_time_factor, Row};
 
 /// The groups the advice compares: the same CPU dam break at the sweep's resolution.
@@ -33,10 +34,11 @@ fn describe(row: &Row) -> String {
 }
 
 /// Which solver and settings to pick, chosen from the measured rows by stated rules: for a game
-/// the fastest stable run whose mean compression over the run stays within 1 %; for a visual
+/// the fastest stable run whose mean compression over the run stays within 1 % and whose solver
+/// passed the rest, contact and buoyancy checks in `checks` at its defaults (when they ran); for a visual
 /// effect the cheapest whose dam-break front stays within RMS Z 0.10 of the experiment; for an
 /// engineering answer the least compressed of those.
-pub(super) fn advice(rows: &[Row]) -> String {
+pub(super) fn advice(rows: &[Row], checks: &[Row]) -> String {
     // One scene at one resolution: the CPU dam breaks of the integrator and solver sweeps.
     let stable_rows: Vec<&Row> = rows
         .iter()
@@ -60,7 +62,10 @@ pub(super) fn advice(rows: &[Row]) -> String {
             })
     };
     let game = pick(
-        &|r| r.report.density_error_mean_run_pct <= GAME_COMPRESSION_PCT,
+        &|r| {
+            r.report.density_error_mean_run_pct <= GAME_COMPRESSION_PCT
+                && (checks.is_empty() || rests_and_meets_solids(checks, &r.report.solver))
+        },
         &|a, b| cost(a) < cost(b),
     );
     let effect = pick(&|r| rms(r) <= FRONT_RMS_Z, &|a, b| cost(a) < cost(b));
@@ -79,7 +84,14 @@ pub(super) fn advice(rows: &[Row]) -> String {
     s += &line(
         "For a game",
         format!(
-            "the highest real-time factor with at most {GAME_COMPRESSION_PCT} % mean compression over the run"
+            "the highest real-time factor with at most {GAME_COMPRESSION_PCT} % mean compression over \
+             the run, {}",
+            if checks.is_empty() {
+                "the physical checks not run"
+            } else {
+                "of a solver whose water rests, stays out of thin walls and feels a held box's \
+                 weight in the physical checks"
+            }
         ),
         game,
     );
@@ -111,6 +123,7 @@ pub(super) fn advice(rows: &[Row]) -> String {
 mod tests {
     use super::*;
     use crate::report::Report;
+    use crate::trade::checks::passing_checks;
 
     fn row(label: &str, solver: &str, cost: f64, compression: f32, rms: f64, ok: bool) -> Row {
         Row {
@@ -145,20 +158,31 @@ mod tests {
                 ..row("elsewhere", "pbf", 0.1, 0.001, 0.01, true)
             },
         ];
-        let text = advice(&rows);
-        let pick = |what: &str| {
+        let checks: Vec<Row> = [passing_checks("pbf"), passing_checks("wcsph")]
+            .into_iter()
+            .flatten()
+            .collect();
+        let text = advice(&rows, &checks);
+        let pick = |text: &str, what: &str| {
             text.lines()
                 .find(|l| l.starts_with(&format!("- **{what}**")))
                 .unwrap()
                 .to_string()
         };
-        assert!(pick("For a game").contains("**pbf** ("), "{text}");
-        assert!(pick("For a visual effect").contains("**wcsph**"), "{text}");
+        assert!(pick(&text, "For a game").contains("**pbf** ("), "{text}");
+        // PBF's water that does not rest or meet solids is no game default.
+        let text = advice(&rows, &passing_checks("wcsph"));
+        assert!(pick(&text, "For a game").contains("**wcsph** ("), "{text}");
+        let text = advice(&rows, &checks);
         assert!(
-            pick("For an engineering answer").contains("**dfsph**"),
+            pick(&text, "For a visual effect").contains("**wcsph**"),
             "{text}"
         );
-        let none = advice(&rows[..1]);
+        assert!(
+            pick(&text, "For an engineering answer").contains("**dfsph**"),
+            "{text}"
+        );
+        let none = advice(&rows[..1], &checks);
         assert!(none.contains("no run of this study qualifies"));
     }
 }

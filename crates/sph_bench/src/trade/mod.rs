@@ -8,6 +8,7 @@
 //! and their `table`s, the `figure` and the `advice`.
 
 mod advice;
+mod checks;
 mod figure;
 mod plan;
 mod stability;
@@ -17,6 +18,7 @@ use crate::args::{RunArgs, TradeArgs};
 use crate::progress::Bars;
 use crate::run::{configured_setup, names};
 use advice::advice;
+use checks::{checks_table, plan_checks, CHECKS_GROUP};
 use figure::plot;
 use plan::{largest_count, plan, INTEGRATORS, SWEEP_PARTICLES};
 use sph_core::NeighborSearch;
@@ -27,7 +29,10 @@ use table::{run_row, stage_cost_table, table};
 
 /// Runs the study and writes `trade.md`, `trade.png` and `trade.svg` into `args.out_dir`.
 pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
-    let plan = plan(args);
+    let mut plan = plan(args);
+    if args.checks {
+        plan.extend(plan_checks());
+    }
     let largest = largest_count(args);
     let bars = bars.clearing_finished_runs();
     let runs = plan.len() + INTEGRATORS.len();
@@ -64,6 +69,8 @@ pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
     }
     let dir = Path::new(&args.out_dir);
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let (check_rows, rows): (Vec<_>, Vec<_>) =
+        rows.into_iter().partition(|r| r.group == CHECKS_GROUP);
     plot(&rows, dir)?;
     let markdown = format!(
         "# Speed against accuracy\n\n\
@@ -79,6 +86,14 @@ pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
          cores; the GPU backend runs on lavapipe (Mesa's software Vulkan) on the same 2 cores.\n\n\
          ![cost against accuracy](trade.png) ([SVG](trade.svg))\n\n\
          ## Which solver to pick\n\n{}\n\
+         ## Physical checks at each solver's defaults\n\n\
+         Each solver with its default settings on the CPU, in the scenarios whose answers are \
+         known (`sph-bench run --scenario S --solver X`, docs/bench.md): a tank at rest (8,000 \
+         particles, 5 s), a box held at mid-depth (its upward force against ρ0 g V), a 3 m/s jet \
+         against a wall one spacing thick, a column oscillating between two connected basins, a tank \
+         draining through an orifice, and the Martin & Moyce front. Targets in brackets; ✓ within, \
+         ✗ outside. Guard corrections count the particles the last-resort guard had to move out of \
+         a solid.\n\n{}\n\
          ## Runs\n\n{}\n\
          ## Largest stable time step\n\n\
          Bisection in log(dt) between the derived step and 0.01 s on the CPU, {SWEEP_PARTICLES} particles, \
@@ -95,7 +110,12 @@ pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
          on the same 2-core machine (docs/peers/README.md): SPlisHSPlasH 2.16 DFSPH 54.9 ms per \
          step (27.5 s for 0.5 s: 55 s per simulated second). Our rows are in the `dambreak32k` group \
          above.\n",
-        advice(&rows),
+        advice(&rows, &check_rows),
+        if check_rows.is_empty() {
+            "Not run (`--checks off`).\n".to_string()
+        } else {
+            checks_table(&check_rows)
+        },
         table(&rows),
         limits,
         stage_cost_table(&rows, &args.backends, largest)

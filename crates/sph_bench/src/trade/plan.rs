@@ -23,7 +23,7 @@ pub(super) struct Planned {
 }
 
 impl Planned {
-    fn new(group: &'static str, label: String, args: RunArgs) -> Self {
+    pub(super) fn new(group: &'static str, label: String, args: RunArgs) -> Self {
         Self { group, label, args }
     }
 }
@@ -341,6 +341,7 @@ mod tests {
             particles: vec![2_000, 8_000],
             out_dir: "docs".into(),
             dambreak32k: true,
+            checks: true,
             substeps: 10,
         };
         let plan = plan(&args);
