@@ -2,9 +2,10 @@
 //! solver holding the same colliders (a rotated box, a sphere and a no-slip kinematic capsule in
 //! a jittered block), a collider moved, added and removed at run time changes the boundary
 //! without touching the particle buffers or losing a particle, no particle ends inside a
-//! collider, both backends write the water's force into `SphColliderForce` (the GPU's summed on
-//! the device and matching the CPU solver's, with WCSPH and PBF), and a bad collider
-//! is refused by entity and field while the simulation goes on.
+//! collider, both backends write the water's force into `SphColliderForce` and the walls' into
+//! `SphWallForce` (the GPU's summed on the device and matching the CPU solver's, with WCSPH and
+//! PBF), the walls carry the weight of water at rest, and a bad collider is refused by entity
+//! and field while the simulation goes on.
 
 mod common;
 
@@ -111,7 +112,8 @@ fn app_with_colliders_moving(
         max_body_frame_time: None,
         ..default()
     });
-    app.world_mut().spawn(SphContainer(container));
+    app.world_mut()
+        .spawn((SphContainer(container), SphWallForce::default()));
     let entities = colliders
         .into_iter()
         .map(|(c, t)| app.world_mut().spawn((c, t)).id())
@@ -276,6 +278,75 @@ fn one_step_with_these_colliders_matches(
             "torque {} against {}",
             got.torque,
             expected.torque
+        );
+    }
+    let walls = cpu.wall_force();
+    let got = *app
+        .world_mut()
+        .query::<&SphWallForce>()
+        .single(app.world())
+        .unwrap();
+    eprintln!("{solver:?}: walls' force GPU {got:?}, CPU {walls:?}");
+    let scale = scale.max(walls.force.length());
+    assert!(
+        (got.force - walls.force).length() < 2e-3 * scale,
+        "walls' force {} against {}",
+        got.force,
+        walls.force
+    );
+}
+
+/// A small tank at rest (DFSPH) whose container carries `SphWallForce`: its mean over `frames`
+/// frames after as many to settle, and the water's weight.
+fn tank_at_rest(backend: SphBackend, frames: u32) -> (Vec3, Vec3) {
+    let mut params = sph_core::SphParams::water();
+    params.use_solver(Solver::Dfsph);
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.2, 0.2, 0.12));
+    let block = BlockSpawn::new(Vec3::ZERO, Vec3::new(0.2, 0.08, 0.12), params.spacing());
+    let weight = block.count() as f32 * params.particle_mass * params.gravity;
+    let mut app = headless_app(block.count() as u32, backend);
+    app.insert_resource(SphParams(params));
+    app.insert_resource(SphControl {
+        running: true,
+        substeps: 4,
+        ..default()
+    });
+    app.world_mut()
+        .spawn((SphContainer(container), SphWallForce::default()));
+    app.world_mut().spawn(SphBlockSpawn {
+        block,
+        velocity: Vec3::ZERO,
+    });
+    for _ in 0..frames {
+        app.update();
+    }
+    let mut sum = Vec3::ZERO;
+    for _ in 0..frames {
+        app.update();
+        let walls = app
+            .world_mut()
+            .query::<&SphWallForce>()
+            .single(app.world())
+            .unwrap()
+            .force;
+        sum += walls;
+    }
+    let stats = app.world().resource::<SphStats>();
+    assert_eq!(stats.backend, backend, "{:?}", stats.fallback_reason);
+    (sum / frames as f32, weight)
+}
+
+/// With no collider in the water the GPU sums the walls' reactions for `SphWallForce` alone, and
+/// on both backends the walls carry the water's weight (issue 50's target: within 2 %).
+#[test]
+fn the_walls_carry_the_weight_of_water_at_rest_on_both_backends() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    for backend in [SphBackend::Cpu, SphBackend::Gpu] {
+        let (walls, weight) = tank_at_rest(backend, 30);
+        eprintln!("{backend:?}: the walls feel {walls} N; the water weighs {weight} N");
+        assert!(
+            (walls - weight).length() < 0.02 * weight.length(),
+            "{backend:?}: the walls feel {walls} N; the water weighs {weight} N"
         );
     }
 }

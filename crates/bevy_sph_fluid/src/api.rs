@@ -340,6 +340,20 @@ impl SphStats {
 #[reflect(Component)]
 pub struct SphContainer(pub BoxContainer);
 
+/// The water's force and torque on the container's walls and floor (torque about the world
+/// origin), averaged like [`SphColliderForce`]. Add it to the [`SphContainer`]'s entity to have
+/// it written: the CPU backend writes it every frame, the GPU backend when the device's sums are
+/// read back (it sums the walls' reactions only while some entity carries this, or a collider is
+/// in the water). Water at rest presses on them with its weight, so `force` reads N m g then.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Reflect)]
+#[reflect(Component)]
+pub struct SphWallForce {
+    /// Force [N].
+    pub force: Vec3,
+    /// Torque about the world origin [N m].
+    pub torque: Vec3,
+}
+
 /// A solid the water meets, placed by the entity's [`GlobalTransform`]: an Akinci 2012 boundary
 /// of samples in the shape, on both backends. The shape is sampled when the component is added
 /// or changed; moving the transform only moves the samples. A transform's scale scales the

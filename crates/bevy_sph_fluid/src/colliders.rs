@@ -237,17 +237,19 @@ pub(crate) fn sph_sync_colliders(
     }
 }
 
-/// Writes the water's force on every collider into its [`SphColliderForce`]: the CPU solver's
-/// mean over the frame's evaluations, or on the GPU backend the device's sums of one frame as
-/// read back (a frame or two late, never stalling).
+/// Writes the water's force on every collider into its [`SphColliderForce`], and on the walls
+/// into the container's [`SphWallForce`]: the CPU solver's mean over the frame's evaluations,
+/// or on the GPU backend the device's sums of one frame as read back (a frame or two late,
+/// never stalling).
 pub(crate) fn sph_write_collider_forces(
     map: Res<SphColliderMap>,
     params: Res<SphParams>,
     mut sim: ResMut<SphSimulation>,
     gpu: Option<ResMut<BodyForceReadback>>,
     mut forces: Query<(Entity, &mut SphColliderForce)>,
+    mut walls: Query<&mut SphWallForce>,
 ) {
-    let by_id: HashMap<ColliderId, sph_core::BodyForce> = match sim.backend {
+    let (by_id, wall): (HashMap<ColliderId, sph_core::BodyForce>, _) = match sim.backend {
         SphBackend::Cpu => {
             let Some(solver) = &mut sim.cpu else {
                 return;
@@ -255,7 +257,9 @@ pub(crate) fn sph_write_collider_forces(
             if solver.collider_force_evaluations() == 0 {
                 return;
             }
-            solver.take_collider_forces().into_iter().collect()
+            // Read before the take, which starts the next average.
+            let wall = solver.wall_force();
+            (solver.take_collider_forces().into_iter().collect(), wall)
         }
         SphBackend::Gpu => {
             let Some(sums) = gpu.and_then(|mut g| g.latest.take()) else {
@@ -265,7 +269,8 @@ pub(crate) fn sph_write_collider_forces(
                 return;
             };
             let mass = params.particle_mass;
-            boundary
+            let wall = sums.mean(0, mass, Vec3::ZERO).unwrap_or_default();
+            let by_id = boundary
                 .colliders()
                 .filter_map(|(id, c)| {
                     let force = sums.mean(id.0 as usize + 1, mass, c.pose.translation);
@@ -279,9 +284,19 @@ pub(crate) fn sph_write_collider_forces(
                     }
                     force.map(|f| (id, f))
                 })
-                .collect()
+                .collect();
+            (by_id, wall)
         }
     };
+    let wall = SphWallForce {
+        force: wall.force,
+        torque: wall.torque,
+    };
+    for mut out in &mut walls {
+        if *out != wall {
+            *out = wall;
+        }
+    }
     for (entity, mut out) in &mut forces {
         let Some(t) = map.tracked.get(&entity) else {
             continue;

@@ -49,6 +49,7 @@ impl Plugin for SphFluidPlugin {
             .register_type::<SphCollider>()
             .register_type::<SphWallSlip>()
             .register_type::<SphColliderForce>()
+            .register_type::<SphWallForce>()
             .register_type::<SphColliderMass>()
             .init_resource::<crate::colliders::SphColliderMap>()
             .init_resource::<SphParams>()

@@ -152,6 +152,8 @@ pub struct SphFrame {
     pub budget: Option<(f32, u32)>,
     /// The density pass records neighbour counts.
     pub neighbor_counts: bool,
+    /// Some container carries [`crate::SphWallForce`]: the walls' force is summed.
+    pub wall_force: bool,
     /// How unstable steps are handled.
     pub rollback: sph_core::Rollback,
     /// The state buffers.

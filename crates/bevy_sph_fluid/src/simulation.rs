@@ -326,6 +326,7 @@ fn sph_plan_step(
     mut control: ResMut<SphControl>,
     mut sim: ResMut<SphSimulation>,
     mut stats: ResMut<SphStats>,
+    walls: Query<(), With<SphWallForce>>,
 ) {
     let plan = sim.plan;
     control.single_step = false;
@@ -441,6 +442,7 @@ fn sph_plan_step(
             }
             frame.neighbor_counts = control.record_neighbor_counts;
             frame.rollback = control.rollback;
+            frame.wall_force = !walls.is_empty();
         }
     }
 }

@@ -338,7 +338,7 @@ fn every_uniform_field_sits_where_the_rust_layout_puts_it() {
         rest_density, stiffness, viscosity, surface_tension, tait, clamp_negative_pressure,
         adaptive_time_step, guard_colliders, max_dt, cfl_factor, viscous_limit, speed_of_sound,
         rollback_enabled, checkpoint_interval, max_retries, recovery_steps, budget_time_bits,
-        budget_steps, budget_frame, budget_reserved, pbf_cubic_k, pbf_cubic_l, pbf_relaxation,
+        budget_steps, budget_frame, sum_reactions, pbf_cubic_k, pbf_cubic_l, pbf_relaxation,
         pbf_s_corr_k, pbf_inverse_w_dq, pbf_xsph_c, pbf_vorticity_epsilon, pbf_max_correction,
         pbf_s_corr_n, pbf_iterations, pbf_max_neighbors, pbf_over_relaxation_bits,
         dfsph_max_density_error, dfsph_max_divergence_error, dfsph_factor_epsilon,

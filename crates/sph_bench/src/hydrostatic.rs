@@ -141,6 +141,9 @@ impl HydrostaticSampler {
             max_error_vs_initial_surface_pct: below_initial_surface.fold(0.0, f64::max),
             density_error_mean_pct: self.density_error_sum / samples,
             layers,
+            // The run fills these in from the walls' force.
+            walls_force_n: None,
+            walls_weight_error_pct: None,
         }
     }
 }

@@ -104,6 +104,12 @@ fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
             hydrostatic::TANK_MAX_SPEED,
             h.speed_max_window_over_pct
         );
+        if let (Some(f), Some(e)) = (h.walls_force_n, h.walls_weight_error_pct) {
+            eprintln!(
+                "sph-bench: the walls carry {f:.3} N over the last 40 %, {e:+.2} % against the \
+                 water's weight"
+            );
+        }
     }
     eprintln!(
         "sph-bench: end speed mean {:.4} m/s, max {:.4} m/s; boundary corrections {} ({} at \

@@ -68,6 +68,11 @@ pub struct HydrostaticFigures {
     /// The share of the window's samples whose largest speed exceeds
     /// [`crate::hydrostatic::TANK_MAX_SPEED`] [%].
     pub speed_max_window_over_pct: f64,
+    /// The water's mean force on the container's walls along gravity over the last 40 % of the
+    /// run [N] (null where it is not measured).
+    pub walls_force_n: Option<f64>,
+    /// That force against the water's weight N m g [%] (target within ±2).
+    pub walls_weight_error_pct: Option<f64>,
 }
 
 /// The water's force on one collider, averaged over the last 40 % of the run.

@@ -100,6 +100,7 @@ pub(crate) fn prepare_sph_buffers(
         state.boundary_friction,
         state.boundary_unmirrored,
     )
+    .with_wall_force(frame.wall_force)
     .with_drains(frame.number, pumps.sink_count);
     if let Some((duration, number)) = frame.budget {
         uniforms = uniforms.with_frame_budget(duration, frame.steps, number);

@@ -7,10 +7,13 @@ use crate::scenarios::Setup;
 use crate::sim::Simulation;
 use sph_core::glam::Vec3;
 
-/// Averages the water's force on each collider over the window from `start` on.
+/// Averages the water's force on each collider, and on the walls where the simulation measures
+/// it, over the window from `start` on.
 pub(super) struct ForceWindow {
     start: f64,
     sums: Vec<(sph_core::glam::DVec3, sph_core::glam::DVec3)>,
+    /// The walls' force summed like the colliders' (`None`: not measured).
+    walls: Option<sph_core::glam::DVec3>,
     evaluations: u64,
     /// The force on each collider as last taken, in or before the window [N].
     pub(super) last: Vec<Vec3>,
@@ -21,6 +24,7 @@ impl ForceWindow {
         Self {
             start,
             sums: vec![Default::default(); colliders],
+            walls: None,
             evaluations: 0,
             last: vec![Vec3::ZERO; colliders],
         }
@@ -28,6 +32,8 @@ impl ForceWindow {
 
     pub(super) fn record(&mut self, sim: &mut dyn Simulation) {
         let in_window = sim.time() >= self.start;
+        // Read before the take, which starts the next average.
+        let walls = sim.wall_force();
         let Some((forces, n)) = sim.take_collider_forces() else {
             return;
         };
@@ -43,7 +49,16 @@ impl ForceWindow {
             sum.0 += f.force.as_dvec3() * n as f64;
             sum.1 += f.torque.as_dvec3() * n as f64;
         }
+        if let Some(w) = walls {
+            *self.walls.get_or_insert_default() += w.as_dvec3() * n as f64;
+        }
         self.evaluations += n;
+    }
+
+    /// The walls' mean force over the window [N] (`None`: not measured, or no evaluation).
+    pub(super) fn walls(&self) -> Option<sph_core::glam::DVec3> {
+        let walls = self.walls?;
+        (self.evaluations > 0).then(|| walls / self.evaluations as f64)
     }
 
     pub(super) fn report(

@@ -252,6 +252,12 @@ pub fn run_setup(
     }
     report.hydrostatic = samples.hydrostatic.map(|h| h.finish(&params));
     let g = params.gravity.length() as f64;
+    if let (Some(h), Some(walls)) = (report.hydrostatic.as_mut(), forces.walls()) {
+        let weight = report.particles_final as f64 * params.particle_mass as f64 * g;
+        let down = params.gravity.normalize_or_zero().as_dvec3();
+        h.walls_force_n = Some(walls.dot(down));
+        h.walls_weight_error_pct = Some((walls.dot(down) - weight) / weight * 100.0);
+    }
     report.u_tube = samples.u_tube.map(|u| u.finish(g));
     report.orifice = samples.orifice.map(|o| o.finish(g));
     report.thin_wall = samples.thin_wall.map(|w| w.finish());

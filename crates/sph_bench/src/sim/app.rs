@@ -3,7 +3,7 @@
 //! for, its state read back on demand.
 
 use super::{IterationTotals, Simulation, State};
-use crate::scenarios::{Bodies, ScenarioCollider, Setup};
+use crate::scenarios::{Bodies, Scenario, ScenarioCollider, Setup};
 use crate::scene_run::ProbeLog;
 use bevy::prelude::*;
 use bevy_sph_fluid::headless;
@@ -40,6 +40,7 @@ pub struct AppSimulation {
     substeps: u32,
     rollback: Rollback,
     colliders: Vec<(ScenarioCollider, Entity)>,
+    container: Entity,
 }
 
 impl AppSimulation {
@@ -70,6 +71,13 @@ impl AppSimulation {
         );
         app.insert_resource(SphParams(s.params));
         let container = app.world_mut().spawn(SphContainer(s.container)).id();
+        if setup.scenario == Scenario::Hydrostatic {
+            // The tank's walls must carry the water's weight. Only this scenario asks, because the
+            // GPU sums the reactions only while someone reads them.
+            app.world_mut()
+                .entity_mut(container)
+                .insert(SphWallForce::default());
+        }
         if let Some(friction) = setup.wall_friction {
             app.world_mut()
                 .entity_mut(container)
@@ -171,6 +179,7 @@ impl AppSimulation {
             avian,
             rollback: setup.rollback,
             colliders,
+            container,
         })
     }
 
@@ -346,6 +355,11 @@ impl Simulation for AppSimulation {
             })
             .collect();
         Some((forces, 1))
+    }
+
+    fn wall_force(&self) -> Option<Vec3> {
+        let f = self.app.world().get::<SphWallForce>(self.container)?;
+        Some(f.force)
     }
 
     fn iterations(&self) -> IterationTotals {

@@ -204,6 +204,10 @@ impl Simulation for CpuSimulation {
         self.spawns_inside_colliders
     }
 
+    fn wall_force(&self) -> Option<Vec3> {
+        Some(self.solver.wall_force().force)
+    }
+
     fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)> {
         let n = self.solver.collider_force_evaluations();
         let forces = self.solver.take_collider_forces();

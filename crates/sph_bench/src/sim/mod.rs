@@ -96,6 +96,10 @@ pub trait Simulation {
     /// the number of force evaluations averaged (CPU), or the last frame's as read back from
     /// the device, weighted as one (GPU).
     fn take_collider_forces(&mut self) -> Option<(Vec<sph_core::BodyForce>, u64)>;
+    /// The water's force on the container's walls, averaged like the colliders' and read before
+    /// [`Self::take_collider_forces`] starts the next average (`None` where it is not measured:
+    /// the plugin's backends measure it for the hydrostatic tank only).
+    fn wall_force(&self) -> Option<Vec3>;
     /// The pressure solver's iterations so far.
     fn iterations(&self) -> IterationTotals;
     /// Particles emitted and drained since the start.

@@ -32,6 +32,8 @@ mod target {
     pub const TANK_MAX_SPEED: f32 = 0.05;
     /// A tank at rest: the pressure against ρ0 g depth below the top layer, largest layer [%].
     pub const TANK_PRESSURE_PCT: f64 = 10.0;
+    /// A tank at rest: the walls' force against the water's weight [%].
+    pub const TANK_WALLS_PCT: f64 = 2.0;
     /// The held box's upward force against ρ0 g V [%].
     pub const HELD_BOX_PCT: f64 = 5.0;
     /// The oscillating column's period against 2π √(L / 2g) [%].
@@ -88,7 +90,7 @@ impl<'a> SolverChecks<'a> {
             .and_then(|k| self.reports[k])
     }
 
-    /// The tank is calm (end speeds) with no guard correction, the held box feels ρ0 g V, and
+    /// The tank is calm (end speeds) with no guard correction and its walls carry its weight, the held box feels ρ0 g V, and
     /// the jet stays on its side of the thin wall with no guard correction.
     fn rests_and_meets_solids(&self) -> bool {
         let tank = self.get(Scenario::Hydrostatic).is_some_and(|r| {
@@ -96,6 +98,7 @@ impl<'a> SolverChecks<'a> {
                 && r.speed_mean_end <= target::TANK_MEAN_SPEED
                 && r.speed_max_end <= target::TANK_MAX_SPEED
                 && r.boundary_corrections == 0
+                && walls_carry_the_weight(r)
         });
         let box_ = self.get(Scenario::Buoyancy).is_some_and(|r| {
             r.buoyancy
@@ -110,6 +113,14 @@ impl<'a> SolverChecks<'a> {
         });
         tank && box_ && wall
     }
+}
+
+/// Whether the tank's walls carried the water's weight within the target.
+fn walls_carry_the_weight(tank: &Report) -> bool {
+    tank.hydrostatic
+        .as_ref()
+        .and_then(|h| h.walls_weight_error_pct)
+        .is_some_and(|e| e.abs() <= target::TANK_WALLS_PCT)
 }
 
 /// Whether `solver` (its report name) passed the rest, contact and buoyancy checks in `rows`
@@ -127,11 +138,12 @@ fn judged(text: String, ok: bool) -> String {
 /// nothing.
 pub(super) fn checks_table(rows: &[Row]) -> String {
     let mut s = format!(
-        "| solver | tank at rest: end speed mean / max [m/s] (≤ {} / {}) | tank: guard corrections (0) | tank: pressure below the top layer, largest error [%] (≤ {}) | held box: force against ρ0 g V [%] (±{}) | thin wall: particles behind / guard corrections (0 / 0) | U-tube: period against 2π√(L/2g) [%] (±{}) | orifice: discharge against Cd A √(2gh) [%] (±{}) | dam break: RMS Z raw (≤ {}) |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+        "| solver | tank at rest: end speed mean / max [m/s] (≤ {} / {}) | tank: guard corrections (0) | tank: pressure below the top layer, largest error [%] (≤ {}) | tank: walls' force against the water's weight [%] (±{}) | held box: force against ρ0 g V [%] (±{}) | thin wall: particles behind / guard corrections (0 / 0) | U-tube: period against 2π√(L/2g) [%] (±{}) | orifice: discharge against Cd A √(2gh) [%] (±{}) | dam break: RMS Z raw (≤ {}) |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
         target::TANK_MEAN_SPEED,
         target::TANK_MAX_SPEED,
         target::TANK_PRESSURE_PCT,
+        target::TANK_WALLS_PCT,
         target::HELD_BOX_PCT,
         target::U_TUBE_PERIOD_PCT,
         target::ORIFICE_PCT,
@@ -161,6 +173,12 @@ pub(super) fn checks_table(rows: &[Row]) -> String {
                     format!("{:.1}", h.max_error_below_top_pct),
                     h.max_error_below_top_pct <= target::TANK_PRESSURE_PCT,
                 )
+            });
+        let walls = tank
+            .and_then(|r| r.hydrostatic.as_ref())
+            .and_then(|h| h.walls_weight_error_pct)
+            .map_or_else(none, |e| {
+                judged(format!("{e:+.2}"), e.abs() <= target::TANK_WALLS_PCT)
             });
         let held_box = checks
             .get(Scenario::Buoyancy)
@@ -208,7 +226,7 @@ pub(super) fn checks_table(rows: &[Row]) -> String {
             });
         let _ = writeln!(
             s,
-            "| {} | {speeds} | {tank_guard} | {pressure} | {held_box} | {wall} | {u_tube} | {orifice} | {front} |",
+            "| {} | {speeds} | {tank_guard} | {pressure} | {walls} | {held_box} | {wall} | {u_tube} | {orifice} | {front} |",
             solver.name().to_uppercase()
         );
     }
@@ -225,7 +243,7 @@ pub(super) fn passing_checks(solver: &str) -> Vec<Row> {
 mod tests {
     use super::*;
     use crate::physical_checks::thin_wall::ThinWallFigures;
-    use crate::report::BuoyancyFigures;
+    use crate::report::{BuoyancyFigures, HydrostaticFigures};
 
     fn row(solver: &str, scenario: Scenario, report: Report) -> Row {
         Row {
@@ -248,6 +266,10 @@ mod tests {
                 Report {
                     speed_mean_end: 0.002,
                     speed_max_end: 0.03,
+                    hydrostatic: Some(HydrostaticFigures {
+                        walls_weight_error_pct: Some(0.004),
+                        ..Default::default()
+                    }),
                     ..Default::default()
                 },
             ),
@@ -286,6 +308,10 @@ mod tests {
         };
         assert!(!fail(0, |r| r.speed_max_end = 1.7));
         assert!(!fail(0, |r| r.boundary_corrections = 1));
+        assert!(!fail(0, |r| {
+            r.hydrostatic.as_mut().unwrap().walls_weight_error_pct = Some(11.6)
+        }));
+        assert!(!fail(0, |r| r.hydrostatic = None));
         assert!(!fail(1, |r| r.buoyancy.as_mut().unwrap().error_pct = 120.0));
         assert!(!fail(2, |r| r
             .thin_wall
@@ -304,6 +330,7 @@ mod tests {
         let wcsph = table.lines().find(|l| l.starts_with("| WCSPH")).unwrap();
         assert!(wcsph.contains("0.0020 / 0.080 ✗"), "{wcsph}");
         assert!(wcsph.contains("-4.6 ✓"), "{wcsph}");
+        assert!(wcsph.contains("+0.00 ✓"), "{wcsph}");
         assert!(wcsph.contains("0 / 0 ✓"), "{wcsph}");
         let pbf = table.lines().find(|l| l.starts_with("| PBF")).unwrap();
         assert!(pbf.contains("| – | – |"), "nothing ran: {pbf}");

@@ -104,8 +104,10 @@ pub struct GpuSphParams {
     pub budget_steps: u32,
     /// The frame's number (a new number starts a new budget).
     pub budget_frame: u32,
-    /// Unused (keeps the block in 16-byte rows).
-    pub budget_reserved: u32,
+    /// The water's reactions on the boundary bodies are summed (1) or not (0): some collider is
+    /// in the guard's list ([`Self::with_boundary`]), or the app reads the walls' force
+    /// ([`Self::with_wall_force`]). Without a reader the passes skip the sums.
+    pub sum_reactions: u32,
     /// PBF ([`crate::solver::pbf::macklin2013::PbfContext`]): the cubic spline's value constant k.
     pub pbf_cubic_k: f32,
     /// PBF: the cubic spline's gradient constant l.
@@ -269,7 +271,7 @@ impl GpuSphParams {
             budget_time_bits: 0,
             budget_steps: 0,
             budget_frame: 0,
-            budget_reserved: 0,
+            sum_reactions: 0,
             pbf_cubic_k: pbf.kernel.k,
             pbf_cubic_l: pbf.kernel.l,
             pbf_relaxation: pbf.epsilon,
@@ -324,8 +326,16 @@ impl GpuSphParams {
     /// stiffness (1 or 0).
     pub fn with_boundary(mut self, colliders: u32, friction: bool, unmirrored: bool) -> Self {
         self.guard_colliders = colliders;
+        self.sum_reactions |= (colliders > 0) as u32;
         self.boundary_friction = if friction { 1.0 } else { 0.0 };
         self.unmirrored_samples = if unmirrored { 1.0 } else { 0.0 };
+        self
+    }
+
+    /// The same block with the walls' force summed when `read` (the app reads it), besides the
+    /// colliders' ([`Self::sum_reactions`]).
+    pub fn with_wall_force(mut self, read: bool) -> Self {
+        self.sum_reactions |= read as u32;
         self
     }
 

@@ -32,13 +32,12 @@ fn body_moment_unit() -> f32 {
     return body_force_unit() / 16.0;
 }
 
-// Whether the sums are read: SphColliderForce reports colliders only, so while none is in the
-// boundary (params.guard_colliders counts them all, for the guard) nothing is summed, not even the walls'
-// (body 0), which no reader asks for. Then the passes skip the workgroup sums and their two
-// barriers (on dambreak32k about 5 of the forces pass's 19 ms). A uniform's value, so the
-// barriers below stay in uniform control flow.
+// Whether the sums are read: by a collider's SphColliderForce, or by the container's SphWallForce
+// (the walls are body 0). Without a reader nothing is summed, and the passes skip the workgroup
+// sums and their two barriers (on dambreak32k about 5 of the forces pass's 19 ms). A uniform's
+// value, so the barriers below stay in uniform control flow.
 fn reactions_read() -> bool {
-    return params.guard_colliders > 0u;
+    return params.sum_reactions != 0u;
 }
 
 fn to_units(v: f32, unit: f32) -> i32 {

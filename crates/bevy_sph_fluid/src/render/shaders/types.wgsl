@@ -87,8 +87,8 @@ struct SphUniforms {
     budget_steps: u32,
     // The frame's number (a new number starts a new budget).
     budget_frame: u32,
-    // Unused (keeps the block in 16-byte rows).
-    budget_reserved: u32,
+    // The reactions on the boundary bodies are summed (1: a collider, or the walls' force read).
+    sum_reactions: u32,
     // PBF (sph_core::solver::pbf::macklin2013::PbfContext): the cubic spline's value constant k.
     pbf_cubic_k: f32,
     // PBF: the cubic spline's gradient constant l.
