@@ -22,6 +22,7 @@ mod sim;
 mod soak;
 mod trade;
 mod validate;
+mod whitewater;
 
 use args::{Cli, Command, ExportArgs, FuzzArgs, RunArgs, SoakArgs, TradeArgs, ValidateArgs};
 use clap::Parser;
@@ -110,6 +111,22 @@ fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
                  water's weight"
             );
         }
+    }
+    if let Some(w) = &report.whitewater {
+        eprintln!(
+            "sph-bench: whitewater at the end: {} spray, {} foam, {} bubbles (most {} of {}); {} \
+             born, {} expired, {} refused by the full pool; {:.2} ms a step over {} steps",
+            w.spray,
+            w.foam,
+            w.bubbles,
+            w.most_alive,
+            w.capacity,
+            w.born,
+            w.expired,
+            w.dropped,
+            w.ms_per_step,
+            w.steps
+        );
     }
     eprintln!(
         "sph-bench: end speed mean {:.4} m/s, max {:.4} m/s; boundary corrections {} ({} at \

@@ -137,6 +137,35 @@ pub struct BuoyancyFigures {
     pub error_pct: f64,
 }
 
+/// `--whitewater on`: the diffuse particles over the run (Ihmsen et al. 2012, stepped on every
+/// state sample).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct WhitewaterFigures {
+    /// Diffuse particles the pool holds at most.
+    pub capacity: usize,
+    /// Spray at the end (fewer fluid neighbours than `spray_below`).
+    pub spray: usize,
+    /// Foam at the end.
+    pub foam: usize,
+    /// Bubbles at the end (more fluid neighbours than `bubble_above`).
+    pub bubbles: usize,
+    /// The most alive at once.
+    pub most_alive: usize,
+    /// Born over the run.
+    pub born: u64,
+    /// Refused by the full pool over the run.
+    pub dropped: u64,
+    /// Died over the run (foam at the end of its life, any leaving the container).
+    pub expired: u64,
+    /// Whitewater steps taken.
+    pub steps: u64,
+    /// Wall-clock cost of a whitewater step, the water's view and its neighbour sort included,
+    /// mean [ms].
+    pub ms_per_step: f64,
+    /// [[t, spray, foam, bubbles]] after each step.
+    pub counts: Vec<[f64; 4]>,
+}
+
 /// A probe's readings over the run (`--scene FILE`).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct ProbeSeries {
@@ -288,6 +317,9 @@ pub struct Report {
     /// The orifice scenario: the discharge coefficient against the textbook's.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub orifice: Option<OrificeFigures>,
+    /// `--whitewater on`: the diffuse particles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub whitewater: Option<WhitewaterFigures>,
     /// The thin-wall scenario: the water that passed the wall.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub thin_wall: Option<ThinWallFigures>,

@@ -205,6 +205,8 @@ pub struct Setup {
     pub wall_friction: Option<f32>,
     /// What a scene file (`--scene FILE`) adds: its emitters, drains, pumps and probes.
     pub extras: Option<SceneExtras>,
+    /// `--whitewater on`: the diffuse particles' settings (None: none are measured).
+    pub whitewater: Option<sph_core::whitewater::settings::WhitewaterSettings>,
 }
 
 /// What a scene file adds to a setup.
@@ -270,6 +272,7 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 gate_x: None,
                 walls: true,
                 wall_friction: None,
+                whitewater: None,
                 extras: None,
                 scene,
             }
@@ -293,6 +296,7 @@ pub fn setup(scenario: Scenario, particles: usize, a: f32) -> Setup {
                 gate_x: None,
                 walls: true,
                 wall_friction: Some(1.0),
+                whitewater: None,
                 extras: None,
                 scene,
             }
@@ -343,6 +347,7 @@ fn pipe_fill(particles: usize) -> Setup {
         gate_x: None,
         walls: true,
         wall_friction: None,
+        whitewater: None,
         extras: None,
     }
 }
@@ -376,6 +381,7 @@ fn dam_break_32k() -> Setup {
         gate_x: None,
         walls: true,
         wall_friction: None,
+        whitewater: None,
         extras: None,
         scene,
     }
@@ -489,6 +495,7 @@ fn gate() -> Setup {
         gate_x: Some(gate_x),
         walls: true,
         wall_friction: None,
+        whitewater: None,
         extras: None,
         scene,
     }
@@ -546,6 +553,7 @@ fn still_setup(
         gate_x: None,
         walls: true,
         wall_friction: None,
+        whitewater: None,
         extras: None,
         scene,
     }

@@ -53,6 +53,7 @@ pub fn setup_from_file(path: &Path) -> Result<Setup, String> {
         gate_x: None,
         walls: true,
         wall_friction: None,
+        whitewater: None,
         extras: Some(SceneExtras {
             file,
             emitters: built.emitters.clone(),

@@ -112,6 +112,11 @@ pub struct RunArgs {
     /// model before the boundary; CPU backend only, for the cost study).
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub walls: bool,
+    /// Diffuse particles after Ihmsen et al. 2012 over the water (spray, foam, bubbles),
+    /// stepped on the CPU on every state sample: their counts per class and the cost of a step
+    /// in the JSON's `whitewater`.
+    #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "off")]
+    pub whitewater: bool,
     /// No-slip walls with this friction factor (times the fluid's viscosity); 0 is free slip
     /// [default: the scenario's: no slip (1) for the tanks at rest, free slip otherwise].
     #[arg(long, value_name = "F", value_parser = wall_friction)]
@@ -159,6 +164,7 @@ impl Default for RunArgs {
             rollback: true,
             viscosity_alpha: None,
             walls: true,
+            whitewater: false,
             wall_friction: None,
             steps: None,
             time: None,

@@ -11,6 +11,7 @@ use crate::physical_checks::u_tube::UTubeSampler;
 use crate::report::DamBreakFigures;
 use crate::scenarios::{Scenario, Setup, G};
 use crate::sim::State;
+use crate::whitewater::WhitewaterSampler;
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
 use sph_core::Diagnostics;
@@ -26,6 +27,7 @@ pub(super) struct Samples {
     pub(super) u_tube: Option<UTubeSampler>,
     pub(super) orifice: Option<OrificeSampler>,
     pub(super) thin_wall: Option<ThinWallSampler>,
+    pub(super) whitewater: Option<WhitewaterSampler>,
     /// The largest mean compression error seen [%].
     pub(super) density_error_peak: f32,
     /// Σ and count of the sampled mean compression errors [%].
@@ -52,6 +54,9 @@ impl Samples {
             u_tube: (setup.scenario == Scenario::UTube).then(UTubeSampler::default),
             orifice: (setup.scenario == Scenario::Orifice).then(OrificeSampler::default),
             thin_wall: (setup.scenario == Scenario::ThinWall).then(ThinWallSampler::default),
+            whitewater: setup
+                .whitewater
+                .map(|settings| WhitewaterSampler::new(setup, settings)),
             density_error_peak: 0.0,
         }
     }
@@ -63,6 +68,7 @@ impl Samples {
             || self.u_tube.is_some()
             || self.orifice.is_some()
             || self.thin_wall.is_some()
+            || self.whitewater.is_some()
     }
 
     /// The mean of the sampled mean compression errors, or `end` without samples.
@@ -74,7 +80,10 @@ impl Samples {
         }
     }
 
-    pub(super) fn record(&mut self, setup: &Setup, time: f64, state: &State) {
+    pub(super) fn record(&mut self, setup: &Setup, time: f64, state: &State) -> Result<(), String> {
+        if let Some(w) = &mut self.whitewater {
+            w.record(setup, time, state)?;
+        }
         let d = diagnostics(setup, state);
         self.density_error_peak = self.density_error_peak.max(d.density_error_mean_pct);
         self.density_error_sum += d.density_error_mean_pct as f64;
@@ -98,6 +107,7 @@ impl Samples {
         if let Some(w) = &mut self.thin_wall {
             w.record(&state.positions);
         }
+        Ok(())
     }
 }
 

@@ -76,6 +76,9 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
     }
     s.rollback = rollback(args.rollback);
     s.walls = args.walls;
+    s.whitewater = args
+        .whitewater
+        .then(sph_core::whitewater::settings::WhitewaterSettings::default);
     if let Some(f) = args.wall_friction {
         s.wall_friction = (f > 0.0).then_some(f);
     }
