@@ -189,3 +189,80 @@ fn a_full_pool_counts_every_particle_it_refuses() {
     assert!(white.pool.len() <= 3);
     assert_eq!(white.pool.born + white.pool.dropped, offered);
 }
+
+/// `CpuSolver` steps whitewater only when asked: off by default, refused by field name with the
+/// previous state kept, shedding where two streams of its water collide, never moving the water,
+/// and emptied by `clear`.
+#[test]
+fn the_solver_sheds_whitewater_when_asked_and_leaves_the_water_alone() {
+    use sph_core::{CpuSolver, SphParams};
+    let params = SphParams::water();
+    let dx = params.spacing();
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.6, 0.3, 0.2));
+    let slab = |x: f32| -> Vec<Vec3> {
+        let mut out = Vec::new();
+        for i in 0..5 {
+            for j in 0..6 {
+                for k in 0..6 {
+                    out.push(Vec3::new(
+                        x + i as f32 * dx,
+                        (j as f32 + 0.5) * dx,
+                        (k as f32 + 0.5) * dx,
+                    ));
+                }
+            }
+        }
+        out
+    };
+    let (left, right) = (slab(0.1), slab(0.4));
+    let velocities: Vec<Vec3> = (0..left.len())
+        .map(|_| Vec3::X * 3.0)
+        .chain((0..right.len()).map(|_| Vec3::X * -3.0))
+        .collect();
+    let positions: Vec<Vec3> = left.into_iter().chain(right).collect();
+    let run = |whitewater: bool| {
+        let mut solver = CpuSolver::new(params, container, positions.len()).unwrap();
+        assert!(solver.whitewater().is_none(), "off by default");
+        if whitewater {
+            let bad = WhitewaterSettings {
+                drag: 2.0,
+                ..Default::default()
+            };
+            let e = solver.set_whitewater(Some((bad, 1_000))).unwrap_err();
+            assert_eq!(e.field, "whitewater.drag");
+            let e = solver
+                .set_whitewater(Some((WhitewaterSettings::default(), 0)))
+                .unwrap_err();
+            assert_eq!(e.field, "whitewater.capacity");
+            assert!(solver.whitewater().is_none(), "refusals change nothing");
+            solver
+                .set_whitewater(Some((WhitewaterSettings::default(), 1_000)))
+                .unwrap();
+        }
+        solver.spawn_with_velocities(&positions, &velocities);
+        while solver.time() < 0.08 {
+            solver.step();
+        }
+        solver
+    };
+    let (with, without) = (run(true), run(false));
+    let pool = &with.whitewater().unwrap().pool;
+    println!(
+        "born {}, alive {}, expired {}, dropped {}",
+        pool.born,
+        pool.len(),
+        pool.expired,
+        pool.dropped
+    );
+    assert!(pool.born > 0, "colliding streams shed");
+    assert_eq!(pool.born, pool.len() as u64 + pool.expired);
+    assert_eq!(
+        with.particles().position,
+        without.particles().position,
+        "diffuse particles never act on the water"
+    );
+    let mut with = with;
+    with.clear();
+    let white = with.whitewater().expect("clear keeps it on");
+    assert_eq!((white.pool.len(), white.pool.born), (0, 0));
+}

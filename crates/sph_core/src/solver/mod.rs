@@ -24,6 +24,7 @@ pub mod dfsph;
 pub mod pbf;
 mod state;
 pub mod wcsph;
+pub mod whitewater;
 
 use state::SolverParts;
 pub use state::{ParticleData, StageTimings};
@@ -91,6 +92,8 @@ pub struct CpuSolver {
     frame_remaining: Option<f32>,
     /// The pumps every step applies ([`crate::flow::pump`]).
     pumps: Vec<Pump>,
+    /// The diffuse particles, when whitewater is on ([`Self::set_whitewater`]).
+    whitewater: Option<Box<crate::whitewater::ihmsen2012::Whitewater>>,
 }
 
 /// What [`CpuSolver::advance_by`] did.
@@ -156,6 +159,7 @@ impl CpuSolver {
             solver_stats: SolverStats::default(),
             frame_remaining: None,
             pumps: Vec::new(),
+            whitewater: None,
             params,
             container,
             capacity,
@@ -350,6 +354,7 @@ impl CpuSolver {
         self.unstable_step = None;
         self.boundary_corrections = Corrections::default();
         self.body_force_sums = (Vec::new(), 0);
+        self.clear_whitewater();
     }
 
     /// How unstable steps are handled (rollback on by default).
@@ -447,6 +452,7 @@ impl CpuSolver {
                 self.last_dt = dt;
                 self.step_count += 1;
                 self.time += dt as f64;
+                self.step_whitewater(dt);
             }
             Verdict::Retry => self.restore_checkpoint(),
             Verdict::Freeze => {

@@ -1,5 +1,7 @@
 //! The settings of the diffuse particles ([`WhitewaterSettings`]), with Ihmsen et al. 2012's
-//! names.
+//! names, and their validation.
+
+use crate::params::{check_range, ParamError};
 
 /// A potential's clamping range: below `min` it gives nothing, from `max` on it gives 1
 /// (Ihmsen et al. 2012, eq. 1, Φ).
@@ -69,5 +71,153 @@ impl Default for WhitewaterSettings {
             buoyancy: 2.0,
             drag: 0.8,
         }
+    }
+}
+
+/// The largest rate a fluid particle may shed at [1/s].
+pub const MAX_SHED_RATE: f32 = 10_000.0;
+/// The longest foam lifetime [s].
+pub const MAX_LIFETIME: f32 = 600.0;
+/// The largest neighbour bound of the classes.
+pub const MAX_NEIGHBOR_BOUND: u32 = 1_000;
+
+impl Limits {
+    /// Checks that 0 ≤ min < max, both finite; the error names `field`.
+    fn validate(&self, min_field: &'static str, max_field: &'static str) -> Result<(), ParamError> {
+        check_range(
+            min_field,
+            self.min,
+            0.0,
+            true,
+            f32::MAX,
+            "[0, max) and finite",
+        )?;
+        if self.max.is_finite() && self.max > self.min {
+            Ok(())
+        } else {
+            Err(ParamError {
+                field: max_field,
+                value: format!("{}", self.max),
+                allowed: "(min, ∞) and finite",
+            })
+        }
+    }
+}
+
+impl WhitewaterSettings {
+    /// Checks every field; the error names the first field out of range.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.trapped_air
+            .validate("whitewater.trapped_air.min", "whitewater.trapped_air.max")?;
+        self.wave_crest
+            .validate("whitewater.wave_crest.min", "whitewater.wave_crest.max")?;
+        self.kinetic_energy.validate(
+            "whitewater.kinetic_energy.min",
+            "whitewater.kinetic_energy.max",
+        )?;
+        check_range(
+            "whitewater.trapped_air_rate",
+            self.trapped_air_rate,
+            0.0,
+            true,
+            MAX_SHED_RATE,
+            "[0, 10000] 1/s",
+        )?;
+        check_range(
+            "whitewater.wave_crest_rate",
+            self.wave_crest_rate,
+            0.0,
+            true,
+            MAX_SHED_RATE,
+            "[0, 10000] 1/s",
+        )?;
+        if self.bubble_above > MAX_NEIGHBOR_BOUND {
+            return Err(ParamError {
+                field: "whitewater.bubble_above",
+                value: self.bubble_above.to_string(),
+                allowed: "[spray_below, 1000] neighbours",
+            });
+        }
+        if self.spray_below > self.bubble_above {
+            return Err(ParamError {
+                field: "whitewater.spray_below",
+                value: self.spray_below.to_string(),
+                allowed: "[0, bubble_above] neighbours",
+            });
+        }
+        let (low, high) = self.lifetime;
+        check_range(
+            "whitewater.lifetime.0",
+            low,
+            0.0,
+            false,
+            MAX_LIFETIME,
+            "(0, 600] s",
+        )?;
+        check_range(
+            "whitewater.lifetime.1",
+            high,
+            low,
+            true,
+            MAX_LIFETIME,
+            "[lifetime.0, 600] s",
+        )?;
+        check_range(
+            "whitewater.buoyancy",
+            self.buoyancy,
+            0.0,
+            true,
+            100.0,
+            "[0, 100] (times -g)",
+        )?;
+        check_range(
+            "whitewater.drag",
+            self.drag,
+            0.0,
+            true,
+            1.0,
+            "[0, 1] (a share of the velocity difference per step)",
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_pass_and_each_bad_field_is_named() {
+        assert_eq!(WhitewaterSettings::default().validate(), Ok(()));
+        let field = |change: fn(&mut WhitewaterSettings)| {
+            let mut s = WhitewaterSettings::default();
+            change(&mut s);
+            s.validate().unwrap_err().field
+        };
+        assert_eq!(
+            field(|s| s.trapped_air.min = -1.0),
+            "whitewater.trapped_air.min"
+        );
+        assert_eq!(
+            field(|s| s.wave_crest.max = 0.1),
+            "whitewater.wave_crest.max"
+        );
+        assert_eq!(
+            field(|s| s.kinetic_energy.max = f32::INFINITY),
+            "whitewater.kinetic_energy.max"
+        );
+        assert_eq!(
+            field(|s| s.trapped_air_rate = f32::NAN),
+            "whitewater.trapped_air_rate"
+        );
+        assert_eq!(
+            field(|s| s.wave_crest_rate = 1e6),
+            "whitewater.wave_crest_rate"
+        );
+        assert_eq!(field(|s| s.spray_below = 30), "whitewater.spray_below");
+        assert_eq!(field(|s| s.bubble_above = 5_000), "whitewater.bubble_above");
+        assert_eq!(field(|s| s.lifetime = (0.0, 1.0)), "whitewater.lifetime.0");
+        assert_eq!(field(|s| s.lifetime = (3.0, 2.0)), "whitewater.lifetime.1");
+        assert_eq!(field(|s| s.buoyancy = -1.0), "whitewater.buoyancy");
+        assert_eq!(field(|s| s.drag = 1.5), "whitewater.drag");
     }
 }
