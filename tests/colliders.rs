@@ -337,7 +337,7 @@ fn tank_at_rest(backend: SphBackend, frames: u32) -> (Vec3, Vec3) {
 }
 
 /// With no collider in the water the GPU sums the walls' reactions for `SphWallForce` alone, and
-/// on both backends the walls carry the water's weight (issue 50's target: within 2 %).
+/// on both backends the walls carry the water's weight within 2 % (the trade study's target).
 #[test]
 fn the_walls_carry_the_weight_of_water_at_rest_on_both_backends() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());

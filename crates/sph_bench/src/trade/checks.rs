@@ -24,7 +24,7 @@ pub(super) const CHECKS: [Scenario; 6] = [
 /// The group of the checks' rows.
 pub(super) const CHECKS_GROUP: &str = "physical checks";
 
-/// The targets (issue 50's figures for every solver at its defaults).
+/// The targets a solver's defaults are held to.
 mod target {
     /// A tank at rest: the mean particle speed at the end [m/s].
     pub const TANK_MEAN_SPEED: f32 = 0.01;
