@@ -1,7 +1,6 @@
 //! `--whitewater on`: the diffuse particles of Ihmsen et al. 2012 (`sph_core::whitewater`) over a
-//! run's water, stepped as a post-process on every state sample (every
-//! [`crate::run::SAMPLE_INTERVAL`] of simulated time) on the CPU, with their counts per class and
-//! the cost of a step.
+//! run's water, stepped as a post-process on every state sample (every 0.01 s of simulated time)
+//! of either backend, with their counts per class and the cost of a step.
 
 use crate::report::WhitewaterFigures;
 use crate::scenarios::Setup;

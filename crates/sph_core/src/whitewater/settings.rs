@@ -82,7 +82,7 @@ pub const MAX_LIFETIME: f32 = 600.0;
 pub const MAX_NEIGHBOR_BOUND: u32 = 1_000;
 
 impl Limits {
-    /// Checks that 0 ≤ min < max, both finite; the error names `field`.
+    /// Checks that 0 ≤ min < max, both finite; the error names `min_field` or `max_field`.
     fn validate(&self, min_field: &'static str, max_field: &'static str) -> Result<(), ParamError> {
         check_range(
             min_field,
