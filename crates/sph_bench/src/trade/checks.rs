@@ -90,37 +90,52 @@ impl<'a> SolverChecks<'a> {
             .and_then(|k| self.reports[k])
     }
 
-    /// The tank is calm (end speeds) with no guard correction and its walls carry its weight, the held box feels ρ0 g V, and
-    /// the jet stays on its side of the thin wall with no guard correction.
+    /// The tank is calm with no guard correction and its walls carry its weight, the held box
+    /// feels ρ0 g V, and the jet stays on its side of the thin wall with no guard correction.
     fn rests_and_meets_solids(&self) -> bool {
         let tank = self.get(Scenario::Hydrostatic).is_some_and(|r| {
-            r.health == "ok"
-                && r.speed_mean_end <= target::TANK_MEAN_SPEED
-                && r.speed_max_end <= target::TANK_MAX_SPEED
-                && r.boundary_corrections == 0
-                && walls_carry_the_weight(r)
+            r.health == "ok" && tank_is_calm(r) && unguarded(r) && walls_carry_the_weight(r)
         });
-        let box_ = self.get(Scenario::Buoyancy).is_some_and(|r| {
-            r.buoyancy
-                .as_ref()
-                .is_some_and(|b| b.error_pct.abs() <= target::HELD_BOX_PCT)
-        });
-        let wall = self.get(Scenario::ThinWall).is_some_and(|r| {
-            r.boundary_corrections == 0
-                && r.thin_wall
-                    .as_ref()
-                    .is_some_and(|w| w.behind_wall_most == 0)
-        });
-        tank && box_ && wall
+        let held_box = self
+            .get(Scenario::Buoyancy)
+            .is_some_and(box_feels_its_weight);
+        let wall = self.get(Scenario::ThinWall).is_some_and(jet_stays_out);
+        tank && held_box && wall
     }
 }
 
-/// Whether the tank's walls carried the water's weight within the target.
+/// The tank's end speeds within the targets.
+fn tank_is_calm(tank: &Report) -> bool {
+    tank.speed_mean_end <= target::TANK_MEAN_SPEED && tank.speed_max_end <= target::TANK_MAX_SPEED
+}
+
+/// No particle needed the last-resort guard.
+fn unguarded(run: &Report) -> bool {
+    run.boundary_corrections == 0
+}
+
+/// The tank's walls carried the water's weight within the target.
 fn walls_carry_the_weight(tank: &Report) -> bool {
     tank.hydrostatic
         .as_ref()
         .and_then(|h| h.walls_weight_error_pct)
         .is_some_and(|e| e.abs() <= target::TANK_WALLS_PCT)
+}
+
+/// The held box felt ρ0 g V within the target.
+fn box_feels_its_weight(run: &Report) -> bool {
+    run.buoyancy
+        .as_ref()
+        .is_some_and(|b| b.error_pct.abs() <= target::HELD_BOX_PCT)
+}
+
+/// No particle got behind the thin wall, and none needed the guard.
+fn jet_stays_out(run: &Report) -> bool {
+    unguarded(run)
+        && run
+            .thin_wall
+            .as_ref()
+            .is_some_and(|w| w.behind_wall_most == 0)
 }
 
 /// Whether `solver` (its report name) passed the rest, contact and buoyancy checks in `rows`
@@ -156,15 +171,11 @@ pub(super) fn checks_table(rows: &[Row]) -> String {
         let speeds = tank.map_or_else(none, |r| {
             judged(
                 format!("{:.4} / {:.3}", r.speed_mean_end, r.speed_max_end),
-                r.speed_mean_end <= target::TANK_MEAN_SPEED
-                    && r.speed_max_end <= target::TANK_MAX_SPEED,
+                tank_is_calm(r),
             )
         });
         let tank_guard = tank.map_or_else(none, |r| {
-            judged(
-                r.boundary_corrections.to_string(),
-                r.boundary_corrections == 0,
-            )
+            judged(r.boundary_corrections.to_string(), unguarded(r))
         });
         let pressure = tank
             .and_then(|r| r.hydrostatic.as_ref())
@@ -174,21 +185,23 @@ pub(super) fn checks_table(rows: &[Row]) -> String {
                     h.max_error_below_top_pct <= target::TANK_PRESSURE_PCT,
                 )
             });
-        let walls = tank
-            .and_then(|r| r.hydrostatic.as_ref())
-            .and_then(|h| h.walls_weight_error_pct)
-            .map_or_else(none, |e| {
-                judged(format!("{e:+.2}"), e.abs() <= target::TANK_WALLS_PCT)
-            });
-        let held_box = checks
-            .get(Scenario::Buoyancy)
-            .and_then(|r| r.buoyancy.as_ref())
-            .map_or_else(none, |b| {
-                judged(
-                    format!("{:+.1}", b.error_pct),
-                    b.error_pct.abs() <= target::HELD_BOX_PCT,
-                )
-            });
+        let walls = tank.map_or_else(none, |r| {
+            match r
+                .hydrostatic
+                .as_ref()
+                .and_then(|h| h.walls_weight_error_pct)
+            {
+                Some(e) => judged(format!("{e:+.2}"), walls_carry_the_weight(r)),
+                None => none(),
+            }
+        });
+        let held_box =
+            checks
+                .get(Scenario::Buoyancy)
+                .map_or_else(none, |r| match r.buoyancy.as_ref() {
+                    Some(b) => judged(format!("{:+.1}", b.error_pct), box_feels_its_weight(r)),
+                    None => none(),
+                });
         let wall = checks.get(Scenario::ThinWall).map_or_else(none, |r| {
             let behind = r
                 .thin_wall
@@ -196,24 +209,27 @@ pub(super) fn checks_table(rows: &[Row]) -> String {
                 .map_or(usize::MAX, |w| w.behind_wall_most);
             judged(
                 format!("{behind} / {}", r.boundary_corrections),
-                behind == 0 && r.boundary_corrections == 0,
+                jet_stays_out(r),
             )
         });
-        let within = |error: Option<f64>, limit: f64| match error {
+        // A percentage error within ±`limit`, or `missing` when the run measured none.
+        let within = |error: Option<f64>, limit: f64, missing: &str| match error {
             Some(e) => judged(format!("{e:+.1}"), e.abs() <= limit),
-            None => judged("no oscillation".into(), false),
+            None => judged(missing.into(), false),
         };
         let u_tube = checks.get(Scenario::UTube).map_or_else(none, |r| {
             within(
                 r.u_tube.as_ref().and_then(|u| u.period_error_pct),
                 target::U_TUBE_PERIOD_PCT,
+                "no oscillation",
             )
         });
         let orifice = checks.get(Scenario::Orifice).map_or_else(none, |r| {
-            match r.orifice.as_ref().and_then(|o| o.discharge_error_pct) {
-                Some(e) => judged(format!("{e:+.1}"), e.abs() <= target::ORIFICE_PCT),
-                None => judged("no discharge".into(), false),
-            }
+            within(
+                r.orifice.as_ref().and_then(|o| o.discharge_error_pct),
+                target::ORIFICE_PCT,
+                "no discharge",
+            )
         });
         let front = checks
             .get(Scenario::DamBreak)

@@ -34,13 +34,13 @@ impl CpuSolver {
                 allowed: "[1, 2^24] diffuse particles",
             });
         }
-        self.whitewater = Some(Box::new(Whitewater::new(
-            settings,
-            self.container,
-            capacity,
-            WHITEWATER_SEED,
-        )));
+        self.whitewater = Some(Box::new(self.empty_whitewater(settings, capacity)));
         Ok(())
+    }
+
+    /// An empty pool in this solver's container, seeded as every solver's is.
+    fn empty_whitewater(&self, settings: WhitewaterSettings, capacity: usize) -> Whitewater {
+        Whitewater::new(settings, self.container, capacity, WHITEWATER_SEED)
     }
 
     /// The diffuse particles, while whitewater is on.
@@ -68,13 +68,9 @@ impl CpuSolver {
 
     /// Empties the whitewater's pool, keeping its settings (with [`Self::clear`]).
     pub(super) fn clear_whitewater(&mut self) {
-        if let Some(white) = self.whitewater.as_deref_mut() {
-            *white = Whitewater::new(
-                white.settings,
-                self.container,
-                white.pool.capacity(),
-                WHITEWATER_SEED,
-            );
+        if let Some(white) = self.whitewater.as_deref() {
+            let empty = self.empty_whitewater(white.settings, white.pool.capacity());
+            self.whitewater = Some(Box::new(empty));
         }
     }
 }
