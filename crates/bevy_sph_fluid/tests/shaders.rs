@@ -273,19 +273,30 @@ type Member = (String, usize, usize, naga::ScalarKind);
 /// Each member of the WGSL struct `name` in a composed stage (an `atomic<u32>` is a `u32`).
 fn wgsl_members(stage: &str, name: &str) -> Vec<Member> {
     let (module, ty, layouter) = wgsl_struct(stage, name);
-    let kind = |ty: naga::Handle<naga::Type>| match module.types[ty].inner {
-        naga::TypeInner::Scalar(scalar)
-        | naga::TypeInner::Vector { scalar, .. }
-        | naga::TypeInner::Atomic(scalar) => scalar.kind,
-        ref other => panic!("a member of {name} is neither a scalar nor a vector: {other:?}"),
-    };
+    // An array's kind is its elements'.
+    fn kind(module: &naga::Module, name: &str, ty: naga::Handle<naga::Type>) -> naga::ScalarKind {
+        match module.types[ty].inner {
+            naga::TypeInner::Scalar(scalar)
+            | naga::TypeInner::Vector { scalar, .. }
+            | naga::TypeInner::Atomic(scalar) => scalar.kind,
+            naga::TypeInner::Array { base, .. } => kind(module, name, base),
+            ref other => {
+                panic!("a member of {name} is neither a scalar, a vector nor an array: {other:?}")
+            }
+        }
+    }
     match &module.types[ty].inner {
         naga::TypeInner::Struct { members, .. } => members
             .iter()
             .map(|m| {
                 let name = m.name.clone().unwrap_or_default();
                 let size = layouter[m.ty].size as usize;
-                (name, m.offset as usize, size, kind(m.ty))
+                (
+                    name.clone(),
+                    m.offset as usize,
+                    size,
+                    kind(&module, &name, m.ty),
+                )
             })
             .collect(),
         other => panic!("{name} in {stage} is not a struct: {other:?}"),
@@ -347,7 +358,7 @@ fn every_uniform_field_sits_where_the_rust_layout_puts_it() {
         dfsph_density_warm_start, dfsph_divergence_warm_start, dfsph_max_correction, drain_frame,
         open_drains, drains_unused_z, drains_unused_w, dfsph_divergence_over_relaxation,
         dfsph_density_over_relaxation, boundary_friction, unmirrored_samples, contact_radius,
-        contact_modulus, max_surface_pressure, surface_margin,
+        contact_modulus, max_surface_pressure, surface_margin, buffer_at,
     );
 
     assert_eq!(wgsl_members("sph_density", "SphUniforms"), rust);
@@ -377,6 +388,31 @@ fn every_clock_field_sits_where_the_rust_layout_puts_it() {
         divergence_cut_short, steps_run,
     );
     assert_eq!(wgsl_members("sph_time_step", "SphClock"), rust);
+}
+
+#[test]
+fn the_shared_structures_sit_where_the_rust_layout_puts_them() {
+    use sph_core::gpu_layout::GpuShared;
+    let (module, ty, _) = wgsl_struct("sph_forces", "SphShared");
+    let naga::TypeInner::Struct { members, .. } = &module.types[ty].inner else {
+        panic!("SphShared is not a struct");
+    };
+    let offsets: Vec<(String, usize)> = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+        .collect();
+    let rust = [
+        ("pumps", GpuShared::PUMPS_OFFSET),
+        ("probes", GpuShared::PROBES_OFFSET),
+        ("clock", GpuShared::CLOCK_OFFSET),
+        ("body_forces", GpuShared::BODY_FORCES_OFFSET),
+    ]
+    .map(|(name, offset)| (name.to_string(), offset as usize));
+    assert_eq!(offsets, rust);
+    assert_eq!(
+        wgsl_struct_size("sph_forces", "SphShared") as u64,
+        GpuShared::BYTES
+    );
 }
 
 #[test]

@@ -1,12 +1,18 @@
 //! GPU buffers: structure-of-arrays particle state sized by capacity, the sorted copies, the
 //! grid and hash arrays, the rollback checkpoint, the uniform block, and their allocation (each
-//! frame's writes are in `prepare`). Every storage buffer is a [`Buf`] with a fixed binding in group 0
-//! (`shaders/bindings.wgsl`); each stage binds the ones it declares.
+//! frame's writes are in `prepare`). Every logical storage buffer is a [`Buf`], a region of one
+//! of the arenas of group 0 (`arenas`, `shaders/bindings.wgsl`); each stage binds the arenas of
+//! the buffers it declares. The main world reads and draws its own copies of the state
+//! ([`GpuBuffers::publish`]).
 
+use super::arenas::{Arena, ArenaLayout};
+pub use super::buf::Buf;
 use super::plan::VariantKey;
 use bevy::prelude::*;
-use bevy::render::render_resource::{BindGroup, Buffer, BufferDescriptor, BufferUsages};
-use bevy::render::renderer::RenderDevice;
+use bevy::render::render_resource::{
+    BindGroup, Buffer, BufferDescriptor, BufferUsages, CommandEncoder,
+};
+use bevy::render::renderer::{RenderDevice, RenderQueue};
 use sph_core::gpu_layout::{bitonic_steps, list_entries, sort_length, GpuCollider, GpuSphParams};
 use sph_core::neighbor::hash::hash_table_size;
 use sph_core::NeighborSearch;
@@ -15,180 +21,19 @@ use sph_core::Solver;
 /// Byte stride of the bitonic steps in their uniform buffer (the dynamic-offset alignment).
 pub const BITONIC_STRIDE: u64 = 256;
 
-/// The storage buffers of group 0; `binding()` is the WGSL binding in `shaders/bindings.wgsl`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Buf {
-    /// Positions (w = id) [m].
-    Position = 1,
-    /// Velocities [m/s].
-    Velocity,
-    /// Predicted velocities (what viscosity sees).
-    VelocityPredicted,
-    /// Accelerations [m/s²].
-    Acceleration,
-    /// Start-of-step accelerations (the design's leapfrog).
-    AccelerationStart,
-    /// Densities [kg/m³].
-    Density,
-    /// Pressures [Pa].
-    Pressure,
-    /// Akinci normals (surface tension only).
-    Normal,
-    /// The scatter's sorted copies, in state order.
-    SortedPosition,
-    /// Sorted velocities.
-    SortedVelocity,
-    /// Sorted predicted velocities.
-    SortedVelocityPredicted,
-    /// Sorted accelerations.
-    SortedAcceleration,
-    /// Sorted start-of-step accelerations.
-    SortedAccelerationStart,
-    /// Grid: each particle's cell.
-    CellOf,
-    /// Grid: each particle's rank in its cell.
-    RankInCell,
-    /// Grid: per-cell counts.
-    CellCounts,
-    /// Grid: exclusive offsets.
-    CellStart,
-    /// Hash: sort keys.
-    SortKeys,
-    /// Hash: sort values (particle indices).
-    SortValues,
-    /// Hash: per-bucket start + 1.
-    BucketStart,
-    /// Hash: per-bucket end.
-    BucketEnd,
-    /// Debug: neighbours within h.
-    NeighborCount,
-    /// The clock (`GpuClock`).
-    Clock,
-    /// The rollback checkpoint: position, velocity, acceleration of every slot.
-    Checkpoint,
-    /// Boundary samples' positions (w = volume V_b), sorted by cell; sized by samples.
-    BoundaryPosition,
-    /// Boundary samples' velocities (w = friction factor).
-    BoundaryVelocity,
-    /// Boundary samples' exclusive cell offsets over the dense grid.
-    BoundaryCellStart,
-    /// The colliders (`GpuCollider`), for the guard.
-    Colliders,
-    /// Each boundary sample's body (0 the walls, k + 1 collider slot k).
-    BoundaryBody,
-    /// The fluid's force on each body over the frame (`GpuBodyForces`), read back.
-    BodyForces,
-    /// The frame's pumps (`GpuPumps`).
-    Pumps,
-    /// The frame's probes and their sums (`GpuProbes`), read back.
-    Probes,
-    /// The mesh colliders' hierarchies and triangles, for the guard.
-    Meshes,
-    /// PBF: each particle's neighbours of the step (pairs within h at the predicted positions),
-    /// at most `PBF_MAX_NEIGHBORS`, neighbour k of particle i at `list_slot(i, k)`
-    /// (`sph_core::gpu_layout::LIST_TILE`).
-    NeighborLists,
-    /// DFSPH: the same pairs with their weighted gradient, (m ∇W_ij, j as bits), written with
-    /// the factors after each sort and read by every iteration of the solves.
-    DfsphPairs,
-    /// WCSPH: the equation of state's pressures, from which the free-surface pass writes
-    /// [`Buf::Pressure`].
-    PressureEos,
-    /// DFSPH: the boundary's mirrored share of each particle's factor, (Σ_b g_ib over the
-    /// samples that mirror κ_i, 1 when they do), written with the factors after each sort.
-    DfsphMirror,
-}
-
-impl Buf {
-    /// Every storage buffer, in binding order.
-    pub const ALL: [Buf; 37] = [
-        Buf::Position,
-        Buf::Velocity,
-        Buf::VelocityPredicted,
-        Buf::Acceleration,
-        Buf::AccelerationStart,
-        Buf::Density,
-        Buf::Pressure,
-        Buf::Normal,
-        Buf::SortedPosition,
-        Buf::SortedVelocity,
-        Buf::SortedVelocityPredicted,
-        Buf::SortedAcceleration,
-        Buf::SortedAccelerationStart,
-        Buf::CellOf,
-        Buf::RankInCell,
-        Buf::CellCounts,
-        Buf::CellStart,
-        Buf::SortKeys,
-        Buf::SortValues,
-        Buf::BucketStart,
-        Buf::BucketEnd,
-        Buf::NeighborCount,
-        Buf::Clock,
-        Buf::Checkpoint,
-        Buf::BoundaryPosition,
-        Buf::BoundaryVelocity,
-        Buf::BoundaryCellStart,
-        Buf::Colliders,
-        Buf::BoundaryBody,
-        Buf::BodyForces,
-        Buf::Pumps,
-        Buf::Probes,
-        Buf::Meshes,
-        Buf::NeighborLists,
-        Buf::DfsphPairs,
-        Buf::PressureEos,
-        Buf::DfsphMirror,
-    ];
-
-    /// The WGSL binding in group 0 (the uniform block is binding 0).
-    pub fn binding(self) -> u32 {
-        self as u32
-    }
-
-    /// The buffer's label.
-    pub fn label(self) -> &'static str {
-        match self {
-            Buf::Position => "sph_position",
-            Buf::Velocity => "sph_velocity",
-            Buf::VelocityPredicted => "sph_velocity_predicted",
-            Buf::Acceleration => "sph_acceleration",
-            Buf::AccelerationStart => "sph_acceleration_start",
-            Buf::Density => "sph_density",
-            Buf::Pressure => "sph_pressure",
-            Buf::Normal => "sph_normal",
-            Buf::SortedPosition => "sph_sorted_position",
-            Buf::SortedVelocity => "sph_sorted_velocity",
-            Buf::SortedVelocityPredicted => "sph_sorted_velocity_predicted",
-            Buf::SortedAcceleration => "sph_sorted_acceleration",
-            Buf::SortedAccelerationStart => "sph_sorted_acceleration_start",
-            Buf::CellOf => "sph_cell_of",
-            Buf::RankInCell => "sph_rank_in_cell",
-            Buf::CellCounts => "sph_cell_counts",
-            Buf::CellStart => "sph_cell_start",
-            Buf::SortKeys => "sph_sort_keys",
-            Buf::SortValues => "sph_sort_values",
-            Buf::BucketStart => "sph_bucket_start",
-            Buf::BucketEnd => "sph_bucket_end",
-            Buf::NeighborCount => "sph_neighbor_count",
-            Buf::Clock => "sph_clock",
-            Buf::Checkpoint => "sph_checkpoint",
-            Buf::BoundaryPosition => "sph_boundary_position",
-            Buf::BoundaryVelocity => "sph_boundary_velocity",
-            Buf::BoundaryCellStart => "sph_boundary_cell_start",
-            Buf::Colliders => "sph_colliders",
-            Buf::BoundaryBody => "sph_boundary_body",
-            Buf::BodyForces => "sph_body_forces",
-            Buf::Pumps => "sph_pumps",
-            Buf::Probes => "sph_probes",
-            Buf::Meshes => "sph_meshes",
-            Buf::NeighborLists => "sph_neighbor_lists",
-            Buf::DfsphPairs => "sph_dfsph_pairs",
-            Buf::PressureEos => "sph_pressure_eos",
-            Buf::DfsphMirror => "sph_dfsph_mirror",
-        }
-    }
-}
+/// The buffers the main world reads back and draws ([`crate::api::SphGpuBuffers`]), in this
+/// order, and the logical buffer each copies.
+pub const READABLE: [Buf; 9] = [
+    Buf::Position,
+    Buf::Velocity,
+    Buf::Acceleration,
+    Buf::Density,
+    Buf::Pressure,
+    Buf::NeighborCount,
+    Buf::Clock,
+    Buf::BodyForces,
+    Buf::Probes,
+];
 
 /// Every buffer of group 0.
 #[derive(Clone, Debug)]
@@ -205,8 +50,14 @@ pub struct GpuBuffers {
     pub sort_length: u32,
     /// The uniform block.
     pub uniform: Buffer,
-    /// The storage buffers, in [`Buf::ALL`] order.
-    pub storage: Vec<Buffer>,
+    /// The arenas, in [`Arena::ALL`] order.
+    pub arenas: Vec<Buffer>,
+    /// Where each logical buffer lies in its arena.
+    pub layout: ArenaLayout,
+    /// The size each logical buffer was given [bytes] (the boundary's grow with its samples).
+    pub sizes: Vec<u64>,
+    /// The main world's copies, in [`READABLE`] order.
+    pub readable: [Buffer; 9],
     /// The bitonic steps (hash mode).
     pub bitonic_steps: Buffer,
     /// Number of bitonic steps.
@@ -217,9 +68,92 @@ pub struct GpuBuffers {
 }
 
 impl GpuBuffers {
-    /// The storage buffer `buf`.
-    pub fn at(&self, buf: Buf) -> &Buffer {
-        &self.storage[buf as usize - 1]
+    /// The arena `arena`.
+    pub fn arena(&self, arena: Arena) -> &Buffer {
+        &self.arenas[arena as usize - 1]
+    }
+
+    /// The arena that holds `buf`, and where `buf` starts in it [bytes].
+    pub fn at(&self, buf: Buf) -> (&Buffer, u64) {
+        (self.arena(buf.arena()), self.layout.region(buf).0)
+    }
+
+    /// `buf`'s size [bytes].
+    pub fn size(&self, buf: Buf) -> u64 {
+        self.layout.region(buf).1
+    }
+
+    /// Writes `bytes` into `buf` at `offset` [bytes].
+    pub fn write(&self, queue: &RenderQueue, buf: Buf, offset: u64, bytes: &[u8]) {
+        let (arena, start) = self.at(buf);
+        queue.write_buffer(arena, start + offset, bytes);
+    }
+
+    /// Copies the first `bytes` of `from` to `to`.
+    pub fn copy(&self, encoder: &mut CommandEncoder, from: Buf, to: Buf, bytes: u64) {
+        let ((source, at), (target, to_at)) = (self.at(from), self.at(to));
+        encoder.copy_buffer_to_buffer(source, at, target, to_at, Some(bytes));
+    }
+
+    /// Zeroes `buf`.
+    pub fn clear(&self, encoder: &mut CommandEncoder, buf: Buf) {
+        let (arena, start) = self.at(buf);
+        encoder.clear_buffer(arena, start, Some(self.size(buf)));
+    }
+
+    /// The bytes of `buf` the main world reads: the live particles' elements, or the whole
+    /// structure.
+    fn readable_bytes(&self, buf: Buf, particle_count: u32) -> u64 {
+        let per_particle = match buf.arena() {
+            Arena::ParticleState => 16,
+            Arena::ParticleScalars | Arena::Grid => 4,
+            _ => return self.size(buf),
+        };
+        (per_particle * particle_count as u64).min(self.size(buf))
+    }
+
+    /// Copies the state to the main world's buffers (after the frame's steps, so snapshots, the
+    /// surface and the every-frame readbacks see it).
+    pub fn publish(&self, encoder: &mut CommandEncoder, particle_count: u32) {
+        for (buf, target) in READABLE.iter().zip(&self.readable) {
+            let bytes = self.readable_bytes(*buf, particle_count).min(target.size());
+            if bytes > 0 {
+                let (arena, at) = self.at(*buf);
+                encoder.copy_buffer_to_buffer(arena, at, target, 0, Some(bytes));
+            }
+        }
+    }
+
+    /// Copies the main world's buffers back into new arenas, so a reallocation (a new grid or
+    /// variant) keeps the particles, the clock and the frame's sums.
+    pub fn restore(&self, encoder: &mut CommandEncoder) {
+        for (buf, source) in READABLE.iter().zip(&self.readable) {
+            let bytes = self.size(*buf).min(source.size());
+            let (arena, at) = self.at(*buf);
+            encoder.copy_buffer_to_buffer(source, 0, arena, at, Some(bytes));
+        }
+    }
+
+    /// Makes room for `bytes` in `buf` (a boundary buffer): when it outgrows its region, every
+    /// region gets its new size and `buf`'s arena is reallocated, its contents lost (the
+    /// boundary's upload writes them all). Returns whether it was.
+    pub fn grow(&mut self, device: &RenderDevice, buf: Buf, bytes: u64) -> bool {
+        if self.sizes[buf as usize] >= bytes {
+            return false;
+        }
+        // Room for growth, so a collider added at run time rarely reallocates; 16 bytes keep
+        // vec4 arrays whole.
+        self.sizes[buf as usize] = (bytes + bytes / 4).next_multiple_of(16);
+        let sizes = self.sizes.clone();
+        self.layout = ArenaLayout::new(|b| sizes[b as usize]);
+        let arena = buf.arena();
+        let old = self.arena(arena).size();
+        let new = self.layout.arena_bytes(arena);
+        if new > old {
+            self.arenas[arena as usize - 1] = storage_buffer(device, arena.label(), new);
+            self.bytes += new - old;
+        }
+        true
     }
 }
 
@@ -274,15 +208,9 @@ pub(super) fn storage_buffer(device: &RenderDevice, label: &'static str, bytes: 
     })
 }
 
-/// Allocates every buffer; the normals and the hash arrays only when the variant needs them (a
-/// 16-byte placeholder keeps their binding valid otherwise).
-pub(super) fn allocate(
-    device: &RenderDevice,
-    capacity: u32,
-    grid_dims: UVec3,
-    key: VariantKey,
-    readable: [Buffer; 9],
-) -> GpuBuffers {
+/// Each logical buffer's size [bytes], at index `Buf as usize`: the normals and the hash arrays
+/// only when the variant needs them (a 16-byte placeholder keeps their region valid otherwise).
+pub fn buffer_sizes(capacity: u32, grid_dims: UVec3, key: VariantKey) -> Vec<u64> {
     let n = capacity as u64;
     let cells = (grid_dims.x * grid_dims.y * grid_dims.z) as u64;
     let hash = key.search == NeighborSearch::Hash;
@@ -298,12 +226,12 @@ pub(super) fn allocate(
     } else {
         0
     };
-    let [position, velocity, acceleration, density, pressure, neighbor_count, clock, body_forces, probes] =
-        readable;
     let size = |buf: Buf| -> u64 {
         match buf {
             Buf::Normal => normals,
-            Buf::CellOf | Buf::RankInCell | Buf::Pressure => 4 * n,
+            Buf::CellOf | Buf::RankInCell | Buf::Pressure | Buf::Density | Buf::NeighborCount => {
+                4 * n
+            }
             Buf::CellCounts => 4 * cells,
             Buf::CellStart => 4 * (cells + 1),
             Buf::SortKeys | Buf::SortValues => 4 * sort_len as u64,
@@ -314,7 +242,6 @@ pub(super) fn allocate(
             Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::BoundaryBody | Buf::Meshes => 16,
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
-            Buf::Pumps => std::mem::size_of::<sph_core::gpu_layout::GpuPumps>() as u64,
             Buf::NeighborLists if key.solver == Solver::Pbf || key.solver == Solver::Dfsph => {
                 4 * list_entries(capacity)
             }
@@ -326,23 +253,33 @@ pub(super) fn allocate(
             Buf::PressureEos => 16,
             Buf::DfsphMirror if key.solver == Solver::Dfsph => 16 * n,
             Buf::DfsphMirror => 16,
+            // The shared structure's members have their own sizes.
+            Buf::Clock | Buf::BodyForces | Buf::Pumps | Buf::Probes => 0,
             _ => 16 * n,
         }
     };
-    let storage: Vec<Buffer> = Buf::ALL
+    let mut sizes = vec![0u64; Buf::ALL.len() + 1];
+    for buf in Buf::ALL {
+        sizes[buf as usize] = size(buf);
+    }
+    sizes
+}
+
+/// Allocates every buffer.
+pub(super) fn allocate(
+    device: &RenderDevice,
+    capacity: u32,
+    grid_dims: UVec3,
+    key: VariantKey,
+    readable: [Buffer; 9],
+) -> GpuBuffers {
+    let sizes = buffer_sizes(capacity, grid_dims, key);
+    let hash = key.search == NeighborSearch::Hash;
+    let sort_len = if hash { sort_length(capacity) } else { 0 };
+    let layout = ArenaLayout::new(|buf| sizes[buf as usize]);
+    let arenas: Vec<Buffer> = Arena::ALL
         .iter()
-        .map(|&buf| match buf {
-            Buf::Position => position.clone(),
-            Buf::Velocity => velocity.clone(),
-            Buf::Acceleration => acceleration.clone(),
-            Buf::Density => density.clone(),
-            Buf::Pressure => pressure.clone(),
-            Buf::NeighborCount => neighbor_count.clone(),
-            Buf::Clock => clock.clone(),
-            Buf::BodyForces => body_forces.clone(),
-            Buf::Probes => probes.clone(),
-            _ => storage_buffer(device, buf.label(), size(buf)),
-        })
+        .map(|&arena| storage_buffer(device, arena.label(), layout.arena_bytes(arena)))
         .collect();
     let steps = if hash {
         bitonic_steps(sort_len)
@@ -360,7 +297,12 @@ pub(super) fn allocate(
             contents: &bytes,
             usage: BufferUsages::UNIFORM,
         });
-    let bytes = storage.iter().map(|b| b.size()).sum::<u64>()
+    // The main world's copies count too: they are device buffers.
+    let bytes = arenas
+        .iter()
+        .chain(&readable)
+        .map(|b| b.size())
+        .sum::<u64>()
         + (std::mem::size_of::<GpuSphParams>() as u64)
         + steps.len() as u64 * BITONIC_STRIDE;
     GpuBuffers {
@@ -375,7 +317,10 @@ pub(super) fn allocate(
             usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
             mapped_at_creation: false,
         }),
-        storage,
+        arenas,
+        layout,
+        sizes,
+        readable,
         bitonic_steps: bitonic,
         bitonic_step_count: steps.len() as u32,
         dfsph_arguments: device.create_buffer(&BufferDescriptor {

@@ -1,8 +1,9 @@
 //! The device limits the GPU backend's pipelines need, from the registered stages. Bevy asks
 //! the adapter for its own limits on native backends, so the check is against what the device
 //! was created with; a device short of a limit runs the CPU solver instead, with the reason in
-//! [`crate::SphStats::fallback_reason`]. WebGPU's defaults (`wgpu::Limits::default()`) allow 8
-//! storage buffers per shader stage, fewer than the solvers' largest passes bind.
+//! [`crate::SphStats::fallback_reason`]. Every stage fits WebGPU's defaults
+//! (`wgpu::Limits::default()`: 8 storage buffers per shader stage), because the logical buffers
+//! are packed into arenas (`render::arenas`).
 //!
 //! The plugin asks for no limit in `WgpuSettings` itself: under Bevy's default priority
 //! (`WgpuSettingsPriority::Functionality`) the device already gets all the adapter has, and a
@@ -31,7 +32,7 @@ impl GpuNeeds {
             widest_stage: "",
         };
         for stage in all_stages() {
-            let storage = stage.bindings.len() as u32;
+            let storage = stage.arenas().len() as u32;
             if storage > needs.storage_buffers_per_stage {
                 needs.storage_buffers_per_stage = storage;
                 needs.widest_stage = stage.name;
@@ -82,30 +83,27 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_needs_are_the_stages_and_webgpus_defaults_fall_short_by_name() {
+    fn every_stage_fits_webgpus_defaults_and_a_smaller_device_falls_short_by_name() {
         let needs = GpuNeeds::of_all_stages();
         let widest = all_stages()
             .iter()
-            .map(|s| s.bindings.len() as u32)
+            .map(|s| s.arenas().len() as u32)
             .max()
             .unwrap_or(0);
         assert_eq!(needs.storage_buffers_per_stage, widest);
-        // WebGPU's default of 8 storage buffers per stage is short, and the reason names it.
-        let webgpu = WgpuLimits::default();
-        let reason = needs
-            .shortfall(&webgpu)
-            .expect("8 storage buffers are too few");
-        assert!(
-            reason.contains("max_storage_buffers_per_shader_stage: needs")
-                && reason.contains("the device has 8"),
-            "{reason}"
-        );
-        // A device that has what the stages bind passes.
-        let enough = WgpuLimits {
-            max_storage_buffers_per_shader_stage: widest,
+        // WebGPU's defaults (8 storage buffers per stage, 256 invocations) hold every stage.
+        assert_eq!(needs.shortfall(&WgpuLimits::default()), None);
+        // A device with one storage buffer fewer than the widest stage binds falls short, by name.
+        let short = WgpuLimits {
+            max_storage_buffers_per_shader_stage: widest - 1,
             ..WgpuLimits::default()
         };
-        assert_eq!(needs.shortfall(&enough), None);
+        let reason = needs.shortfall(&short).expect("one buffer too few");
+        assert!(
+            reason.contains("max_storage_buffers_per_shader_stage: needs")
+                && reason.contains(&format!("the device has {}", widest - 1)),
+            "{reason}"
+        );
     }
 
     #[test]

@@ -4,6 +4,8 @@
 //! `simulate` encodes the stages once per force evaluation of every step. This module only
 //! wires them.
 
+pub mod arenas;
+pub mod buf;
 pub mod buffers;
 pub mod extract;
 pub mod limits;
@@ -69,7 +71,8 @@ pub(crate) fn build(app: &mut App) {
         )
         .add_systems(
             RenderGraph,
-            simulate::sph_simulate
+            (simulate::sph_simulate, simulate::sph_publish_state)
+                .chain()
                 .in_set(RenderGraphSystems::Render)
                 .before(camera_driver),
         );

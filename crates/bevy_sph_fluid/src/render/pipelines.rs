@@ -1,5 +1,5 @@
 //! Pipelines and bind groups from the stage registry: each stage gets a bind-group layout of the
-//! buffers it declares, and one compute pipeline per role and scene variant. Variants come from
+//! arenas of the buffers it declares, and one compute pipeline per role and scene variant. Variants come from
 //! shader defs: the search mode (`SEARCH_HASH`), `SURFACE_TENSION`, `VISCOSITY`,
 //! `NEIGHBOR_COUNT`, the stage's role defs and its `WORKGROUP_SIZE`; a scene only compiles and
 //! runs the stages of its list.
@@ -35,12 +35,13 @@ pub struct SphPipelines {
     pub variants: HashMap<VariantKey, Vec<QueuedStage>>,
 }
 
-/// The group-0 layout of `stage`: the uniform at binding 0 and its declared storage buffers.
+/// The group-0 layout of `stage`: the uniform at binding 0 and the arenas of its buffers.
 fn stage_layout(stage: &GpuStage) -> BindGroupLayoutDescriptor {
     let mut entries: Vec<BindGroupLayoutEntry> =
         vec![uniform_buffer_sized(false, None).build(0, ShaderStages::COMPUTE)];
-    for buf in stage.bindings {
-        entries.push(storage_buffer_sized(false, None).build(buf.binding(), ShaderStages::COMPUTE));
+    for arena in stage.arenas() {
+        entries
+            .push(storage_buffer_sized(false, None).build(arena.binding(), ShaderStages::COMPUTE));
     }
     BindGroupLayoutDescriptor::new(stage.name, &entries)
 }
@@ -167,9 +168,9 @@ pub(crate) fn prepare_sph_bind_groups(
             binding: 0,
             resource: buffers.uniform.as_entire_binding(),
         }];
-        entries.extend(stage.bindings.iter().map(|&buf| BindGroupEntry {
-            binding: buf.binding(),
-            resource: buffers.at(buf).as_entire_binding(),
+        entries.extend(stage.arenas().into_iter().map(|arena| BindGroupEntry {
+            binding: arena.binding(),
+            resource: buffers.arena(arena).as_entire_binding(),
         }));
         let group =
             device.create_bind_group(stage.name, &cache.get_bind_group_layout(layout), &entries);

@@ -3,7 +3,8 @@
 //! changed, write the frame's inputs (pumps, probes, the bodies' force sums), upload the spawns
 //! and the boundary, mark the forces stale where the state changed, and write the uniform block.
 
-use super::buffers::{allocate, storage_buffer, Buf, GpuBuffers, SphGpuState};
+use super::arenas::{Arena, ArenaLayout};
+use super::buffers::{allocate, buffer_sizes, Buf, GpuBuffers, SphGpuState};
 use super::extract::ExtractedSphFrame;
 use super::plan::VariantKey;
 use crate::api::STATUS_PREPARING_BUFFERS;
@@ -29,8 +30,7 @@ struct Gpu<'a> {
 impl Gpu<'_> {
     /// Writes `bytes` into the clock at `offset`.
     fn write_clock(&self, buffers: &GpuBuffers, offset: u64, bytes: &[u8]) {
-        self.queue
-            .write_buffer(buffers.at(Buf::Clock), offset, bytes);
+        buffers.write(self.queue, Buf::Clock, offset, bytes);
     }
 }
 
@@ -69,7 +69,7 @@ pub(crate) fn prepare_sph_buffers(
         }
     };
     let key = VariantKey::of(&frame.params, frame.neighbor_counts);
-    if let Err(reason) = fits_the_device(&frame, key) {
+    if let Err(reason) = fits_the_device(&device, &frame, grid.dims, key) {
         state.status = Some(reason);
         state.bind_groups.clear();
         return;
@@ -105,6 +105,9 @@ pub(crate) fn prepare_sph_buffers(
     if let Some((duration, number)) = frame.budget {
         uniforms = uniforms.with_frame_budget(duration, frame.steps, number);
     }
+    // The boundary's upload may have moved its regions.
+    let buffers = state.buffers.as_ref().unwrap_or(&buffers);
+    uniforms.buffer_at = buffers.layout.buffer_at();
     queue.write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
 }
 
@@ -151,7 +154,12 @@ fn readable_buffers(
 }
 
 /// Refuses, by name, a scene the device's buffers cannot hold.
-fn fits_the_device(frame: &ExtractedSphFrame, key: VariantKey) -> Result<(), String> {
+fn fits_the_device(
+    device: &RenderDevice,
+    frame: &ExtractedSphFrame,
+    grid_dims: UVec3,
+    key: VariantKey,
+) -> Result<(), String> {
     if key.solver == Solver::Dfsph && frame.capacity > gpu_dfsph_pairs::MAX_PARTICLES {
         return Err(format!(
             "gpu: DFSPH holds at most {} particles on the GPU (its pairs keep 18-bit indices); \
@@ -160,7 +168,24 @@ fn fits_the_device(frame: &ExtractedSphFrame, key: VariantKey) -> Result<(), Str
             frame.capacity
         ));
     }
-    Ok(())
+    let sizes = buffer_sizes(frame.capacity, grid_dims, key);
+    let layout = ArenaLayout::new(|buf| sizes[buf as usize]);
+    let limits = device.limits();
+    let most = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+    match Arena::ALL
+        .into_iter()
+        .find(|&arena| layout.arena_bytes(arena) > most)
+    {
+        Some(arena) => Err(format!(
+            "gpu: the buffer {} needs {} bytes for a capacity of {}, the device binds at most \
+             {most} (max_storage_buffer_binding_size, max_buffer_size): lower the capacity or \
+             use the CPU backend",
+            arena.label(),
+            layout.arena_bytes(arena),
+            frame.capacity
+        )),
+        None => Ok(()),
+    }
 }
 
 /// Whether the buffers must be (re)allocated: none yet, or a new capacity, grid, variant or
@@ -172,20 +197,22 @@ fn needs_allocation(
     key: VariantKey,
     readable: &[Buffer; 9],
 ) -> bool {
-    let [position, _, _, density, ..] = readable;
     state.buffers.as_ref().is_none_or(|b| {
         b.capacity != frame.capacity
             || b.grid_dims != grid_dims
             || b.key.search != key.search
             || b.key.surface_tension != key.surface_tension
             || b.key.solver != key.solver
-            || b.at(Buf::Position).id() != position.id()
-            || b.at(Buf::Density).id() != density.id()
+            || b.readable
+                .iter()
+                .zip(readable)
+                .any(|(a, b)| a.id() != b.id())
     })
 }
 
 /// Allocates every buffer. The readable state buffers are assets and survive a reallocation (a
-/// new container or h keeps the particles); the rest is re-derived: forces are re-evaluated.
+/// new container or h keeps the particles): the new arenas start from them, and the rest is
+/// re-derived: forces are re-evaluated.
 fn reallocate(
     gpu: &Gpu,
     feedback: &SphRenderFeedback,
@@ -196,6 +223,10 @@ fn reallocate(
     readable: [Buffer; 9],
 ) {
     let buffers = allocate(gpu.device, frame.capacity, grid_dims, key, readable);
+    // Submitted before this frame's writes, which the queue applies at its next submission.
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    buffers.restore(&mut encoder);
+    gpu.queue.submit([encoder.finish()]);
     let bytes_per_particle = (buffers.bytes / frame.capacity.max(1) as u64) as u32;
     feedback.update(|f| f.gpu_bytes_per_particle = bytes_per_particle);
     // A new checkpoint buffer holds nothing yet.
@@ -221,7 +252,7 @@ fn write_frame_inputs(gpu: &Gpu, buffers: &GpuBuffers, frame: &ExtractedSphFrame
     let (pumps, _) = GpuPumps::with_sinks(&frame.pumps, &frame.sinks);
     let queue = gpu.queue;
     if frame.steps > 0 {
-        queue.write_buffer(buffers.at(Buf::Pumps), 0, bytemuck::bytes_of(&pumps));
+        buffers.write(queue, Buf::Pumps, 0, bytemuck::bytes_of(&pumps));
         // The probes with zero sums; the closing kicks sum the frame's steps.
         let probes = GpuProbes::of(
             &frame.probes,
@@ -229,11 +260,12 @@ fn write_frame_inputs(gpu: &Gpu, buffers: &GpuBuffers, frame: &ExtractedSphFrame
             frame.params.spacing(),
             frame.number,
         );
-        queue.write_buffer(buffers.at(Buf::Probes), 0, bytemuck::bytes_of(&probes));
+        buffers.write(queue, Buf::Probes, 0, bytemuck::bytes_of(&probes));
         // This frame's sums of the fluid's force on each body start from zero; the readback
         // copies them after the frame's passes.
-        queue.write_buffer(
-            buffers.at(Buf::BodyForces),
+        buffers.write(
+            queue,
+            Buf::BodyForces,
             0,
             bytemuck::bytes_of(&GpuBodyForces::default()),
         );
@@ -243,8 +275,9 @@ fn write_frame_inputs(gpu: &Gpu, buffers: &GpuBuffers, frame: &ExtractedSphFrame
     // Every frame, with steps or not, stamps the force sums with its number: the readback then
     // tells how many frames old the newest forces are (`sph_plan_frame` holds the water while
     // they are too old).
-    queue.write_buffer(
-        buffers.at(Buf::BodyForces),
+    buffers.write(
+        queue,
+        Buf::BodyForces,
         GpuBodyForces::FRAME_OFFSET,
         &frame.number.to_ne_bytes(),
     );
@@ -262,8 +295,7 @@ fn upload_spawns(
         let offset = offset as u64;
         let zeros = vec![[0.0f32; 4]; positions.len()];
         let write = |buf: Buf, data: &[[f32; 4]]| {
-            gpu.queue
-                .write_buffer(buffers.at(buf), 16 * offset, bytemuck::cast_slice(data));
+            buffers.write(gpu.queue, buf, 16 * offset, bytemuck::cast_slice(data));
         };
         write(Buf::Position, &positions);
         write(Buf::Velocity, &velocities);
@@ -352,9 +384,9 @@ fn upload_boundary(
     let need = (16 * samples.position.len() as u64).max(16);
     let collider_bytes =
         (std::mem::size_of::<GpuCollider>() * samples.colliders.len().max(1)) as u64;
-    let mut grown = false;
     let body_bytes = (4 * samples.body.len() as u64).max(16);
     let mesh_bytes = (16 * samples.meshes.len() as u64).max(16);
+    let mut grown = false;
     for (buf, need) in [
         (Buf::BoundaryPosition, need),
         (Buf::BoundaryVelocity, need),
@@ -362,52 +394,32 @@ fn upload_boundary(
         (Buf::BoundaryBody, body_bytes),
         (Buf::Meshes, mesh_bytes),
     ] {
-        if buffers.at(buf).size() < need {
-            let old = buffers.at(buf).size();
-            // Room for growth, so a collider added at run time rarely reallocates.
-            // Storage bindings are sized in multiples of 4 bytes; 16 keeps vec4 arrays whole.
-            let bytes = (need + need / 4).next_multiple_of(16);
-            buffers.storage[buf as usize - 1] = storage_buffer(device, buf.label(), bytes);
-            buffers.bytes += bytes - old;
-            grown = true;
-        }
+        grown |= buffers.grow(device, buf, need);
     }
     let starts = bytemuck::cast_slice(&samples.cell_start);
-    if buffers.at(Buf::BoundaryCellStart).size() < starts.len() as u64 {
+    if buffers.size(Buf::BoundaryCellStart) < starts.len() as u64 {
         // The grid and the samples disagree (a container change in flight): skip this frame.
         return;
     }
     if !samples.position.is_empty() {
-        queue.write_buffer(
-            buffers.at(Buf::BoundaryPosition),
-            0,
-            bytemuck::cast_slice(&samples.position),
-        );
-        queue.write_buffer(
-            buffers.at(Buf::BoundaryVelocity),
-            0,
-            bytemuck::cast_slice(&samples.velocity),
-        );
-        queue.write_buffer(
-            buffers.at(Buf::BoundaryBody),
+        let position = bytemuck::cast_slice(&samples.position);
+        buffers.write(queue, Buf::BoundaryPosition, 0, position);
+        let velocity = bytemuck::cast_slice(&samples.velocity);
+        buffers.write(queue, Buf::BoundaryVelocity, 0, velocity);
+        buffers.write(
+            queue,
+            Buf::BoundaryBody,
             0,
             bytemuck::cast_slice(&samples.body),
         );
     }
-    queue.write_buffer(buffers.at(Buf::BoundaryCellStart), 0, starts);
+    buffers.write(queue, Buf::BoundaryCellStart, 0, starts);
     if !samples.colliders.is_empty() {
-        queue.write_buffer(
-            buffers.at(Buf::Colliders),
-            0,
-            bytemuck::cast_slice(&samples.colliders),
-        );
+        let colliders = bytemuck::cast_slice(&samples.colliders);
+        buffers.write(queue, Buf::Colliders, 0, colliders);
     }
     if !samples.meshes.is_empty() {
-        queue.write_buffer(
-            buffers.at(Buf::Meshes),
-            0,
-            bytemuck::cast_slice(&samples.meshes),
-        );
+        buffers.write(queue, Buf::Meshes, 0, bytemuck::cast_slice(&samples.meshes));
     }
     state.boundary_samples = samples.position.len() as u32;
     state.boundary_colliders = samples.colliders.len() as u32;

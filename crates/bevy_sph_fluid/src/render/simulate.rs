@@ -1,7 +1,8 @@
 //! The frame's steps: `sph_simulate` (Bevy's `RenderGraph` schedule, before the camera driver)
 //! runs the [`SphStep`] schedule once per force evaluation (PBF: once per phase) of every
 //! step, and
-//! `sph_encode_stages`, the one system of that schedule, encodes the scene's stage list.
+//! `sph_encode_stages`, the one system of that schedule, encodes the scene's stage list;
+//! `sph_publish_state` then copies the state where the main world reads it.
 
 use super::buffers::SphGpuState;
 use super::extract::ExtractedSphFrame;
@@ -29,6 +30,21 @@ pub fn sph_encode_stages(
         encode_stage(&mut ctx, &mut run, &cache, queued);
     }
     run.stages = stages;
+}
+
+/// Copies the state to the main world's buffers every frame the simulation is active (after
+/// the steps, spawns or a reset), so snapshots, the surface and the every-frame readbacks see it.
+pub fn sph_publish_state(
+    mut ctx: RenderContext,
+    frame: Res<ExtractedSphFrame>,
+    state: Res<SphGpuState>,
+) {
+    if !frame.active {
+        return;
+    }
+    if let Some(buffers) = &state.buffers {
+        buffers.publish(ctx.command_encoder(), state.particle_count);
+    }
 }
 
 /// Runs this frame's steps: for every step, the [`SphStep`] schedule once per force evaluation.

@@ -3,6 +3,7 @@
 //! twin), and [`encode_stage`] turns it into a compute pass. The list of stages a scene runs is
 //! in `stages/mod.rs`.
 
+use super::arenas::Arena;
 use super::buffers::{Buf, GpuBuffers};
 use super::plan::EvaluationPlan;
 use bevy::prelude::*;
@@ -29,9 +30,10 @@ pub enum Dispatch {
 /// pass that may change them: a pass cannot read its own dispatch arguments from a buffer it
 /// binds for writing).
 pub fn copy_solve_arguments(encoder: &mut CommandEncoder, run: &StageRun) {
+    let (shared, clock) = run.buffers.at(Buf::Clock);
     encoder.copy_buffer_to_buffer(
-        run.buffers.at(Buf::Clock),
-        sph_core::gpu_layout::GpuClock::DFSPH_ARGS_OFFSET,
+        shared,
+        clock + sph_core::gpu_layout::GpuClock::DFSPH_ARGS_OFFSET,
         &run.buffers.dfsph_arguments,
         0,
         Some(12),
@@ -49,8 +51,9 @@ pub struct GpuStage {
     pub embed: fn(&mut App),
     /// Loads the embedded WGSL.
     pub shader: fn(&AssetServer) -> Handle<Shader>,
-    /// The storage buffers of group 0 the shader uses (the uniform block is always bound); the
-    /// stage's bind-group layout is built from this list, so wgpu refuses a shader that uses more.
+    /// The logical storage buffers the shader uses (the uniform block is always bound); the
+    /// stage's bind-group layout holds their arenas ([`GpuStage::arenas`]), so wgpu refuses a
+    /// shader that uses another arena.
     pub bindings: &'static [Buf],
     /// Invocations per workgroup, passed to the WGSL as the shader def `WORKGROUP_SIZE`.
     pub workgroup_size: u32,
@@ -67,6 +70,14 @@ pub struct GpuStage {
 }
 
 impl GpuStage {
+    /// The arenas this stage binds: those of its buffers, each once, in binding order.
+    pub fn arenas(&self) -> Vec<Arena> {
+        let mut arenas: Vec<Arena> = self.bindings.iter().map(|buf| buf.arena()).collect();
+        arenas.sort();
+        arenas.dedup();
+        arenas
+    }
+
     /// A stage that runs its only role in every evaluation: every WCSPH force evaluation, and
     /// PBF's prediction (its pass that sorts; the iterations and the finish skip it).
     pub fn every_evaluation(plan: &EvaluationPlan) -> Option<usize> {

@@ -10,6 +10,7 @@ pub mod params;
 pub mod particles;
 pub mod probes;
 pub mod pumps;
+pub mod shared;
 pub mod sizes;
 
 pub use body_forces::*;
@@ -19,4 +20,5 @@ pub use params::*;
 pub use particles::*;
 pub use probes::*;
 pub use pumps::*;
+pub use shared::*;
 pub use sizes::*;

@@ -194,7 +194,14 @@ pub struct GpuSphParams {
     /// The speculative contact's margin from the solids' surfaces [m]
     /// ([`crate::boundary::speculative_contact::SURFACE_MARGIN`] Δx).
     pub surface_margin: f32,
+    /// Where each packed storage buffer starts in its arena, in elements, at index `Buf as
+    /// usize` (`bevy_sph_fluid::render::arenas`): four to a 16-byte row, so the uniform layout
+    /// has no padding. WGSL reads it through `sph::bindings`'s `*_at` functions.
+    pub buffer_at: [[u32; 4]; BUFFER_AT_ROWS],
 }
+
+/// The rows of [`GpuSphParams::buffer_at`]: room for 40 storage buffers.
+pub const BUFFER_AT_ROWS: usize = 10;
 
 impl GpuSphParams {
     /// The uniform block for `params` in `container`, `capacity` slots and `particle_count` live
@@ -309,6 +316,8 @@ impl GpuSphParams {
             contact_modulus: contact.modulus,
             max_surface_pressure: crate::stage::max_surface_pressure(params),
             surface_margin: crate::boundary::speculative_contact::SURFACE_MARGIN * contact.radius,
+            // Set by the plugin from its arenas' layout.
+            buffer_at: [[0; 4]; BUFFER_AT_ROWS],
         }
     }
 

@@ -7,7 +7,7 @@
 // Nothing is summed while no collider is in the boundary (reactions_read).
 #define_import_path sph::body_reactions
 
-#import sph::bindings::{params, body_forces}
+#import sph::bindings::{params, shared_state}
 
 const BODY_SLOTS: u32 = 32u;
 const NO_BODY: u32 = 0xffffffffu;
@@ -82,11 +82,11 @@ fn add_reaction(body: u32, f: vec3<f32>, at: vec3<f32>) {
 // carry, then the sign-extended high word.
 fn add_to_frame(k: u32, v: i32) {
     let add = bitcast<u32>(v);
-    let old = atomicAdd(&body_forces.sums[2u * k], add);
+    let old = atomicAdd(&shared_state.body_forces.sums[2u * k], add);
     let carry = select(0u, 1u, old + add < old);
     let high = select(0u, 0xffffffffu, v < 0) + carry;
     if high != 0u {
-        atomicAdd(&body_forces.sums[2u * k + 1u], high);
+        atomicAdd(&shared_state.body_forces.sums[2u * k + 1u], high);
     }
 }
 

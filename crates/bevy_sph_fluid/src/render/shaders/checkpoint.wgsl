@@ -7,27 +7,27 @@
 //          join the checkpoint, so nothing is lost or duplicated.
 #define_import_path sph::checkpoint
 
-#import sph::bindings::{params, clock, position, velocity, acceleration, acceleration_start, checkpoint}
+#import sph::bindings::{params, shared_state, particle_state, position_at, velocity_at, acceleration_at, acceleration_start_at, particle_scratch, checkpoint_at}
 
 const CHECKPOINT_SAVE: u32 = 1u;
 const CHECKPOINT_RESTORE: u32 = 2u;
 
 fn apply_checkpoint(i: u32) {
     let n = params.capacity;
-    let action = clock.checkpoint_action;
-    if action == CHECKPOINT_SAVE || (action == CHECKPOINT_RESTORE && i >= clock.restore_count) {
-        checkpoint[i] = position[i];
-        checkpoint[n + i] = velocity[i];
-        checkpoint[2u * n + i] = acceleration[i];
+    let action = shared_state.clock.checkpoint_action;
+    if action == CHECKPOINT_SAVE || (action == CHECKPOINT_RESTORE && i >= shared_state.clock.restore_count) {
+        particle_scratch[checkpoint_at(i)] = particle_state[position_at(i)];
+        particle_scratch[checkpoint_at(n + i)] = particle_state[velocity_at(i)];
+        particle_scratch[checkpoint_at(2u * n + i)] = particle_state[acceleration_at(i)];
     } else if action == CHECKPOINT_RESTORE {
-        position[i] = checkpoint[i];
-        velocity[i] = checkpoint[n + i];
-        acceleration[i] = checkpoint[2u * n + i];
-        acceleration_start[i] = checkpoint[2u * n + i];
+        particle_state[position_at(i)] = particle_scratch[checkpoint_at(i)];
+        particle_state[velocity_at(i)] = particle_scratch[checkpoint_at(n + i)];
+        particle_state[acceleration_at(i)] = particle_scratch[checkpoint_at(2u * n + i)];
+        particle_state[acceleration_start_at(i)] = particle_scratch[checkpoint_at(2u * n + i)];
     }
 }
 
 // The Euler integrate pass does not integrate a state that is being restored.
 fn restoring() -> bool {
-    return clock.checkpoint_action == CHECKPOINT_RESTORE;
+    return shared_state.clock.checkpoint_action == CHECKPOINT_RESTORE;
 }

@@ -6,7 +6,7 @@
 // clock.
 #define_import_path sph::guard
 
-#import sph::bindings::{params, colliders, meshes}
+#import sph::bindings::{params, colliders, boundary_samples, meshes_at}
 #import sph::kernels::{collide, outside_box, PositionVelocity}
 #import sph::clock::record_correction
 
@@ -79,8 +79,8 @@ fn closest_on_triangle(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -
 
 // Squared distance from p to the box of hierarchy node `node` (words from `nodes`).
 fn node_distance2(nodes: u32, node: u32, p: vec3<f32>) -> f32 {
-    let lo = meshes[nodes + 2u * node].xyz;
-    let hi = meshes[nodes + 2u * node + 1u].xyz;
+    let lo = boundary_samples[meshes_at(nodes + 2u * node)].xyz;
+    let hi = boundary_samples[meshes_at(nodes + 2u * node + 1u)].xyz;
     let d = max(max(lo - p, p - hi), vec3<f32>(0.0));
     return dot(d, d);
 }
@@ -104,12 +104,12 @@ fn mesh_distance(nodes: u32, tris: u32, half_thickness: f32, p: vec3<f32>) -> ve
         if node_distance2(nodes, node, p) >= best_d2 {
             continue;
         }
-        let first = bitcast<u32>(meshes[nodes + 2u * node].w);
-        let count = bitcast<u32>(meshes[nodes + 2u * node + 1u].w);
+        let first = bitcast<u32>(boundary_samples[meshes_at(nodes + 2u * node)].w);
+        let count = bitcast<u32>(boundary_samples[meshes_at(nodes + 2u * node + 1u)].w);
         if count > 0u {
             for (var k = first; k < first + count; k++) {
                 let t = tris + 10u * k;
-                let c = closest_on_triangle(p, meshes[t].xyz, meshes[t + 1u].xyz, meshes[t + 2u].xyz);
+                let c = closest_on_triangle(p, boundary_samples[meshes_at(t)].xyz, boundary_samples[meshes_at(t + 1u)].xyz, boundary_samples[meshes_at(t + 2u)].xyz);
                 let d2 = dot(p - c.xyz, p - c.xyz);
                 if d2 < best_d2 {
                     best_d2 = d2;
@@ -135,7 +135,7 @@ fn mesh_distance(nodes: u32, tris: u32, half_thickness: f32, p: vec3<f32>) -> ve
         }
     }
     let t = tris + 10u * best_tri;
-    let pseudo = meshes[t + 3u + best_feature].xyz;
+    let pseudo = boundary_samples[meshes_at(t + 3u + best_feature)].xyz;
     let offset = p - best_point;
     let d = length(offset);
     if half_thickness < 0.0 {
@@ -149,7 +149,7 @@ fn mesh_distance(nodes: u32, tris: u32, half_thickness: f32, p: vec3<f32>) -> ve
         }
         return vec4<f32>(n, sign * d);
     }
-    var n = meshes[t + 9u].xyz;
+    var n = boundary_samples[meshes_at(t + 9u)].xyz;
     if d > 1e-7 {
         n = offset / d;
     }

@@ -3,7 +3,7 @@
 // sph_core::neighbor.
 #define_import_path sph::neighbors
 
-#import sph::bindings::{params, cell_start, bucket_start, bucket_end, boundary_cell_start}
+#import sph::bindings::{params, grid, cell_start_at, bucket_start_at, bucket_end_at, boundary_cell_start_at}
 
 fn grid_cell(p: vec3<f32>) -> vec3<i32> {
     let c = vec3<i32>(floor((p - params.grid_origin) / params.cell_size));
@@ -53,17 +53,17 @@ fn hash_offset(q: u32) -> vec3<i32> {
 fn neighbor_range(c: vec3<i32>, q: u32) -> vec2<u32> {
 #ifdef SEARCH_HASH
     let b = hash_key(c + hash_offset(q));
-    let s = bucket_start[b];
+    let s = grid[bucket_start_at(b)];
     if s == 0u {
         return vec2<u32>(0u, 0u);
     }
-    return vec2<u32>(s - 1u, bucket_end[b]);
+    return vec2<u32>(s - 1u, grid[bucket_end_at(b)]);
 #else
     let cells = grid_row_cells(c, q);
     if cells.x > cells.y {
         return vec2<u32>(0u, 0u);
     }
-    return vec2<u32>(cell_start[cells.x], cell_start[cells.y + 1u]);
+    return vec2<u32>(grid[cell_start_at(cells.x)], grid[cell_start_at(cells.y + 1u)]);
 #endif
 }
 
@@ -116,5 +116,5 @@ fn boundary_range(c: vec3<i32>, q: u32) -> vec2<u32> {
     if cells.x > cells.y {
         return vec2<u32>(0u, 0u);
     }
-    return vec2<u32>(boundary_cell_start[cells.x], boundary_cell_start[cells.y + 1u]);
+    return vec2<u32>(grid[boundary_cell_start_at(cells.x)], grid[boundary_cell_start_at(cells.y + 1u)]);
 }

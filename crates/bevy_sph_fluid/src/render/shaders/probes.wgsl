@@ -8,7 +8,7 @@
 // them) and stamps the last one's step and time. Particles a drain took are left out.
 #define_import_path sph::probes
 
-#import sph::bindings::{params, probes, clock, position}
+#import sph::bindings::{params, shared_state, particle_state, position_at}
 #import sph::types::drained
 #import sph::guard::rotate
 
@@ -26,22 +26,22 @@ fn float_key(x: f32) -> u32 {
 }
 
 fn record_probes(i: u32, x: vec3<f32>, v: vec3<f32>) {
-    let count = min(probes.count, 16u);
+    let count = min(shared_state.probes.count, 16u);
     if count == 0u {
         return;
     }
     if i == 0u {
-        atomicAdd(&probes.samples, 1u);
-        probes.step = clock.step;
-        probes.time_ns_lo = clock.time_ns_lo;
-        probes.time_ns_hi = clock.time_ns_hi;
+        atomicAdd(&shared_state.probes.samples, 1u);
+        shared_state.probes.step = shared_state.clock.step;
+        shared_state.probes.time_ns_lo = shared_state.clock.time_ns_lo;
+        shared_state.probes.time_ns_hi = shared_state.clock.time_ns_hi;
     }
     // A particle a drain took is no longer water.
-    if drained(position[i].w) {
+    if drained(particle_state[position_at(i)].w) {
         return;
     }
     for (var k = 0u; k < count; k++) {
-        let p = probes.probes[k];
+        let p = shared_state.probes.probes[k];
         let kind = u32(p.center_kind.w);
         let d = x - p.center_kind.xyz;
         if kind == 0u {
@@ -52,18 +52,18 @@ fn record_probes(i: u32, x: vec3<f32>, v: vec3<f32>) {
                 if b >= 0.0 {
                     bin = u32(min(b, f32(LEVEL_BINS - 1u)));
                 }
-                atomicMax(&probes.level_tops[LEVEL_BINS * k + bin], float_key(x.y));
-                atomicAdd(&probes.sums[4u * k + 1u], 1u);
+                atomicMax(&shared_state.probes.level_tops[LEVEL_BINS * k + bin], float_key(x.y));
+                atomicAdd(&shared_state.probes.sums[4u * k + 1u], 1u);
             }
             continue;
         }
         if any(abs(rotate(p.to_local, d)) > p.half.xyz) {
             continue;
         }
-        atomicAdd(&probes.sums[4u * k + 1u], 1u);
+        atomicAdd(&shared_state.probes.sums[4u * k + 1u], 1u);
         if kind == 1u {
             let flux = i32(round(dot(v, p.normal.xyz) / PROBE_SPEED_UNIT));
-            atomicAdd(&probes.sums[4u * k + 2u], bitcast<u32>(flux));
+            atomicAdd(&shared_state.probes.sums[4u * k + 2u], bitcast<u32>(flux));
         }
     }
 }

@@ -174,6 +174,9 @@ struct SphUniforms {
     // The speculative contact's margin from the solids' surfaces [m]
     // (sph_core::boundary::speculative_contact::SURFACE_MARGIN Δx).
     surface_margin: f32,
+    // Where each packed storage buffer starts in its arena, in elements, at index `Buf as usize`
+    // (bevy_sph_fluid::render::arenas), four to a row; read through sph::bindings's `*_at`.
+    buffer_at: array<vec4<u32>, 10>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).
@@ -341,4 +344,13 @@ const DRAINED_BIT: u32 = 0x80000000u;
 // Whether the position's w marks a particle a drain took.
 fn drained(w: f32) -> bool {
     return (bitcast<u32>(w) & DRAINED_BIT) != 0u;
+}
+
+// The small structures every pass may share, in one storage buffer (Rust twin:
+// sph_core::gpu_layout::GpuShared), so a pass binds one buffer for all of them.
+struct SphShared {
+    pumps: SphPumps,
+    probes: SphProbes,
+    clock: SphClock,
+    body_forces: SphBodyForces,
 }

@@ -1,6 +1,6 @@
 // One compare-exchange step (k, j) of the design's bitonic sort of (hash key, particle) pairs.
 // Ties break on the particle index, so the result equals a stable sort by key.
-#import sph::bindings::{params, sort_keys, sort_values}
+#import sph::bindings::{params, grid, sort_keys_at, sort_values_at}
 #import sph::types::BitonicStep
 
 @group(1) @binding(0) var<uniform> step: BitonicStep;
@@ -16,15 +16,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let ascending = (i & step.k) == 0u;
-    let key_i = sort_keys[i];
-    let key_l = sort_keys[l];
-    let value_i = sort_values[i];
-    let value_l = sort_values[l];
+    let key_i = grid[sort_keys_at(i)];
+    let key_l = grid[sort_keys_at(l)];
+    let value_i = grid[sort_values_at(i)];
+    let value_l = grid[sort_values_at(l)];
     let greater = key_i > key_l || (key_i == key_l && value_i > value_l);
     if greater == ascending {
-        sort_keys[i] = key_l;
-        sort_keys[l] = key_i;
-        sort_values[i] = value_l;
-        sort_values[l] = value_i;
+        grid[sort_keys_at(i)] = key_l;
+        grid[sort_keys_at(l)] = key_i;
+        grid[sort_values_at(i)] = value_l;
+        grid[sort_values_at(l)] = value_i;
     }
 }

@@ -71,6 +71,6 @@ pub const STAGE: GpuStage = GpuStage {
 
 fn clear_cell_counts(encoder: &mut CommandEncoder, run: &StageRun) {
     if run.buffers.sort_length == 0 {
-        encoder.clear_buffer(run.buffers.at(Buf::CellCounts), 0, None);
+        run.buffers.clear(encoder, Buf::CellCounts);
     }
 }

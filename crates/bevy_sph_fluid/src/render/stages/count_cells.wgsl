@@ -8,7 +8,7 @@
 //               Algorithm 1, line 8: the move after the constant-density solve)
 // (skipped while the clock is frozen), after the rollback checkpoint is saved or restored
 // (APPLY_CHECKPOINT: the roles that run right after the time-step pass), then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
-#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, cell_of, rank_in_cell, cell_counts, sort_keys, sort_values, clock}
+#import sph::bindings::{params, particle_state, position_at, velocity_at, velocity_predicted_at, acceleration_at, acceleration_start_at, grid, cell_of_at, rank_in_cell_at, cell_counts, sort_keys_at, sort_values_at, shared_state}
 #import sph::pumps::in_open_sink
 #import sph::types::{drained, DRAINED_BIT}
 #import sph::guard::guard
@@ -28,8 +28,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     if i >= params.particle_count {
         // Padding sorts after every real key.
-        sort_keys[i] = 0xffffffffu;
-        sort_values[i] = i;
+        grid[sort_keys_at(i)] = 0xffffffffu;
+        grid[sort_values_at(i)] = i;
         return;
     }
 #else
@@ -40,83 +40,83 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef APPLY_CHECKPOINT
     apply_checkpoint(i);
 #endif
-    var x = position[i].xyz;
+    var x = particle_state[position_at(i)].xyz;
     let dt = step_dt();
     // A particle a drain took stays where it is, still, until the main world drops it.
-    let was_drained = drained(position[i].w);
+    let was_drained = drained(particle_state[position_at(i)].w);
     if was_drained {
-        velocity[i] = vec4<f32>(0.0);
+        particle_state[velocity_at(i)] = vec4<f32>(0.0);
 #ifdef PRE_PBF
         // Its velocity from positions (v = (x - x_prev)/dt) starts from here.
-        acceleration_start[i] = vec4<f32>(x, 0.0);
+        particle_state[acceleration_start_at(i)] = vec4<f32>(x, 0.0);
 #endif
     }
     let integrating = !frozen() && !was_drained;
 #ifdef PRE_KDK
     if integrating {
-    let a = acceleration[i].xyz;
-    let kicked = velocity[i].xyz + a * (0.5 * dt);
+    let a = particle_state[acceleration_at(i)].xyz;
+    let kicked = particle_state[velocity_at(i)].xyz + a * (0.5 * dt);
     let drifted = x + kicked * dt;
     let moved = guard(drifted, kicked);
     x = moved.x;
-    velocity[i] = vec4<f32>(moved.v, 0.0);
-    velocity_predicted[i] = vec4<f32>(moved.v + a * (0.5 * dt), 0.0);
-    position[i] = vec4<f32>(x, position[i].w);
+    particle_state[velocity_at(i)] = vec4<f32>(moved.v, 0.0);
+    particle_state[velocity_predicted_at(i)] = vec4<f32>(moved.v + a * (0.5 * dt), 0.0);
+    particle_state[position_at(i)] = vec4<f32>(x, particle_state[position_at(i)].w);
     }
 #endif
 #ifdef PRE_LEAPFROG
     if integrating {
-    let a0 = acceleration_start[i].xyz;
-    let v = velocity[i].xyz;
+    let a0 = particle_state[acceleration_start_at(i)].xyz;
+    let v = particle_state[velocity_at(i)].xyz;
     let drifted = x + v * dt + a0 * (0.5 * dt * dt);
     let moved = guard(drifted, v + a0 * dt);
     x = moved.x;
-    velocity_predicted[i] = vec4<f32>(moved.v, 0.0);
-    position[i] = vec4<f32>(x, position[i].w);
+    particle_state[velocity_predicted_at(i)] = vec4<f32>(moved.v, 0.0);
+    particle_state[position_at(i)] = vec4<f32>(x, particle_state[position_at(i)].w);
     }
 #endif
 #ifdef PRE_PBF
     if integrating {
-    acceleration_start[i] = vec4<f32>(x, 0.0);
-    let v = velocity[i].xyz + params.gravity * dt;
+    particle_state[acceleration_start_at(i)] = vec4<f32>(x, 0.0);
+    let v = particle_state[velocity_at(i)].xyz + params.gravity * dt;
     let moved = guard(x + v * dt, v);
     x = moved.x;
-    velocity[i] = vec4<f32>(moved.v, 0.0);
-    position[i] = vec4<f32>(x, position[i].w);
+    particle_state[velocity_at(i)] = vec4<f32>(moved.v, 0.0);
+    particle_state[position_at(i)] = vec4<f32>(x, particle_state[position_at(i)].w);
     }
 #endif
 #ifdef PRE_DFSPH
     if integrating && !restoring() {
-    let v = velocity[i].xyz;
+    let v = particle_state[velocity_at(i)].xyz;
     let moved = guard(x + v * dt, v);
     x = moved.x;
-    velocity[i] = vec4<f32>(moved.v, 0.0);
-    position[i] = vec4<f32>(x, position[i].w);
+    particle_state[velocity_at(i)] = vec4<f32>(moved.v, 0.0);
+    particle_state[position_at(i)] = vec4<f32>(x, particle_state[position_at(i)].w);
     }
 #endif
     // Drains: a particle inside an open drain is marked (its id's high bit) and sorted to the
     // tail of the live range, after every cell, where no neighbour loop visits it; the sort's
     // pass 2 records how many (docs/scenes.md).
     if !was_drained && params.open_drains > 0u && in_open_sink(x) {
-        position[i] = vec4<f32>(position[i].xyz, bitcast<f32>(bitcast<u32>(position[i].w) | DRAINED_BIT));
+        particle_state[position_at(i)] = vec4<f32>(particle_state[position_at(i)].xyz, bitcast<f32>(bitcast<u32>(particle_state[position_at(i)].w) | DRAINED_BIT));
     }
-    if drained(position[i].w) {
-        let rank = atomicAdd(&clock.marked, 1u);
+    if drained(particle_state[position_at(i)].w) {
+        let rank = atomicAdd(&shared_state.clock.marked, 1u);
 #ifdef SEARCH_HASH
-        sort_keys[i] = MARKED_KEY;
-        sort_values[i] = i;
+        grid[sort_keys_at(i)] = MARKED_KEY;
+        grid[sort_values_at(i)] = i;
 #else
-        cell_of[i] = params.cell_count;
-        rank_in_cell[i] = rank;
+        grid[cell_of_at(i)] = params.cell_count;
+        grid[rank_in_cell_at(i)] = rank;
 #endif
         return;
     }
 #ifdef SEARCH_HASH
-    sort_keys[i] = hash_key(hash_cell(x));
-    sort_values[i] = i;
+    grid[sort_keys_at(i)] = hash_key(hash_cell(x));
+    grid[sort_values_at(i)] = i;
 #else
     let cell = grid_index(grid_cell(x));
-    cell_of[i] = cell;
-    rank_in_cell[i] = atomicAdd(&cell_counts[cell], 1u);
+    grid[cell_of_at(i)] = cell;
+    grid[rank_in_cell_at(i)] = atomicAdd(&cell_counts[cell], 1u);
 #endif
 }

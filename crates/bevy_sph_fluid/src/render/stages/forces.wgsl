@@ -32,7 +32,7 @@
 // The reaction -m a_ib of every boundary pair goes to the sample's body (Akinci 2012's two-way
 // coupling, summed by shaders/body_reactions.wgsl).
 // Rust twin: sph_core::forces (compute_accelerations and its per-body sums).
-#import sph::bindings::{params, position, velocity, velocity_predicted, acceleration, acceleration_start, density, pressure, normal, neighbor_count, neighbor_lists, boundary_position, boundary_velocity, boundary_body, body_forces}
+#import sph::bindings::{params, particle_state, position_at, velocity_at, velocity_predicted_at, acceleration_at, acceleration_start_at, particle_scalars, density_at, pressure_at, normal_at, grid, neighbor_count_at, neighbor_lists_at, boundary_samples, boundary_position_at, boundary_velocity_at, boundary_body, shared_state}
 #import sph::kernels::{poly6, spiky_grad, viscosity_laplacian, cohesion, collide}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
@@ -51,9 +51,9 @@ fn pressure_density_squared(rho: f32) -> f32 {
 
 fn viscosity_velocity(j: u32) -> vec3<f32> {
 #ifdef USE_PREDICTED_VELOCITY
-    return velocity_predicted[j].xyz;
+    return particle_state[velocity_predicted_at(j)].xyz;
 #else
-    return velocity[j].xyz;
+    return particle_state[velocity_at(j)].xyz;
 #endif
 }
 
@@ -65,14 +65,14 @@ fn pressure_around(x_i: vec3<f32>, c: vec3<i32>) -> f32 {
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
         for (var j = range.x; j < range.y; j++) {
-            let x_j = position[j].xyz;
+            let x_j = particle_state[position_at(j)].xyz;
             let r = x_i - x_j;
             let r2 = dot(r, r);
             if r2 >= h2 || !accepts(c, q, x_j) {
                 continue;
             }
-            let w = poly6(r2) / density[j];
-            weighted += w * pressure[j];
+            let w = poly6(r2) / particle_scalars[density_at(j)];
+            weighted += w * particle_scalars[pressure_at(j)];
             weights += w;
         }
     }
@@ -143,7 +143,7 @@ fn contact_shares(x_i: vec3<f32>, g: vec3<i32>, n: vec3<f32>, force: vec3<f32>) 
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(g, q);
         for (var b = range.x; b < range.y; b++) {
-            let sample = boundary_position[b];
+            let sample = boundary_samples[boundary_position_at(b)];
             let r = x_i - sample.xyz;
             let r_len = sqrt(dot(r, r));
             if r_len < params.contact_radius {
@@ -182,20 +182,20 @@ fn main(
     }
     end_reactions(local, #{WORKGROUP_SIZE}u);
     if local == 0u && group.x == 0u {
-        atomicAdd(&body_forces.evaluations, 1u);
+        atomicAdd(&shared_state.body_forces.evaluations, 1u);
     }
 }
 
 fn particle(i: u32) {
-    let x = position[i];
+    let x = particle_state[position_at(i)];
     let x_i = x.xyz;
-    let rho_i = density[i];
-    let p_i = pressure[i] / pressure_density_squared(rho_i);
+    let rho_i = particle_scalars[density_at(i)];
+    let p_i = particle_scalars[pressure_at(i)] / pressure_density_squared(rho_i);
     let m = params.particle_mass;
     let h2 = params.h_squared;
     let v_i = viscosity_velocity(i);
 #ifdef SURFACE_TENSION
-    let n_i = normal[i].xyz;
+    let n_i = particle_state[normal_at(i)].xyz;
     var surface = vec3<f32>(0.0);
 #endif
     var pressure_sum = vec3<f32>(0.0);
@@ -205,10 +205,10 @@ fn particle(i: u32) {
     // DFSPH's lists hold each particle's pairs within h at these positions (the lists pass after
     // the last move): the cells' pairs without their candidates (a third of the pass's time at
     // dambreak32k on lavapipe).
-    let fluid = neighbor_count[i];
+    let fluid = grid[neighbor_count_at(i)];
     for (var k = 0u; k < fluid; k++) {
-        let j = neighbor_lists[list_slot(i, k)];
-        let x_j = position[j].xyz;
+        let j = grid[neighbor_lists_at(list_slot(i, k))];
+        let x_j = particle_state[position_at(j)].xyz;
         let r = x_i - x_j;
         let r2 = dot(r, r);
         if r2 >= h2 || j == i {
@@ -218,7 +218,7 @@ fn particle(i: u32) {
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
         for (var j = range.x; j < range.y; j++) {
-            let x_j = position[j].xyz;
+            let x_j = particle_state[position_at(j)].xyz;
             let r = x_i - x_j;
             let r2 = dot(r, r);
             if r2 >= h2 || !accepts(c, q, x_j) {
@@ -228,10 +228,10 @@ fn particle(i: u32) {
                 continue;
             }
 #endif
-            let rho_j = density[j];
+            let rho_j = particle_scalars[density_at(j)];
             let r_len = sqrt(r2);
 #ifndef SOLVER_DFSPH
-            pressure_sum -= spiky_grad(r, r_len) * (p_i + pressure[j] / pressure_density_squared(rho_j));
+            pressure_sum -= spiky_grad(r, r_len) * (p_i + particle_scalars[pressure_at(j)] / pressure_density_squared(rho_j));
 #endif
 #ifdef VISCOSITY
             viscosity_sum += (viscosity_velocity(j) - v_i) * (viscosity_laplacian(r_len) / rho_j);
@@ -242,7 +242,7 @@ fn particle(i: u32) {
             if r_len > 0.0 {
                 pull = r * (m * cohesion(r_len) / r_len);
             }
-            surface -= params.surface_tension * correction * (pull + (n_i - normal[j].xyz));
+            surface -= params.surface_tension * correction * (pull + (n_i - particle_state[normal_at(j)].xyz));
 #endif
 #ifndef SOLVER_DFSPH
         }
@@ -266,7 +266,7 @@ fn particle(i: u32) {
     for (var q = 0u; q < sample_cells; q++) {
         let range = boundary_range(g, q);
         for (var b = range.x; b < range.y; b++) {
-            let sample = boundary_position[b];
+            let sample = boundary_samples[boundary_position_at(b)];
             let r = x_i - sample.xyz;
             let r2 = dot(r, r);
             if r2 >= h2 {
@@ -279,7 +279,7 @@ fn particle(i: u32) {
                 let push = contact_push(r, r_len, sample.w);
                 let weight = length(push);
                 push_sum += push;
-                push_velocity += boundary_velocity[b].xyz * weight;
+                push_velocity += boundary_samples[boundary_velocity_at(b)].xyz * weight;
                 push_weight += weight;
             }
 #endif
@@ -288,7 +288,7 @@ fn particle(i: u32) {
             var a_b = vec3<f32>(0.0);
 #else
             if p_wall < 0.0 {
-                p_wall = pressure[i];
+                p_wall = particle_scalars[pressure_at(i)];
                 if p_wall <= 0.0 {
                     p_wall = pressure_around(x_i, c);
                 }
@@ -299,7 +299,7 @@ fn particle(i: u32) {
             let mirrored = own + p_b / (rho0 * rho0);
             var a_b = spiky_grad(r, r_len) * (-rho0 * sample.w * mirrored);
 #endif
-            let u = boundary_velocity[b];
+            let u = boundary_samples[boundary_velocity_at(b)];
 #ifdef SOLVER_DFSPH
             // Without friction the sample adds nothing here, nor a reaction.
             if u.w <= 0.0 {
@@ -323,7 +323,7 @@ fn particle(i: u32) {
     // and the next step's first half-kick add a dt), else v_i
     // (sph_core::forces::ForceInputs::contact_velocity).
 #ifdef POST_KDK
-    let v_contact = velocity[i].xyz;
+    let v_contact = particle_state[velocity_at(i)].xyz;
 #else
     let v_contact = v_i;
 #endif
@@ -344,7 +344,7 @@ fn particle(i: u32) {
     // The solids' speculative contact (sph_core::boundary::speculative_contact), after every other term.
     a += speculative_contact(x_i, v_contact, a, contact_dt(), drift_kick(), kept);
 #endif
-    acceleration[i] = vec4<f32>(a, 0.0);
+    particle_state[acceleration_at(i)] = vec4<f32>(a, 0.0);
     let dt = step_dt();
     if frozen() {
         return;
@@ -354,21 +354,21 @@ fn particle(i: u32) {
 #endif
 #ifdef SOLVER_DFSPH
     // DFSPH's CFL rule reads max |v + a_np dt_max| (sph_core::solver::dfsph::next_time_step).
-    record_speed(i, velocity[i].xyz + a * params.max_dt);
+    record_speed(i, particle_state[velocity_at(i)].xyz + a * params.max_dt);
 #endif
 #ifdef POST_KDK
-    let v = pumped(x_i, collide(x_i, velocity[i].xyz + a * (0.5 * dt)).v, dt);
-    velocity[i] = vec4<f32>(v, 0.0);
+    let v = pumped(x_i, collide(x_i, particle_state[velocity_at(i)].xyz + a * (0.5 * dt)).v, dt);
+    particle_state[velocity_at(i)] = vec4<f32>(v, 0.0);
     record_speed(i, v);
     record_probes(i, x_i, v);
 #endif
 #ifdef POST_LEAPFROG_SAVE
-    acceleration_start[i] = vec4<f32>(a, 0.0);
+    particle_state[acceleration_start_at(i)] = vec4<f32>(a, 0.0);
 #endif
 #ifdef POST_LEAPFROG_KICK
-    let a0 = acceleration_start[i].xyz;
-    let v = pumped(x_i, collide(x_i, velocity[i].xyz + (a0 + a) * (0.5 * dt)).v, dt);
-    velocity[i] = vec4<f32>(v, 0.0);
+    let a0 = particle_state[acceleration_start_at(i)].xyz;
+    let v = pumped(x_i, collide(x_i, particle_state[velocity_at(i)].xyz + (a0 + a) * (0.5 * dt)).v, dt);
+    particle_state[velocity_at(i)] = vec4<f32>(v, 0.0);
     record_speed(i, v);
     record_probes(i, x_i, v);
 #endif

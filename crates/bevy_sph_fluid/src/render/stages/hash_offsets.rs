@@ -24,5 +24,5 @@ pub const STAGE: GpuStage = GpuStage {
 };
 
 fn clear_bucket_starts(encoder: &mut CommandEncoder, run: &StageRun) {
-    encoder.clear_buffer(run.buffers.at(Buf::BucketStart), 0, None);
+    run.buffers.clear(encoder, Buf::BucketStart);
 }

@@ -1,6 +1,6 @@
 // The design's cell offsets: where each hash bucket starts (+1, 0 = empty) and ends in the
 // sorted key array (a drained particle's key, past the table, has none).
-#import sph::bindings::{params, sort_keys, bucket_start, bucket_end, clock}
+#import sph::bindings::{params, grid, sort_keys_at, bucket_start_at, bucket_end_at, shared_state}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -11,17 +11,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     if k == 0u {
         // The drained particles' keys sort last: record how many (as the grid's prefix sum).
-        clock.tail_size = atomicExchange(&clock.marked, 0u);
-        clock.tail_frame = params.drain_frame;
+        shared_state.clock.tail_size = atomicExchange(&shared_state.clock.marked, 0u);
+        shared_state.clock.tail_frame = params.drain_frame;
     }
-    let key = sort_keys[k];
+    let key = grid[sort_keys_at(k)];
     if key >= params.table_size {
         return;
     }
-    if k == 0u || sort_keys[k - 1u] != key {
-        bucket_start[key] = k + 1u;
+    if k == 0u || grid[sort_keys_at(k - 1u)] != key {
+        grid[bucket_start_at(key)] = k + 1u;
     }
-    if k + 1u == n || sort_keys[k + 1u] != key {
-        bucket_end[key] = k + 1u;
+    if k + 1u == n || grid[sort_keys_at(k + 1u)] != key {
+        grid[bucket_end_at(key)] = k + 1u;
     }
 }

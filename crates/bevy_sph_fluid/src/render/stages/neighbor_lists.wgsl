@@ -4,7 +4,7 @@
 // number in neighbor_count. The step's other PBF passes loop over these lists and evaluate the
 // kernel at their own positions. A particle with more neighbours keeps the first ones found and
 // is counted in the clock. Rust twin: sph_core::neighbor::lists::NeighborLists::rebuild.
-#import sph::bindings::{params, position, neighbor_count, neighbor_lists, clock}
+#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, shared_state}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, list_slot}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
@@ -13,7 +13,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.particle_count {
         return;
     }
-    let x_i = position[i].xyz;
+    let x_i = particle_state[position_at(i)].xyz;
     let c = home_cell(x_i);
     let h2 = params.h_squared;
     let most = params.pbf_max_neighbors;
@@ -22,21 +22,21 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
         for (var j = range.x; j < range.y; j++) {
-            let x_j = position[j].xyz;
+            let x_j = particle_state[position_at(j)].xyz;
             let r = x_i - x_j;
             if j == i || dot(r, r) >= h2 || !accepts(c, q, x_j) {
                 continue;
             }
             if count < most {
-                neighbor_lists[list_slot(i, count)] = j;
+                grid[neighbor_lists_at(list_slot(i, count))] = j;
                 count += 1u;
             } else {
                 overflow = true;
             }
         }
     }
-    neighbor_count[i] = count;
+    grid[neighbor_count_at(i)] = count;
     if overflow {
-        atomicAdd(&clock.neighbor_list_overflows, 1u);
+        atomicAdd(&shared_state.clock.neighbor_list_overflows, 1u);
     }
 }

@@ -2,7 +2,7 @@
 // (cell_count + 1 entries; the drained particles, in no cell, land after cell_start[cell_count]
 // and their count goes to the clock), in one workgroup: serial chunk sums, a Hillis-Steele scan of the
 // 256 chunk sums in workgroup memory, then each chunk writes its offsets.
-#import sph::bindings::{params, cell_counts, cell_start, clock}
+#import sph::bindings::{params, cell_counts, grid, cell_start_at, shared_state}
 
 const THREADS: u32 = #{WORKGROUP_SIZE}u;
 
@@ -32,13 +32,13 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
     }
     var running = partial[t] - sum;
     for (var c = begin; c < end; c++) {
-        cell_start[c] = running;
+        grid[cell_start_at(c)] = running;
         running += atomicLoad(&cell_counts[c]);
     }
     if t == THREADS - 1u {
         // The live particles in cells; the drained ones follow (their cell is n).
-        cell_start[n] = partial[t];
-        clock.tail_size = atomicExchange(&clock.marked, 0u);
-        clock.tail_frame = params.drain_frame;
+        grid[cell_start_at(n)] = partial[t];
+        shared_state.clock.tail_size = atomicExchange(&shared_state.clock.marked, 0u);
+        shared_state.clock.tail_frame = params.drain_frame;
     }
 }

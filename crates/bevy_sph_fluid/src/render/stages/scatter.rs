@@ -55,12 +55,6 @@ fn copy_back(encoder: &mut CommandEncoder, run: &StageRun) {
         return;
     }
     for (sorted, state) in COPIES {
-        encoder.copy_buffer_to_buffer(
-            run.buffers.at(sorted),
-            0,
-            run.buffers.at(state),
-            0,
-            Some(bytes),
-        );
+        run.buffers.copy(encoder, sorted, state, bytes);
     }
 }

@@ -17,7 +17,7 @@
 //    the frame's time in its planned steps; dt = min(dt, remaining / steps left), so the frame
 //    never oversteps its time and ends on it when the plan's step count was right;
 // 6. step += 1, time += dt (in whole nanoseconds, exact), the extremes are cleared.
-#import sph::bindings::{params, clock}
+#import sph::bindings::{params, shared_state}
 
 const NON_FINITE: u32 = 0x7f800000u;
 const SAVE: u32 = 1u;
@@ -32,68 +32,68 @@ fn add_ns(lo: u32, hi: u32, dt: f32) -> vec2<u32> {
 
 // Step and time go back to the checkpoint; the next pass restores its particles.
 fn restore() {
-    clock.checkpoint_action = RESTORE;
-    clock.restore_count = clock.checkpoint_count;
-    clock.checkpoint_count = params.particle_count;
-    clock.step = clock.checkpoint_step;
-    clock.time_ns_lo = clock.checkpoint_time_lo;
-    clock.time_ns_hi = clock.checkpoint_time_hi;
+    shared_state.clock.checkpoint_action = RESTORE;
+    shared_state.clock.restore_count = shared_state.clock.checkpoint_count;
+    shared_state.clock.checkpoint_count = params.particle_count;
+    shared_state.clock.step = shared_state.clock.checkpoint_step;
+    shared_state.clock.time_ns_lo = shared_state.clock.checkpoint_time_lo;
+    shared_state.clock.time_ns_hi = shared_state.clock.checkpoint_time_hi;
 }
 
 fn scale() -> f32 {
-    return exp2(-f32(clock.halvings));
+    return exp2(-f32(shared_state.clock.halvings));
 }
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main() {
     // Counted before anything can return: the CPU compares it with the steps it dispatched to
     // know that a readback is current, which `step` cannot tell once a rollback took it back.
-    clock.steps_run += 1u;
-    clock.checkpoint_action = 0u;
-    if clock.unstable_step != 0u {
+    shared_state.clock.steps_run += 1u;
+    shared_state.clock.checkpoint_action = 0u;
+    if shared_state.clock.unstable_step != 0u {
         return;
     }
-    let speed_bits = atomicLoad(&clock.max_speed_bits);
-    let acceleration_bits = atomicLoad(&clock.max_acceleration_bits);
-    atomicStore(&clock.max_speed_bits, 0u);
-    atomicStore(&clock.max_acceleration_bits, 0u);
+    let speed_bits = atomicLoad(&shared_state.clock.max_speed_bits);
+    let acceleration_bits = atomicLoad(&shared_state.clock.max_acceleration_bits);
+    atomicStore(&shared_state.clock.max_speed_bits, 0u);
+    atomicStore(&shared_state.clock.max_acceleration_bits, 0u);
     let v_max = bitcast<f32>(speed_bits);
     let a_max = bitcast<f32>(acceleration_bits);
     let h = params.cell_size;
-    let checked = clock.step > 0u;
+    let checked = shared_state.clock.step > 0u;
 #ifdef SOLVER_PBF
     // PBF moves particles by positions: only a non-finite state is unstable
     // (sph_core::stability, Solver::Pbf).
     let unstable = checked && (speed_bits >= NON_FINITE || acceleration_bits >= NON_FINITE);
 #else
-    let unstable = checked && (speed_bits >= NON_FINITE || acceleration_bits >= NON_FINITE || v_max * clock.dt > h);
+    let unstable = checked && (speed_bits >= NON_FINITE || acceleration_bits >= NON_FINITE || v_max * shared_state.clock.dt > h);
 #endif
     var rule_dt: f32;
     if unstable {
-        let can_retry = params.rollback_enabled != 0u && clock.has_checkpoint != 0u;
-        if !can_retry || clock.retries >= params.max_retries {
-            clock.unstable_step = clock.step;
+        let can_retry = params.rollback_enabled != 0u && shared_state.clock.has_checkpoint != 0u;
+        if !can_retry || shared_state.clock.retries >= params.max_retries {
+            shared_state.clock.unstable_step = shared_state.clock.step;
             if can_retry {
                 restore();
             }
             return;
         }
-        clock.rollbacks += 1u;
-        clock.retries += 1u;
-        clock.halvings = min(clock.halvings + 1u, MAX_HALVINGS);
-        clock.stable_steps = 0u;
+        shared_state.clock.rollbacks += 1u;
+        shared_state.clock.retries += 1u;
+        shared_state.clock.halvings = min(shared_state.clock.halvings + 1u, MAX_HALVINGS);
+        shared_state.clock.stable_steps = 0u;
         restore();
 #ifdef TIME_STEP_BEFORE_INTEGRATE
         return;
 #else
-        rule_dt = clock.checkpoint_rule_dt;
+        rule_dt = shared_state.clock.checkpoint_rule_dt;
 #endif
     } else {
         if checked {
-            clock.stable_steps += 1u;
-            if clock.halvings > 0u && clock.stable_steps >= params.recovery_steps {
-                clock.halvings -= 1u;
-                clock.stable_steps = 0u;
+            shared_state.clock.stable_steps += 1u;
+            if shared_state.clock.halvings > 0u && shared_state.clock.stable_steps >= params.recovery_steps {
+                shared_state.clock.halvings -= 1u;
+                shared_state.clock.stable_steps = 0u;
             }
         }
         rule_dt = params.max_dt;
@@ -123,35 +123,35 @@ fn main() {
         }
 #endif
 #endif
-        let due = clock.has_checkpoint == 0u || clock.save_requested != 0u || clock.step >= clock.checkpoint_step + params.checkpoint_interval;
+        let due = shared_state.clock.has_checkpoint == 0u || shared_state.clock.save_requested != 0u || shared_state.clock.step >= shared_state.clock.checkpoint_step + params.checkpoint_interval;
         if params.rollback_enabled != 0u && due {
-            clock.checkpoint_action = SAVE;
-            clock.has_checkpoint = 1u;
-            clock.checkpoint_step = clock.step;
-            clock.checkpoint_time_lo = clock.time_ns_lo;
-            clock.checkpoint_time_hi = clock.time_ns_hi;
-            clock.checkpoint_count = params.particle_count;
-            clock.checkpoint_rule_dt = rule_dt;
-            clock.save_requested = 0u;
-            clock.retries = 0u;
+            shared_state.clock.checkpoint_action = SAVE;
+            shared_state.clock.has_checkpoint = 1u;
+            shared_state.clock.checkpoint_step = shared_state.clock.step;
+            shared_state.clock.checkpoint_time_lo = shared_state.clock.time_ns_lo;
+            shared_state.clock.checkpoint_time_hi = shared_state.clock.time_ns_hi;
+            shared_state.clock.checkpoint_count = params.particle_count;
+            shared_state.clock.checkpoint_rule_dt = rule_dt;
+            shared_state.clock.save_requested = 0u;
+            shared_state.clock.retries = 0u;
         }
     }
-    clock.rule_dt = rule_dt;
+    shared_state.clock.rule_dt = rule_dt;
     var dt = rule_dt * scale();
     if params.budget_steps != 0u {
-        if clock.budget_frame != params.budget_frame {
-            clock.budget_frame = params.budget_frame;
-            clock.budget_remaining = bitcast<f32>(params.budget_time_bits);
-            clock.budget_steps_left = params.budget_steps;
+        if shared_state.clock.budget_frame != params.budget_frame {
+            shared_state.clock.budget_frame = params.budget_frame;
+            shared_state.clock.budget_remaining = bitcast<f32>(params.budget_time_bits);
+            shared_state.clock.budget_steps_left = params.budget_steps;
         }
-        let left = max(clock.budget_steps_left, 1u);
-        dt = min(dt, max(clock.budget_remaining, 0.0) / f32(left));
-        clock.budget_remaining -= dt;
-        clock.budget_steps_left = left - 1u;
+        let left = max(shared_state.clock.budget_steps_left, 1u);
+        dt = min(dt, max(shared_state.clock.budget_remaining, 0.0) / f32(left));
+        shared_state.clock.budget_remaining -= dt;
+        shared_state.clock.budget_steps_left = left - 1u;
     }
-    clock.dt = dt;
-    clock.step += 1u;
-    let time = add_ns(clock.time_ns_lo, clock.time_ns_hi, dt);
-    clock.time_ns_lo = time.x;
-    clock.time_ns_hi = time.y;
+    shared_state.clock.dt = dt;
+    shared_state.clock.step += 1u;
+    let time = add_ns(shared_state.clock.time_ns_lo, shared_state.clock.time_ns_hi, dt);
+    shared_state.clock.time_ns_lo = time.x;
+    shared_state.clock.time_ns_hi = time.y;
 }

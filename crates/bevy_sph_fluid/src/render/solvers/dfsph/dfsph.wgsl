@@ -26,7 +26,7 @@
 // converged flag, two error sums, and the indirect dispatch arguments of its passes.
 #define_import_path sph::dfsph
 
-#import sph::bindings::{params, clock, pressure, acceleration_start, sorted_acceleration_start, velocity_predicted, dfsph_pairs, dfsph_mirror}
+#import sph::bindings::{params, shared_state, particle_scalars, pressure_at, particle_state, acceleration_start_at, particle_scratch, sorted_acceleration_start_at, velocity_predicted_at, dfsph_pairs, dfsph_mirror_at}
 #import sph::neighbors::tiled_slot
 
 // Isolated particles: fewer neighbours than this is a free surface, left out of the
@@ -59,24 +59,24 @@ struct Factor {
 }
 
 fn factor(i: u32) -> Factor {
-    let a = acceleration_start[i];
-    let b = sorted_acceleration_start[i];
+    let a = particle_state[acceleration_start_at(i)];
+    let b = particle_scratch[sorted_acceleration_start_at(i)];
     return Factor(a.xyz, a.w, b.x, b.y);
 }
 
 // The boundary samples within h of particle i when the factors pass ran (0: no boundary pair).
 fn boundary_neighbors(i: u32) -> f32 {
-    return sorted_acceleration_start[i].z;
+    return particle_scratch[sorted_acceleration_start_at(i)].z;
 }
 
 // Σ_b' g_ib' over the samples that mirror κ_i (0 when the particle is pinched).
 fn mirrored_grad(i: u32) -> vec3<f32> {
-    return dfsph_mirror[i].xyz;
+    return particle_scratch[dfsph_mirror_at(i)].xyz;
 }
 
 // Whether the samples of static bodies mirror κ_i (the particle is not pinched).
 fn mirrors(i: u32) -> bool {
-    return dfsph_mirror[i].w != 0.0;
+    return particle_scratch[dfsph_mirror_at(i)].w != 0.0;
 }
 
 // Whether the boundary samples mirror κ_i and hold the rise: unless a dynamic collider is in the
@@ -88,7 +88,7 @@ fn samples_mirror() -> bool {
 // p̂_i = max((κ_i^ρ + κ_i^v) ρ0², 0) of the solves' totals when the factors pass ran: the
 // lowest the boundary's hydrostatic rise goes below the particle's pressure.
 fn rise_floor(i: u32) -> f32 {
-    return sorted_acceleration_start[i].w;
+    return particle_scratch[sorted_acceleration_start_at(i)].w;
 }
 
 // p_b^rise/ρ0² of a particle at x_i with floor p̂ and a sample at x_b: the hydrostatic rise
@@ -102,11 +102,11 @@ fn rise_over_rho0_squared(x_i: vec3<f32>, x_b: vec3<f32>, p_floor: f32) -> f32 {
 // κ_j of the iteration (in `pressure`, free during the solves: the step's last pass writes
 // the pressures).
 fn stiffness(j: u32) -> f32 {
-    return pressure[j];
+    return particle_scalars[pressure_at(j)];
 }
 
 fn set_stiffness(i: u32, k: f32) {
-    pressure[i] = k;
+    particle_scalars[pressure_at(i)] = k;
 }
 
 // The stiffness to apply from a Jacobi iteration's κ and the one applied before it (a solve's
@@ -124,17 +124,17 @@ fn over_relaxed(k: f32, previous: f32) -> f32 {
 // The stiffness the solve in progress summed for particle i.
 fn total(i: u32) -> f32 {
 #ifdef DIVERGENCE_SOLVE
-    return velocity_predicted[i].y;
+    return particle_state[velocity_predicted_at(i)].y;
 #else
-    return velocity_predicted[i].x;
+    return particle_state[velocity_predicted_at(i)].x;
 #endif
 }
 
 fn set_total(i: u32, k: f32) {
 #ifdef DIVERGENCE_SOLVE
-    velocity_predicted[i].y = k;
+    particle_state[velocity_predicted_at(i)].y = k;
 #else
-    velocity_predicted[i].x = k;
+    particle_state[velocity_predicted_at(i)].x = k;
 #endif
 }
 
@@ -219,15 +219,15 @@ fn set_pairs(i: u32, k: u32, first: vec2<u32>, second: vec2<u32>) {
 // A solve starts: nothing applied, no error summed, its passes dispatched over every particle
 // (workgroups of `threads`).
 fn open_solve(threads: u32) {
-    clock.dfsph_done = 0u;
-    clock.dfsph_applied = 0u;
-    clock.dfsph_error_a_lo = 0u;
-    clock.dfsph_error_a_hi = 0u;
-    clock.dfsph_error_b_lo = 0u;
-    clock.dfsph_error_b_hi = 0u;
-    clock.dfsph_args_x = (params.particle_count + threads - 1u) / threads;
-    clock.dfsph_args_y = 1u;
-    clock.dfsph_args_z = 1u;
+    shared_state.clock.dfsph_done = 0u;
+    shared_state.clock.dfsph_applied = 0u;
+    shared_state.clock.dfsph_error_a_lo = 0u;
+    shared_state.clock.dfsph_error_a_hi = 0u;
+    shared_state.clock.dfsph_error_b_lo = 0u;
+    shared_state.clock.dfsph_error_b_hi = 0u;
+    shared_state.clock.dfsph_args_x = (params.particle_count + threads - 1u) / threads;
+    shared_state.clock.dfsph_args_y = 1u;
+    shared_state.clock.dfsph_args_z = 1u;
 }
 
 // Whether a solve with `applied` iterations done and mean error `error` goes on: while
@@ -260,8 +260,8 @@ fn solve_goes_on(applied: u32, error: f32) -> bool {
 
 // The solve converged: its remaining passes dispatch no workgroup.
 fn close_solve() {
-    clock.dfsph_done = 1u;
-    clock.dfsph_args_x = 0u;
+    shared_state.clock.dfsph_done = 1u;
+    shared_state.clock.dfsph_args_x = 0u;
 }
 
 // Adds a sum (of s_i/ρ0 terms, non-negative) to error sum `b` (0: a, 1: b) in 64-bit
@@ -272,17 +272,17 @@ fn add_error(b: u32, sum: f32) {
     let low = u32(units - high * 4294967296.0);
     var old: u32;
     if b == 0u {
-        old = atomicAdd(&clock.dfsph_error_a_lo, low);
+        old = atomicAdd(&shared_state.clock.dfsph_error_a_lo, low);
     } else {
-        old = atomicAdd(&clock.dfsph_error_b_lo, low);
+        old = atomicAdd(&shared_state.clock.dfsph_error_b_lo, low);
     }
     let carry = select(0u, 1u, old + low < old);
     let add_high = u32(high) + carry;
     if add_high != 0u {
         if b == 0u {
-            atomicAdd(&clock.dfsph_error_a_hi, add_high);
+            atomicAdd(&shared_state.clock.dfsph_error_a_hi, add_high);
         } else {
-            atomicAdd(&clock.dfsph_error_b_hi, add_high);
+            atomicAdd(&shared_state.clock.dfsph_error_b_hi, add_high);
         }
     }
 }
@@ -292,11 +292,11 @@ fn mean_error(b: u32) -> f32 {
     var lo: u32;
     var hi: u32;
     if b == 0u {
-        lo = atomicLoad(&clock.dfsph_error_a_lo);
-        hi = atomicLoad(&clock.dfsph_error_a_hi);
+        lo = atomicLoad(&shared_state.clock.dfsph_error_a_lo);
+        hi = atomicLoad(&shared_state.clock.dfsph_error_a_hi);
     } else {
-        lo = atomicLoad(&clock.dfsph_error_b_lo);
-        hi = atomicLoad(&clock.dfsph_error_b_hi);
+        lo = atomicLoad(&shared_state.clock.dfsph_error_b_lo);
+        hi = atomicLoad(&shared_state.clock.dfsph_error_b_hi);
     }
     let sum = f32(hi) * HIGH_WORD + f32(lo) / UNITS_PER_ONE;
     return sum / f32(max(params.particle_count, 1u));
@@ -304,10 +304,10 @@ fn mean_error(b: u32) -> f32 {
 
 fn clear_error(b: u32) {
     if b == 0u {
-        atomicStore(&clock.dfsph_error_a_lo, 0u);
-        atomicStore(&clock.dfsph_error_a_hi, 0u);
+        atomicStore(&shared_state.clock.dfsph_error_a_lo, 0u);
+        atomicStore(&shared_state.clock.dfsph_error_a_hi, 0u);
     } else {
-        atomicStore(&clock.dfsph_error_b_lo, 0u);
-        atomicStore(&clock.dfsph_error_b_hi, 0u);
+        atomicStore(&shared_state.clock.dfsph_error_b_lo, 0u);
+        atomicStore(&shared_state.clock.dfsph_error_b_hi, 0u);
     }
 }

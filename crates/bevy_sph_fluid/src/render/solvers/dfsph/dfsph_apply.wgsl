@@ -11,7 +11,7 @@
 // Constant density by default, DIVERGENCE_SOLVE the divergence-free solve's limits.
 // Rust twins: sph_core::solver::dfsph::bender2017::apply_stiffness and the loop of
 // sph_core::solver::dfsph.
-#import sph::bindings::{params, clock, velocity, neighbor_count}
+#import sph::bindings::{params, shared_state, particle_state, velocity_at, grid, neighbor_count_at}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
 #import sph::dfsph::{Pair, factor, mirrored_grad, pairs, stiffness, total, set_total, mean_error, clear_error, close_solve, solve_goes_on}
@@ -24,7 +24,7 @@ fn pressure_term(k_i: f32, p: Pair) -> vec3<f32> {
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
-    if frozen() || restoring() || clock.dfsph_done != 0u {
+    if frozen() || restoring() || shared_state.clock.dfsph_done != 0u {
         return;
     }
 #ifndef DFSPH_WARM
@@ -33,7 +33,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #else
     let read = 0u;
 #endif
-    if !solve_goes_on(clock.dfsph_applied, mean_error(read)) {
+    if !solve_goes_on(shared_state.clock.dfsph_applied, mean_error(read)) {
         if i == 0u {
             close_solve();
         }
@@ -48,7 +48,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let k_i = stiffness(i);
     var a = -k_i * (factor(i).boundary_grad + mirrored_grad(i));
-    let fluid = neighbor_count[i];
+    let fluid = grid[neighbor_count_at(i)];
     for (var k = 0u; k < fluid; k += 2u) {
         let two = pairs(i, k);
         a -= pressure_term(k_i, two.first);
@@ -56,7 +56,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             a -= pressure_term(k_i, two.second);
         }
     }
-    velocity[i] = vec4<f32>(velocity[i].xyz + a * step_dt(), 0.0);
+    particle_state[velocity_at(i)] = vec4<f32>(particle_state[velocity_at(i)].xyz + a * step_dt(), 0.0);
 #ifndef DFSPH_WARM
     set_total(i, total(i) + k_i);
 #endif

@@ -11,7 +11,7 @@
 // Thread 0 opens the next solve (the divergence-free one after the move).
 // Rust twins: sph_core::neighbor::lists::NeighborLists::rebuild (the densities) and
 // sph_core::solver::dfsph::bender2017::compute_factors.
-#import sph::bindings::{params, position, density, velocity_predicted, neighbor_count, neighbor_lists, acceleration_start, sorted_acceleration_start, dfsph_mirror, boundary_position, boundary_velocity}
+#import sph::bindings::{params, particle_state, position_at, particle_scalars, density_at, velocity_predicted_at, grid, neighbor_count_at, neighbor_lists_at, acceleration_start_at, particle_scratch, sorted_acceleration_start_at, dfsph_mirror_at, boundary_samples, boundary_position_at, boundary_velocity_at}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::dfsph::{mass, rest_density, pair_scale, pair_steps, steps_grad, pack_pair, set_pairs, open_solve, samples_mirror}
@@ -27,8 +27,8 @@ struct FluidSums {
 // The sums take g_ij as packed, as every iteration reads it (and as the CPU solver rounds it).
 fn fluid_pair(i: u32, k: u32, x_i: vec3<f32>, scale: f32, sums: ptr<function, FluidSums>) -> vec2<u32> {
     let m = mass();
-    let j = neighbor_lists[list_slot(i, k)];
-    let r = x_i - position[j].xyz;
+    let j = grid[neighbor_lists_at(list_slot(i, k))];
+    let r = x_i - particle_state[position_at(j)].xyz;
     let r_len = length(r);
     let steps = pair_steps(cubic_grad(r, r_len) * m, scale);
     let g = steps_grad(steps, scale);
@@ -47,13 +47,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.particle_count {
         return;
     }
-    let x_i = position[i].xyz;
+    let x_i = particle_state[position_at(i)].xyz;
     let m = mass();
     let rho0 = rest_density();
     let h2 = params.h_squared;
     var fluid_sums = FluidSums(m * cubic(0.0), vec3<f32>(0.0), 0.0);
     let scale = pair_scale();
-    let fluid = neighbor_count[i];
+    let fluid = grid[neighbor_count_at(i)];
     for (var k = 0u; k < fluid; k += 2u) {
         let first = fluid_pair(i, k, x_i, scale, &fluid_sums);
         // Past the list's end: a pair with itself and no gradient, which no reader uses.
@@ -75,7 +75,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(cell, q);
         for (var b = range.x; b < range.y; b++) {
-            let sample = boundary_position[b];
+            let sample = boundary_samples[boundary_position_at(b)];
             let r = x_i - sample.xyz;
             let r2 = dot(r, r);
             if r2 >= h2 {
@@ -89,7 +89,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if mirror_samples {
                 mirrored_grad += g;
             }
-            boundary_flux += dot(boundary_velocity[b].xyz, g);
+            boundary_flux += dot(boundary_samples[boundary_velocity_at(b)].xyz, g);
             solid += 1u;
         }
     }
@@ -98,10 +98,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let mirror = mirrored >= 0.5 * once;
     let d = select(once, mirrored, mirror);
     let inverse = select(0.0, 1.0 / d, d > params.dfsph_factor_epsilon);
-    let totals = velocity_predicted[i];
+    let totals = particle_state[velocity_predicted_at(i)];
     let p_floor = max((totals.x + totals.y) * rho0 * rho0, 0.0);
-    density[i] = rho;
-    acceleration_start[i] = vec4<f32>(boundary_grad, inverse);
-    sorted_acceleration_start[i] = vec4<f32>(boundary_flux, f32(fluid + solid), f32(solid), p_floor);
-    dfsph_mirror[i] = select(vec4<f32>(0.0), vec4<f32>(mirrored_grad, 1.0), mirror);
+    particle_scalars[density_at(i)] = rho;
+    particle_state[acceleration_start_at(i)] = vec4<f32>(boundary_grad, inverse);
+    particle_scratch[sorted_acceleration_start_at(i)] = vec4<f32>(boundary_flux, f32(fluid + solid), f32(solid), p_floor);
+    particle_scratch[dfsph_mirror_at(i)] = select(vec4<f32>(0.0), vec4<f32>(mirrored_grad, 1.0), mirror);
 }

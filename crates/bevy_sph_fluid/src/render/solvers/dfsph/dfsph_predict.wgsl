@@ -7,7 +7,7 @@
 // step then leaves the restored state alone, and the move's sort rebuilds its neighbourhood).
 // Rust twins: step 3 of sph_core::solver::dfsph::DfsphStep::advance,
 // sph_core::solver::dfsph::bender2017::BoundaryRise::predict.
-#import sph::bindings::{params, position, velocity, acceleration, boundary_position}
+#import sph::bindings::{params, particle_state, position_at, velocity_at, acceleration_at, boundary_samples, boundary_position_at}
 #import sph::kernels::cubic_grad
 #import sph::neighbors::{grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen}
@@ -21,7 +21,7 @@ fn rise(i: u32) -> vec3<f32> {
     if boundary_neighbors(i) == 0.0 || !samples_mirror() {
         return a;
     }
-    let x_i = position[i].xyz;
+    let x_i = particle_state[position_at(i)].xyz;
     let p_floor = rise_floor(i);
     let h2 = params.h_squared;
     let rho0 = rest_density();
@@ -29,7 +29,7 @@ fn rise(i: u32) -> vec3<f32> {
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(cell, q);
         for (var b = range.x; b < range.y; b++) {
-            let sample = boundary_position[b];
+            let sample = boundary_samples[boundary_position_at(b)];
             let r = x_i - sample.xyz;
             let r2 = dot(r, r);
             if r2 >= h2 {
@@ -55,6 +55,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if frozen() || restoring() {
         return;
     }
-    let v = velocity[i].xyz + (acceleration[i].xyz + rise(i)) * step_dt();
-    velocity[i] = vec4<f32>(v, 0.0);
+    let v = particle_state[velocity_at(i)].xyz + (particle_state[acceleration_at(i)].xyz + rise(i)) * step_dt();
+    particle_state[velocity_at(i)] = vec4<f32>(v, 0.0);
 }

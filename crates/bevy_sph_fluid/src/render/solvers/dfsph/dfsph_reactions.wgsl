@@ -16,7 +16,7 @@
 // Nothing is summed while the clock is frozen or a state is being restored.
 // Rust twins: sph_core::solver::dfsph::bender2017::boundary_reactions and BoundaryRise::reactions, the end of
 // sph_core::solver::dfsph::DfsphStep::advance, sph_core::flow::pump::apply_pumps (CpuSolver::step).
-#import sph::bindings::{params, clock, position, velocity, velocity_predicted, density, pressure, boundary_position, boundary_body}
+#import sph::bindings::{params, shared_state, particle_state, position_at, velocity_at, velocity_predicted_at, particle_scalars, density_at, pressure_at, boundary_samples, boundary_position_at, boundary_body}
 #import sph::kernels::cubic_grad
 #import sph::neighbors::{grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen}
@@ -29,7 +29,7 @@
 #import sph::speculative_contact::speculative_contact
 
 fn particle(i: u32) {
-    let x = position[i];
+    let x = particle_state[position_at(i)];
     let x_i = x.xyz;
     let k = total(i) * mass();
     let mirrored = select(k, 2.0 * k, mirrors(i));
@@ -50,7 +50,7 @@ fn particle(i: u32) {
         for (var q = 0u; q < 9u; q++) {
             let range = boundary_range(cell, q);
             for (var b = range.x; b < range.y; b++) {
-                let sample = boundary_position[b];
+                let sample = boundary_samples[boundary_position_at(b)];
                 let r = x_i - sample.xyz;
                 let r2 = dot(r, r);
                 if r2 >= h2 {
@@ -70,16 +70,16 @@ fn particle(i: u32) {
     }
 #ifndef DIVERGENCE_SOLVE
     let dt = step_dt();
-    let u = velocity[i];
+    let u = particle_state[velocity_at(i)];
     let a_s = speculative_contact(x_i, u.xyz, vec3<f32>(0.0), dt, 1.0, kept);
-    velocity[i] = vec4<f32>(u.xyz + a_s * dt, u.w);
+    particle_state[velocity_at(i)] = vec4<f32>(u.xyz + a_s * dt, u.w);
 #endif
 #ifdef DIVERGENCE_SOLVE
-    let rho = density[i];
-    let sums = velocity_predicted[i];
-    pressure[i] = (sums.x + sums.y) * rho * rho;
-    let v = pumped(x_i, velocity[i].xyz, step_dt());
-    velocity[i] = vec4<f32>(v, 0.0);
+    let rho = particle_scalars[density_at(i)];
+    let sums = particle_state[velocity_predicted_at(i)];
+    particle_scalars[pressure_at(i)] = (sums.x + sums.y) * rho * rho;
+    let v = pumped(x_i, particle_state[velocity_at(i)].xyz, step_dt());
+    particle_state[velocity_at(i)] = vec4<f32>(v, 0.0);
     record_probes(i, x_i, v);
 #endif
 }
@@ -98,23 +98,23 @@ fn main(
     }
     end_reactions(local, #{WORKGROUP_SIZE}u);
     if i == 0u && live {
-        let applied = clock.dfsph_applied;
+        let applied = shared_state.clock.dfsph_applied;
         let error = mean_error(applied % 2u);
-        let open = clock.dfsph_done == 0u;
+        let open = shared_state.clock.dfsph_done == 0u;
 #ifdef DIVERGENCE_SOLVE
-        clock.divergence_iterations += applied;
-        clock.divergence_frame_max = max(clock.divergence_frame_max, applied);
-        clock.divergence_error = error;
+        shared_state.clock.divergence_iterations += applied;
+        shared_state.clock.divergence_frame_max = max(shared_state.clock.divergence_frame_max, applied);
+        shared_state.clock.divergence_error = error;
         if open && solve_goes_on(applied, error) {
-            clock.divergence_cut_short += 1u;
+            shared_state.clock.divergence_cut_short += 1u;
         }
 #else
-        clock.density_iterations += applied;
-        clock.density_iterations_max = max(clock.density_iterations_max, applied);
-        clock.density_frame_max = max(clock.density_frame_max, applied);
-        clock.density_error = error;
+        shared_state.clock.density_iterations += applied;
+        shared_state.clock.density_iterations_max = max(shared_state.clock.density_iterations_max, applied);
+        shared_state.clock.density_frame_max = max(shared_state.clock.density_frame_max, applied);
+        shared_state.clock.density_error = error;
         if open && solve_goes_on(applied, error) {
-            clock.density_cut_short += 1u;
+            shared_state.clock.density_cut_short += 1u;
         }
 #endif
     }

@@ -18,22 +18,22 @@
 // Dispatched indirectly: no workgroup runs once the solve converged.
 // Rust twins: sph_core::solver::dfsph::bender2017::{density_source, divergence_source,
 // stiffness_from_source, TopRowStiffness} and the warm start of sph_core::solver::dfsph.
-#import sph::bindings::{params, clock, velocity, density, neighbor_count}
+#import sph::bindings::{params, shared_state, particle_state, velocity_at, particle_scalars, density_at, grid, neighbor_count_at}
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::restoring
 #import sph::dfsph::{Pair, INTERIOR_NEIGHBORS, spacing, rest_density, factor, pairs, stiffness, set_stiffness, over_relaxed, tolerance, total, set_total, add_error}
 
 // (v_i - v_j)·g_ij of one pair.
 fn rate_term(v_i: vec3<f32>, p: Pair) -> f32 {
-    return dot(v_i - velocity[p.j].xyz, p.grad);
+    return dot(v_i - particle_state[velocity_at(p.j)].xyz, p.grad);
 }
 
 // The solve's source of particle i (see above).
 fn source(i: u32) -> f32 {
     let f = factor(i);
-    let v_i = velocity[i].xyz;
+    let v_i = particle_state[velocity_at(i)].xyz;
     var rate = dot(v_i, f.boundary_grad) - f.boundary_flux;
-    let fluid = neighbor_count[i];
+    let fluid = grid[neighbor_count_at(i)];
     for (var k = 0u; k < fluid; k += 2u) {
         let two = pairs(i, k);
         rate += rate_term(v_i, two.first);
@@ -48,7 +48,7 @@ fn source(i: u32) -> f32 {
     return max(rate, 0.0);
 #else
     let rho0 = rest_density();
-    return clamp(density[i] + step_dt() * rate - rho0, 0.0, params.dfsph_max_correction * rho0);
+    return clamp(particle_scalars[density_at(i)] + step_dt() * rate - rho0, 0.0, params.dfsph_max_correction * rho0);
 #endif
 }
 
@@ -68,12 +68,12 @@ fn top_row_term(p: Pair) -> vec2<f32> {
 // thread of this pass writes.
 fn top_row_target(i: u32, s: f32) -> f32 {
     let rho0 = rest_density();
-    if s > 0.0 || density[i] >= TOP_ROW_DENSITY * rho0 {
+    if s > 0.0 || particle_scalars[density_at(i)] >= TOP_ROW_DENSITY * rho0 {
         return -1.0;
     }
     var sum = 0.0;
     var weights = 0.0;
-    let fluid = neighbor_count[i];
+    let fluid = grid[neighbor_count_at(i)];
     for (var k = 0u; k < fluid; k += 2u) {
         let two = pairs(i, k);
         var term = top_row_term(two.first);
@@ -161,7 +161,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 #ifndef DFSPH_FIRST
     if i == 0u {
-        clock.dfsph_applied += 1u;
+        shared_state.clock.dfsph_applied += 1u;
     }
 #endif
 #endif

@@ -17,17 +17,17 @@
 // `sorted_velocity`, the vorticity ω to `sorted_acceleration`.
 #define_import_path sph::pbf
 
-#import sph::bindings::{params, position, sorted_position, sorted_velocity_predicted, normal, clock}
+#import sph::bindings::{params, particle_state, position_at, particle_scratch, sorted_position_at, sorted_velocity_predicted_at, normal_at, shared_state}
 
 // The current position of particle j (the iteration's source buffer).
 fn current_position(j: u32) -> vec3<f32> {
 #ifdef PBF_FROM_A
-    return sorted_position[j].xyz;
+    return particle_scratch[sorted_position_at(j)].xyz;
 #else
 #ifdef PBF_FROM_B
-    return sorted_velocity_predicted[j].xyz;
+    return particle_scratch[sorted_velocity_predicted_at(j)].xyz;
 #else
-    return position[j].xyz;
+    return particle_state[position_at(j)].xyz;
 #endif
 #endif
 }
@@ -35,11 +35,11 @@ fn current_position(j: u32) -> vec3<f32> {
 // Writes particle i's corrected position into the next iteration's source buffer, with its id
 // (position.w), so that the finish can copy the final buffer over `position` as it is.
 fn write_next_position(i: u32, x: vec3<f32>) {
-    let moved = vec4<f32>(x, position[i].w);
+    let moved = vec4<f32>(x, particle_state[position_at(i)].w);
 #ifdef PBF_FROM_A
-    sorted_velocity_predicted[i] = moved;
+    particle_scratch[sorted_velocity_predicted_at(i)] = moved;
 #else
-    sorted_position[i] = moved;
+    particle_scratch[sorted_position_at(i)] = moved;
 #endif
 }
 
@@ -53,14 +53,14 @@ fn over_relaxation() -> f32 {
 // Rust twin: sph_core::solver::pbf::macklin2013::over_relax (as moves u_k = x_{k+1} - x_k).
 fn relaxed_position(i: u32, corrected: vec3<f32>) -> vec3<f32> {
 #ifdef PBF_FROM_A
-    let before = sorted_velocity_predicted[i].xyz;
+    let before = particle_scratch[sorted_velocity_predicted_at(i)].xyz;
     return before + over_relaxation() * (corrected - before);
 #else
 #ifdef PBF_FROM_B
-    let before = sorted_position[i].xyz;
+    let before = particle_scratch[sorted_position_at(i)].xyz;
     return before + over_relaxation() * (corrected - before);
 #else
-    sorted_velocity_predicted[i] = position[i];
+    particle_scratch[sorted_velocity_predicted_at(i)] = particle_state[position_at(i)];
     return corrected;
 #endif
 #endif
@@ -69,7 +69,7 @@ fn relaxed_position(i: u32, corrected: vec3<f32>) -> vec3<f32> {
 // The share of the iteration under way's correction in the step's moves (the bodies'
 // reactions are weighted by it). Rust twin: sph_core::solver::pbf::macklin2013::correction_weight.
 fn correction_weight() -> f32 {
-    let k = clock.pbf_iteration;
+    let k = shared_state.clock.pbf_iteration;
     let omega = over_relaxation();
     var sum = 0.0;
     var power = 1.0;
@@ -90,15 +90,15 @@ fn correction_weight() -> f32 {
 // sph_core::solver::pbf::macklin2013::equivalent_pressure.
 fn sum_lambda(i: u32, l_i: f32) {
 #ifdef PBF_FROM_A
-    let before = normal[i].w;
+    let before = particle_state[normal_at(i)].w;
 #else
 #ifdef PBF_FROM_B
-    let before = normal[i].w;
+    let before = particle_state[normal_at(i)].w;
 #else
     let before = 0.0;
 #endif
 #endif
-    normal[i].w = before + correction_weight() * l_i;
+    particle_state[normal_at(i)].w = before + correction_weight() * l_i;
 }
 
 // Counts the iterations in clock.pbf_iteration: the λ pass's first thread (`i` = 0) sets it.
@@ -107,26 +107,26 @@ fn count_iteration(i: u32) {
         return;
     }
 #ifdef PBF_FROM_A
-    clock.pbf_iteration += 1u;
+    shared_state.clock.pbf_iteration += 1u;
 #else
 #ifdef PBF_FROM_B
-    clock.pbf_iteration += 1u;
+    shared_state.clock.pbf_iteration += 1u;
 #else
-    clock.pbf_iteration = 0u;
+    shared_state.clock.pbf_iteration = 0u;
 #endif
 #endif
 }
 
 // Writes particle i's position into the buffer the role reads (the finish's final positions).
 fn write_current_position(i: u32, x: vec3<f32>) {
-    let moved = vec4<f32>(x, position[i].w);
+    let moved = vec4<f32>(x, particle_state[position_at(i)].w);
 #ifdef PBF_FROM_A
-    sorted_position[i] = moved;
+    particle_scratch[sorted_position_at(i)] = moved;
 #else
 #ifdef PBF_FROM_B
-    sorted_velocity_predicted[i] = moved;
+    particle_scratch[sorted_velocity_predicted_at(i)] = moved;
 #else
-    position[i] = moved;
+    particle_state[position_at(i)] = moved;
 #endif
 #endif
 }

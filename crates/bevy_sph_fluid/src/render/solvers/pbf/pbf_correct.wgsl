@@ -10,7 +10,7 @@
 // shaders/body_reactions.wgsl over the step's iterations.
 // The iteration's λ_i joins the step's sum Λ_i (normal.w, pbf.wgsl's sum_lambda).
 // Rust twins: sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections}.
-#import sph::bindings::{params, position, neighbor_count, neighbor_lists, normal, boundary_position, boundary_body}
+#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, normal_at, boundary_samples, boundary_position_at, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen}
@@ -42,20 +42,20 @@ fn s_corr(w: f32) -> f32 {
 }
 
 fn particle(i: u32) {
-    let sorted = position[i].xyz;
+    let sorted = particle_state[position_at(i)].xyz;
     let x_i = current_position(i);
-    let l_i = normal[i].x;
+    let l_i = particle_state[normal_at(i)].x;
     sum_lambda(i, l_i);
     let h2 = params.h_squared;
     let m = mass();
     let scale = m / rest_density();
     var sum = vec3<f32>(0.0);
-    for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = neighbor_lists[list_slot(i, k)];
+    for (var k = 0u; k < grid[neighbor_count_at(i)]; k++) {
+        let j = grid[neighbor_lists_at(list_slot(i, k))];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let r_len = sqrt(r2);
-        let weight = scale * (l_i + normal[j].x + s_corr(cubic(r_len)));
+        let weight = scale * (l_i + particle_state[normal_at(j)].x + s_corr(cubic(r_len)));
         sum += cubic_grad(r, r_len) * weight;
     }
     let dt = step_dt();
@@ -64,7 +64,7 @@ fn particle(i: u32) {
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(cell, q);
         for (var b = range.x; b < range.y; b++) {
-            let sample = boundary_position[b];
+            let sample = boundary_samples[boundary_position_at(b)];
             let paired = sorted - sample.xyz;
             if dot(paired, paired) >= h2 {
                 continue;
@@ -73,7 +73,7 @@ fn particle(i: u32) {
             let r2 = dot(r, r);
             let moved = cubic_grad(r, sqrt(r2)) * (sample.w * l_i);
             sum += moved;
-            if l_i != 0.0 && !drained(position[i].w) {
+            if l_i != 0.0 && !drained(particle_state[position_at(i)].w) {
                 add_reaction(boundary_body[b], moved * reaction, sample.xyz);
             }
         }

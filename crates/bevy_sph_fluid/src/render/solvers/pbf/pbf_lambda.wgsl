@@ -7,7 +7,7 @@
 // W is the cubic spline. The pairs are those within h at the sorted predicted positions (see
 // pbf.wgsl); nothing moves while the clock is frozen.
 // Rust twin: sph_core::solver::pbf::macklin2013::compute_lambdas.
-#import sph::bindings::{params, position, neighbor_count, neighbor_lists, normal, boundary_position}
+#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, normal_at, boundary_samples, boundary_position_at}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::frozen
@@ -20,7 +20,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.particle_count || frozen() {
         return;
     }
-    let sorted = position[i].xyz;
+    let sorted = particle_state[position_at(i)].xyz;
     let x_i = current_position(i);
     let h2 = params.h_squared;
     let m = mass();
@@ -29,8 +29,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var rho = m * cubic(0.0);
     var grad_i = vec3<f32>(0.0);
     var squares = 0.0;
-    for (var k = 0u; k < neighbor_count[i]; k++) {
-        let j = neighbor_lists[list_slot(i, k)];
+    for (var k = 0u; k < grid[neighbor_count_at(i)]; k++) {
+        let j = grid[neighbor_lists_at(list_slot(i, k))];
         let r = x_i - current_position(j);
         let r2 = dot(r, r);
         let r_len = sqrt(r2);
@@ -43,7 +43,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(cell, q);
         for (var b = range.x; b < range.y; b++) {
-            let sample = boundary_position[b];
+            let sample = boundary_samples[boundary_position_at(b)];
             let paired = sorted - sample.xyz;
             if dot(paired, paired) >= h2 {
                 continue;
@@ -57,5 +57,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let constraint = max(rho / rho0 - 1.0, 0.0);
     let lambda = -constraint / (dot(grad_i, grad_i) + squares + params.pbf_relaxation);
-    normal[i] = vec4<f32>(lambda, rho, constraint, normal[i].w);
+    particle_state[normal_at(i)] = vec4<f32>(lambda, rho, constraint, particle_state[normal_at(i)].w);
 }

@@ -67,12 +67,6 @@ pub fn copy_final_positions(encoder: &mut CommandEncoder, run: &StageRun) {
         _ => return,
     };
     if bytes > 0 {
-        encoder.copy_buffer_to_buffer(
-            run.buffers.at(from),
-            0,
-            run.buffers.at(Buf::Position),
-            0,
-            Some(bytes),
-        );
+        run.buffers.copy(encoder, from, Buf::Position, bytes);
     }
 }

@@ -3,7 +3,7 @@
 // over the neighbours that have one, Σ_j V_j p_j W_poly6 / Σ_{p_j > 0} V_j W_poly6 (V_j = m/ρ_j;
 // 0 without such a neighbour), at most params.max_surface_pressure = ρ0 |g| Δx/2.
 // Rust twin: sph_core::free_surface_pressure.
-#import sph::bindings::{params, position, density, pressure, pressure_eos}
+#import sph::bindings::{params, particle_state, position_at, particle_scalars, density_at, pressure_at, pressure_eos_at}
 #import sph::kernels::poly6
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
 
@@ -13,12 +13,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.particle_count {
         return;
     }
-    let own = pressure_eos[i];
+    let own = particle_scalars[pressure_eos_at(i)];
     if own != 0.0 {
-        pressure[i] = own;
+        particle_scalars[pressure_at(i)] = own;
         return;
     }
-    let x_i = position[i].xyz;
+    let x_i = particle_state[position_at(i)].xyz;
     let c = home_cell(x_i);
     let h2 = params.h_squared;
     var weighted = 0.0;
@@ -26,12 +26,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var q = 0u; q < neighbor_range_count(); q++) {
         let range = neighbor_range(c, q);
         for (var j = range.x; j < range.y; j++) {
-            let x_j = position[j].xyz;
+            let x_j = particle_state[position_at(j)].xyz;
             let r = x_i - x_j;
             let r2 = dot(r, r);
-            let p_j = pressure_eos[j];
+            let p_j = particle_scalars[pressure_eos_at(j)];
             if r2 < h2 && p_j > 0.0 && accepts(c, q, x_j) {
-                let w = poly6(r2) / density[j];
+                let w = poly6(r2) / particle_scalars[density_at(j)];
                 weighted += w * p_j;
                 weights += w;
             }
@@ -41,5 +41,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if weights > 0.0 {
         average = weighted / weights;
     }
-    pressure[i] = min(average, params.max_surface_pressure);
+    particle_scalars[pressure_at(i)] = min(average, params.max_surface_pressure);
 }

@@ -3,7 +3,7 @@
 // phases are fused into count_cells (before) and forces (after). It runs right after the
 // time-step pass, so it saves or restores the rollback checkpoint first, and does not integrate
 // a state being restored.
-#import sph::bindings::{params, position, velocity, acceleration}
+#import sph::bindings::{params, particle_state, position_at, velocity_at, acceleration_at}
 #import sph::guard::guard
 #import sph::clock::{step_dt, frozen, record_speed}
 #import sph::checkpoint::{apply_checkpoint, restoring}
@@ -21,13 +21,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let dt = step_dt();
-    let a = acceleration[i].xyz;
-    let v = velocity[i].xyz + a * dt;
-    let drifted = position[i].xyz + v * dt;
+    let a = particle_state[acceleration_at(i)].xyz;
+    let v = particle_state[velocity_at(i)].xyz + a * dt;
+    let drifted = particle_state[position_at(i)].xyz + v * dt;
     let moved = guard(drifted, v);
     let pushed = pumped(moved.x, moved.v, dt);
-    position[i] = vec4<f32>(moved.x, position[i].w);
-    velocity[i] = vec4<f32>(pushed, 0.0);
+    particle_state[position_at(i)] = vec4<f32>(moved.x, particle_state[position_at(i)].w);
+    particle_state[velocity_at(i)] = vec4<f32>(pushed, 0.0);
     record_speed(i, pushed);
     record_probes(i, moved.x, pushed);
 }
