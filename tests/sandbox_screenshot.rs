@@ -3,7 +3,8 @@
 //! a box in orange, and the gate) and the runtime panel present; every shipped scene file drawn
 //! (the sandbox runs each on the GPU, drains included); the water surface
 //! (`--render surface`) smoother than the particles and covering at least as much, on both
-//! backends. The `minimal` example's surface in its lit scene.
+//! backends; a close view of the water's edge against aquaplay.ron's island without strands. The
+//! `minimal` example's surface in its lit scene.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -326,6 +327,59 @@ fn the_surface_is_smoother_than_the_particles_and_covers_as_much_on_both_backend
         cpu_water >= 20_000,
         "the CPU backend's surface covers only {cpu_water} pixels"
     );
+}
+
+/// The water pixels (by `water`) whose luminance is above or below both of its horizontal
+/// neighbours two pixels away by more than 30 of 255: a vertical strand one or two pixels wide.
+fn strand_pixels(w: u32, h: u32, rgb: &[u8], water: &[bool]) -> usize {
+    let luminance = |x: u32, y: u32| {
+        let i = 3 * (y * w + x) as usize;
+        0.299 * rgb[i] as f64 + 0.587 * rgb[i + 1] as f64 + 0.114 * rgb[i + 2] as f64
+    };
+    let mut strands = 0;
+    for y in 0..h {
+        for x in 2..w - 2 {
+            if !water[(y * w + x) as usize] {
+                continue;
+            }
+            let (here, left, right) = (luminance(x, y), luminance(x - 2, y), luminance(x + 2, y));
+            if here - left.max(right) > 30.0 || left.min(right) - here > 30.0 {
+                strands += 1;
+            }
+        }
+    }
+    strands
+}
+
+/// A close, low view of aquaplay.ron's island, where the front channel's water meets the
+/// island's wall at a grazing angle (paused, so every picture shows the same water): the lit
+/// surface has no strands, pixels brighter or darker than both of their neighbours. A depth
+/// filter whose window turns one-sided at the silhouette draws them here, in vertical lines along
+/// the edge (`surface_filter.wgsl`).
+#[test]
+fn a_close_view_of_the_waters_edge_against_the_island_shows_no_strands() {
+    let base = [
+        "--scene",
+        "scenes/aquaplay.ron",
+        "--camera",
+        "0.45,0.30,-0.15,0.6,0.12,0.18",
+        "--frames",
+        "20",
+        "--paused",
+    ];
+    let run = |more: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend(more);
+        screenshot(&args)
+    };
+    let (w, h, empty) = run(&["--hide-particles"]);
+    let (_, _, surface) = run(&[]);
+    let water = water_mask(w, h, &empty, &surface);
+    let covered = water.iter().filter(|&&m| m).count();
+    let strands = strand_pixels(w, h, &surface, &water);
+    println!("{covered} water pixels, {strands} strand pixels");
+    assert!(covered >= 100_000, "the water covers only {covered} pixels");
+    assert!(strands <= 30, "{strands} strand pixels in the water");
 }
 
 /// The command line refuses a bad value by option and value, with the allowed ones, before any

@@ -1,7 +1,7 @@
 //! The sandbox's command line (clap; `--help` lists it).
 
 use crate::config::{SandboxConfig, BUDGET_RANGE};
-use crate::surface::RenderMode;
+use crate::surface::{RenderMode, SurfaceView};
 use bevy::prelude::Resource;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Parser;
@@ -58,6 +58,47 @@ pub struct Cli {
     /// How the water is drawn.
     #[arg(long, value_enum, default_value_t = RenderMode::Surface)]
     pub render: RenderMode,
+    /// What the surface shows first: lit, or one of its passes raw.
+    #[arg(long, value_enum, default_value_t = SurfaceView::Lit)]
+    pub surface_view: SurfaceView,
+    /// The camera's eye and the point it orbits, `EX,EY,EZ,FX,FY,FZ` in metres (a close view:
+    /// `--camera 0.45,0.32,-0.05,0.6,0.12,0.2`).
+    #[arg(long, value_name = "EYE,FOCUS", value_parser = camera_pose, allow_hyphen_values = true)]
+    pub camera: Option<CameraPose>,
+}
+
+/// Where the camera starts: its eye and the point it orbits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraPose {
+    /// The eye [m].
+    pub eye: bevy::math::Vec3,
+    /// The point the camera looks at and orbits [m].
+    pub focus: bevy::math::Vec3,
+}
+
+fn camera_pose(text: &str) -> Result<CameraPose, String> {
+    let numbers: Vec<f32> = text
+        .split(',')
+        .map(|n| n.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{text:?}: {e}; expected six numbers EX,EY,EZ,FX,FY,FZ"))?;
+    let [ex, ey, ez, fx, fy, fz] = numbers[..] else {
+        return Err(format!(
+            "{text:?}: {} numbers; expected six, EX,EY,EZ,FX,FY,FZ",
+            numbers.len()
+        ));
+    };
+    let pose = CameraPose {
+        eye: bevy::math::Vec3::new(ex, ey, ez),
+        focus: bevy::math::Vec3::new(fx, fy, fz),
+    };
+    if !pose.eye.is_finite() || !pose.focus.is_finite() || pose.eye.distance(pose.focus) < 1e-3
+    {
+        return Err(format!(
+            "{text:?}: the eye and the focus must be finite and at least 1 mm apart"
+        ));
+    }
+    Ok(pose)
 }
 
 impl Cli {

@@ -61,6 +61,7 @@ fn main() {
     let render_view = surface::RenderView {
         mode: cli.render,
         hide_water: cli.hide_particles,
+        surface_view: cli.surface_view,
     };
     let config = match cli.sandbox_config() {
         Ok(config) => config,
@@ -145,16 +146,28 @@ fn default_plugins() -> bevy::app::PluginGroupBuilder {
         })
 }
 
-fn spawn_camera_and_light(mut commands: Commands) {
-    commands.spawn((
-        PanOrbitCamera {
+fn spawn_camera_and_light(mut commands: Commands, cli: Res<Cli>) {
+    // `--camera` places the eye; the orbit's radius, yaw and pitch follow from it.
+    let orbit = match cli.camera {
+        Some(pose) => PanOrbitCamera {
+            focus: pose.focus,
+            ..default()
+        },
+        None => PanOrbitCamera {
             focus: Vec3::new(0.0, 0.3, 0.0),
             radius: Some(3.0),
             yaw: Some(0.35),
             pitch: Some(0.45),
             ..default()
         },
-        Transform::from_xyz(0.8, 1.6, 2.6).looking_at(Vec3::new(0.0, 0.3, 0.0), Vec3::Y),
+    };
+    let (eye, focus) = cli.camera.map_or(
+        (Vec3::new(0.8, 1.6, 2.6), Vec3::new(0.0, 0.3, 0.0)),
+        |pose| (pose.eye, pose.focus),
+    );
+    commands.spawn((
+        orbit,
+        Transform::from_translation(eye).looking_at(focus, Vec3::Y),
         // Multisampling quadruples the rasterizer's work on a software driver.
         Msaa::Off,
         bevy::core_pipeline::tonemapping::Tonemapping::None,

@@ -18,13 +18,42 @@ pub enum RenderMode {
     Surface,
 }
 
-/// The chosen mode, and `--hide-particles` (nothing drawn, to time the simulation alone).
+/// One of the surface's passes shown raw (`--surface-view`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum SurfaceView {
+    /// The lit water surface.
+    #[default]
+    Lit,
+    /// The filtered fluid depth.
+    Depth,
+    /// The water's thickness.
+    Thickness,
+    /// The view-space normals.
+    Normals,
+}
+
+impl SurfaceView {
+    /// The plugin's debug view.
+    pub fn debug_view(self) -> SphSurfaceDebugView {
+        match self {
+            SurfaceView::Lit => SphSurfaceDebugView::None,
+            SurfaceView::Depth => SphSurfaceDebugView::Depth,
+            SurfaceView::Thickness => SphSurfaceDebugView::Thickness,
+            SurfaceView::Normals => SphSurfaceDebugView::Normals,
+        }
+    }
+}
+
+/// The chosen mode, `--hide-particles` (nothing drawn, to time the simulation alone) and the
+/// surface's first view.
 #[derive(Resource, Clone, Copy, Debug, Default)]
 pub struct RenderView {
     /// Particles or surface.
     pub mode: RenderMode,
     /// Draw no water at all.
     pub hide_water: bool,
+    /// What the surface shows when it is put on the camera.
+    pub surface_view: SurfaceView,
 }
 
 /// Puts `SphSurface` on the camera in surface mode (keeping its settings while it stays), and
@@ -38,7 +67,10 @@ pub fn apply_render_mode(
     let surface = view.mode == RenderMode::Surface && !view.hide_water;
     for (camera, has) in &cameras {
         if surface && !has {
-            commands.entity(camera).insert(SphSurface::default());
+            commands.entity(camera).insert(SphSurface {
+                debug_view: view.surface_view.debug_view(),
+                ..default()
+            });
         } else if !surface && has {
             commands.entity(camera).remove::<SphSurface>();
         }

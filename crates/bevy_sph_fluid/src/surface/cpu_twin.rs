@@ -136,19 +136,22 @@ pub fn filter_pass(u: &GpuSurfaceUniform, depth_in: &[f32], vertical: bool) -> V
                 continue;
             }
             let sigma = (0.5 * radius).max(0.5);
-            let (mut sum, mut weights) = (0.0, 0.0);
-            for k in -taps..=taps {
-                let q = (pixel + k * step).clamp(IVec2::ZERO, s - 1);
-                let mut sample = at(q);
-                if sample <= 0.0 || sample < depth - u.depth_range {
+            let range = u.depth_range;
+            // The centre, then the pairs at k and -k, each only with both samples on this
+            // surface (the WGSL says why).
+            let (mut sum, mut weights) = (depth, 1.0);
+            for k in 1..=taps {
+                let ahead = at((pixel + k * step).clamp(IVec2::ZERO, s - 1));
+                let behind = at((pixel - k * step).clamp(IVec2::ZERO, s - 1));
+                let off = |d: f32| d <= 0.0 || d < depth - range;
+                if off(ahead) || off(behind) {
                     continue;
                 }
-                sample = sample.min(depth + u.depth_range);
                 let w = (-(k * k) as f32 / (2.0 * sigma * sigma)).exp();
-                sum += w * sample;
-                weights += w;
+                sum += w * (ahead.min(depth + range) + behind.min(depth + range));
+                weights += 2.0 * w;
             }
-            out[index] = sum / weights.max(1e-12);
+            out[index] = sum / weights;
         }
     }
     out

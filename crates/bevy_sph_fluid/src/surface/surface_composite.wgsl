@@ -51,38 +51,56 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
             }
         }
     }
-    let corner = clamp(vec2<i32>(scaled - 0.5), vec2<i32>(0), last);
-    let corners = array<vec2<i32>, 4>(corner, min(corner + vec2<i32>(1, 0), last), min(corner + vec2<i32>(0, 1), last), min(corner + vec2<i32>(1, 1), last));
-    var near_water = 0.0;
-    // The nearest water among the four texels the coverage blends: opaque geometry must be
-    // nearer than all of it to hide the water.
-    var depth = 0.0;
-    for (var k = 0; k < 4; k++) {
-        near_water += textureLoad(normals, corners[k], 0).w;
-        let d = textureLoad(fluid_depth, corners[k], 0).r;
-        if d > 0.0 && (depth == 0.0 || d < depth) {
-            depth = d;
-        }
-    }
-    if near_water == 0.0 {
-        return behind_water;
-    }
-    let sampled = textureSampleLevel(normals, linear_sampler, uv, 0.0);
-    if sampled.w < 0.5 {
-        return behind_water;
-    }
-    // Opaque geometry in front of the water hides it.
+    // Depth-aware upsampling: of the four scaled texels around the pixel, weighted bilinearly,
+    // only those whose water lies in front of the opaque geometry at this full-resolution pixel
+    // and on the nearest such surface (within the filter's depth range) count, so the water's
+    // edges against geometry follow the full resolution, and neither hidden water nor another
+    // surface's normal blends in.
     let ndc = pixel_ndc(in_view, surface.view_size);
     let opaque = textureLoad(scene_depth, vec2<i32>(position.xy), 0);
-    if opaque > 0.0 && depth > 0.0 && -unproject(surface, ndc, opaque).z < depth {
+    var opaque_depth = 3.4e38;
+    if opaque > 0.0 {
+        opaque_depth = -unproject(surface, ndc, opaque).z;
+    }
+    let below = scaled - 0.5;
+    let corner = clamp(vec2<i32>(floor(below)), vec2<i32>(0), last);
+    let f = clamp(below - floor(below), vec2<f32>(0.0), vec2<f32>(1.0));
+    let corners = array<vec2<i32>, 4>(corner, min(corner + vec2<i32>(1, 0), last), min(corner + vec2<i32>(0, 1), last), min(corner + vec2<i32>(1, 1), last));
+    let weights = array<f32, 4>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+    var depths = array<f32, 4>(0.0, 0.0, 0.0, 0.0);
+    var nearest = 0.0;
+    for (var k = 0; k < 4; k++) {
+        let d = textureLoad(fluid_depth, corners[k], 0).r;
+        if d > 0.0 && d < opaque_depth {
+            depths[k] = d;
+            if nearest == 0.0 || d < nearest {
+                nearest = d;
+            }
+        }
+    }
+    if nearest == 0.0 {
         return behind_water;
     }
-    let normal = normalize(sampled.xyz);
+    var coverage = 0.0;
+    var sum_normal = vec3<f32>(0.0);
+    var sum_water = 0.0;
+    for (var k = 0; k < 4; k++) {
+        if depths[k] > 0.0 && depths[k] <= nearest + surface.depth_range {
+            let n = textureLoad(normals, corners[k], 0);
+            coverage += weights[k] * n.w;
+            sum_normal += weights[k] * n.xyz;
+            sum_water += weights[k] * textureLoad(thickness, corners[k], 0).r;
+        }
+    }
+    if coverage < 0.5 || dot(sum_normal, sum_normal) < 1e-12 {
+        return behind_water;
+    }
+    let normal = normalize(sum_normal);
     var to_eye = vec3<f32>(0.0, 0.0, 1.0);
     if surface.orthographic == 0u {
         to_eye = -normalize(unproject(surface, ndc, 1.0));
     }
-    let water = textureSampleLevel(thickness, linear_sampler, uv, 0.0).r;
+    let water = sum_water / coverage;
     // Refraction: the scene behind, moved along the normal's screen direction by the thickness.
     let offset = vec2<f32>(normal.x, -normal.y) * surface.refraction_strength * water;
     let refracted = textureSampleLevel(scene_color, linear_sampler, clamp(uv - offset, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;

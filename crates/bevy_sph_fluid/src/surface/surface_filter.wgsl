@@ -2,7 +2,8 @@
 // along the rows), a narrow-range filter after Truong & Yuksel 2018: a Gaussian over the
 // neighbours within the filter radius (world metres, projected at the pixel's depth, capped in
 // pixels), where a neighbour farther than the depth range behind counts at the range's edge and
-// one farther than the range in front (another surface) is left out, so silhouettes stay sharp.
+// one farther than the range in front (another surface) or without water is left out with its
+// mirror neighbour, so silhouettes stay sharp and the window symmetric.
 
 #import bevy_sph_fluid::surface_types::{SurfaceUniform, pixels_per_metre}
 
@@ -29,19 +30,23 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) f32 {
     let last = vec2<i32>(surface.target_size) - vec2<i32>(1);
     let sigma = max(0.5 * radius, 0.5);
     let range = surface.depth_range;
-    var sum = 0.0;
-    var weights = 0.0;
-    for (var k = -taps; k <= taps; k += 1) {
-        let q = clamp(pixel + k * step, vec2<i32>(0), last);
-        var sample = textureLoad(depth_in, q, 0).r;
-        if sample <= 0.0 || sample < depth - range {
+    // The centre, then the pairs at k and -k. A pair counts only when both of its samples are
+    // on this surface, so the window stays symmetric at a silhouette: a surface seen at a
+    // grazing angle, whose depth is linear across the window, keeps its depth. A one-sided
+    // window there would move each column by how far its edge is, and the normals would show
+    // vertical strands along the water's edges.
+    var sum = depth;
+    var weights = 1.0;
+    for (var k = 1; k <= taps; k += 1) {
+        let ahead = textureLoad(depth_in, clamp(pixel + k * step, vec2<i32>(0), last), 0).r;
+        let behind = textureLoad(depth_in, clamp(pixel - k * step, vec2<i32>(0), last), 0).r;
+        if ahead <= 0.0 || ahead < depth - range || behind <= 0.0 || behind < depth - range {
             continue;
         }
-        sample = min(sample, depth + range);
         let x = f32(k);
         let w = exp(-x * x / (2.0 * sigma * sigma));
-        sum += w * sample;
-        weights += w;
+        sum += w * (min(ahead, depth + range) + min(behind, depth + range));
+        weights += 2.0 * w;
     }
-    return sum / max(weights, 1e-12);
+    return sum / weights;
 }
