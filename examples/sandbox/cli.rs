@@ -92,8 +92,7 @@ fn camera_pose(text: &str) -> Result<CameraPose, String> {
         eye: bevy::math::Vec3::new(ex, ey, ez),
         focus: bevy::math::Vec3::new(fx, fy, fz),
     };
-    if !pose.eye.is_finite() || !pose.focus.is_finite() || pose.eye.distance(pose.focus) < 1e-3
-    {
+    if !pose.eye.is_finite() || !pose.focus.is_finite() || pose.eye.distance(pose.focus) < 1e-3 {
         return Err(format!(
             "{text:?}: the eye and the focus must be finite and at least 1 mm apart"
         ));

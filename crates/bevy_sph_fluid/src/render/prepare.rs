@@ -171,7 +171,9 @@ fn fits_the_device(
     let sizes = buffer_sizes(frame.capacity, grid_dims, key);
     let layout = ArenaLayout::new(|buf| sizes[buf as usize]);
     let limits = device.limits();
-    let most = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+    let most = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
     match Arena::ALL
         .into_iter()
         .find(|&arena| layout.arena_bytes(arena) > most)

@@ -13,9 +13,9 @@ use bytemuck::{Pod, Zeroable};
 use glam::UVec3;
 
 /// The uniform block every pass reads (WGSL `SphUniforms`, the same names in the same order).
-/// Every field is a 4-byte scalar, or a 3-vector that starts a 16-byte row and is followed by a
-/// scalar, so WGSL's uniform layout and this `repr(C)` layout agree; the shader tests compare
-/// every field's offset.
+/// Every field is a 4-byte scalar, a 3-vector that starts a 16-byte row and is followed by a
+/// scalar, or (last) an array of 16-byte rows, so WGSL's uniform layout and this `repr(C)`
+/// layout agree; the shader tests compare every field's offset.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuSphParams {
