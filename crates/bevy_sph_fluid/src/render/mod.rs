@@ -1,8 +1,9 @@
 //! The render world, one way: the frame plan is extracted (`extract`), the GPU buffers
-//! (`buffers`) are prepared (`prepare`), the pipelines of the scene's stage list are queued and
-//! bound (`pipelines`, from the registry in `stages` and the solvers' folders in `solvers`), and
-//! `simulate` encodes the stages once per force evaluation of every step. This module only
-//! wires them.
+//! (`buffers`: the logical buffers of `buf` packed into the arenas of `arenas`) are prepared
+//! (`prepare`), the pipelines of the scene's stage list are queued and bound (`pipelines`, from
+//! the registry in `stages` and the solvers' folders in `solvers`), and `simulate` encodes the
+//! stages once per force evaluation of every step, then copies the state where the main world
+//! reads it. This module only wires them.
 
 pub mod arenas;
 pub mod buf;
