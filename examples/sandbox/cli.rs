@@ -62,7 +62,7 @@ pub struct Cli {
     #[arg(long, value_enum, default_value_t = SurfaceView::Lit)]
     pub surface_view: SurfaceView,
     /// The camera's eye and the point it orbits, `EX,EY,EZ,FX,FY,FZ` in metres (a close view:
-    /// `--camera 0.45,0.32,-0.05,0.6,0.12,0.2`).
+    /// `--camera 0.45,0.30,-0.15,0.6,0.12,0.18`).
     #[arg(long, value_name = "EYE,FOCUS", value_parser = camera_pose, allow_hyphen_values = true)]
     pub camera: Option<CameraPose>,
 }

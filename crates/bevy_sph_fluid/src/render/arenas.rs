@@ -175,6 +175,11 @@ impl ArenaLayout {
         layout
     }
 
+    /// The layout of buffers whose sizes are `sizes[buf as usize]` [bytes].
+    pub fn of_sizes(sizes: &[u64]) -> Self {
+        Self::new(|buf| sizes[buf as usize])
+    }
+
     /// `buf`'s offset and size in its arena [bytes].
     pub fn region(&self, buf: Buf) -> (u64, u64) {
         self.regions[buf as usize]

@@ -85,12 +85,25 @@ impl GpuBuffers {
 
     /// Writes `bytes` into `buf` at `offset` [bytes].
     pub fn write(&self, queue: &RenderQueue, buf: Buf, offset: u64, bytes: &[u8]) {
+        debug_assert!(
+            offset + bytes.len() as u64 <= self.size(buf),
+            "{buf:?} overrun"
+        );
         let (arena, start) = self.at(buf);
         queue.write_buffer(arena, start + offset, bytes);
     }
 
     /// Copies the first `bytes` of `from` to `to`.
     pub fn copy(&self, encoder: &mut CommandEncoder, from: Buf, to: Buf, bytes: u64) {
+        // WebGPU copies between two buffers only, within their regions here.
+        debug_assert!(
+            from.arena() != to.arena(),
+            "{from:?} and {to:?} share an arena"
+        );
+        debug_assert!(
+            bytes <= self.size(from).min(self.size(to)),
+            "{from:?} overrun"
+        );
         let ((source, at), (target, to_at)) = (self.at(from), self.at(to));
         encoder.copy_buffer_to_buffer(source, at, target, to_at, Some(bytes));
     }
@@ -134,24 +147,33 @@ impl GpuBuffers {
         }
     }
 
-    /// Makes room for `bytes` in `buf` (a boundary buffer): when it outgrows its region, every
-    /// region gets its new size and `buf`'s arena is reallocated, its contents lost (the
-    /// boundary's upload writes them all). Returns whether it was.
-    pub fn grow(&mut self, device: &RenderDevice, buf: Buf, bytes: u64) -> bool {
-        if self.sizes[buf as usize] >= bytes {
+    /// Makes room for each `(buf, bytes)` (the boundary's buffers): the buffers that outgrow
+    /// their regions get their new sizes, the others of their arenas move, and each arena that
+    /// no longer holds them is reallocated once, its contents lost (the boundary's upload
+    /// writes them all). Returns whether any region changed.
+    pub fn grow(&mut self, device: &RenderDevice, needs: &[(Buf, u64)]) -> bool {
+        let mut grown = Vec::new();
+        for &(buf, bytes) in needs {
+            if self.sizes[buf as usize] < bytes {
+                // Room for growth, so a collider added at run time rarely reallocates; 16 bytes
+                // keep vec4 arrays whole.
+                self.sizes[buf as usize] = (bytes + bytes / 4).next_multiple_of(16);
+                grown.push(buf.arena());
+            }
+        }
+        if grown.is_empty() {
             return false;
         }
-        // Room for growth, so a collider added at run time rarely reallocates; 16 bytes keep
-        // vec4 arrays whole.
-        self.sizes[buf as usize] = (bytes + bytes / 4).next_multiple_of(16);
-        let sizes = self.sizes.clone();
-        self.layout = ArenaLayout::new(|b| sizes[b as usize]);
-        let arena = buf.arena();
-        let old = self.arena(arena).size();
-        let new = self.layout.arena_bytes(arena);
-        if new > old {
-            self.arenas[arena as usize - 1] = storage_buffer(device, arena.label(), new);
-            self.bytes += new - old;
+        self.layout = ArenaLayout::of_sizes(&self.sizes);
+        grown.sort();
+        grown.dedup();
+        for arena in grown {
+            let old = self.arena(arena).size();
+            let new = self.layout.arena_bytes(arena);
+            if new > old {
+                self.arenas[arena as usize - 1] = storage_buffer(device, arena.label(), new);
+                self.bytes += new - old;
+            }
         }
         true
     }
@@ -276,7 +298,7 @@ pub(super) fn allocate(
     let sizes = buffer_sizes(capacity, grid_dims, key);
     let hash = key.search == NeighborSearch::Hash;
     let sort_len = if hash { sort_length(capacity) } else { 0 };
-    let layout = ArenaLayout::new(|buf| sizes[buf as usize]);
+    let layout = ArenaLayout::of_sizes(&sizes);
     let arenas: Vec<Buffer> = Arena::ALL
         .iter()
         .map(|&arena| storage_buffer(device, arena.label(), layout.arena_bytes(arena)))

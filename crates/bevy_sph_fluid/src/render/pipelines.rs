@@ -1,8 +1,8 @@
 //! Pipelines and bind groups from the stage registry: each stage gets a bind-group layout of the
-//! arenas of the buffers it declares, and one compute pipeline per role and scene variant. Variants come from
-//! shader defs: the search mode (`SEARCH_HASH`), `SURFACE_TENSION`, `VISCOSITY`,
-//! `NEIGHBOR_COUNT`, the stage's role defs and its `WORKGROUP_SIZE`; a scene only compiles and
-//! runs the stages of its list.
+//! arenas of the buffers it declares, and one compute pipeline per role and scene variant.
+//! Variants come from shader defs: the search mode (`SEARCH_HASH`), `SURFACE_TENSION`,
+//! `VISCOSITY`, `NEIGHBOR_COUNT`, the stage's role defs and its `WORKGROUP_SIZE`; a scene only
+//! compiles and runs the stages of its list.
 
 use super::buffers::{SphGpuState, BITONIC_STRIDE};
 use super::extract::ExtractedSphFrame;

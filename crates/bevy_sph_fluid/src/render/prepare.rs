@@ -129,8 +129,9 @@ fn queue_spawns(frame: &ExtractedSphFrame, feedback: &SphRenderFeedback, state: 
     }
 }
 
-/// The buffers the main world reads back, once all of them exist on the device: position,
-/// velocity, acceleration, density, pressure, neighbour count, clock, body forces, probes.
+/// The buffers the main world reads back, once all of them exist on the device, in
+/// [`super::buffers::READABLE`]'s order: position, velocity, acceleration, density, pressure,
+/// neighbour count, clock, body forces, probes.
 fn readable_buffers(
     handles: &crate::api::SphGpuBuffers,
     assets: &RenderAssets<GpuShaderBuffer>,
@@ -169,7 +170,7 @@ fn fits_the_device(
         ));
     }
     let sizes = buffer_sizes(frame.capacity, grid_dims, key);
-    let layout = ArenaLayout::new(|buf| sizes[buf as usize]);
+    let layout = ArenaLayout::of_sizes(&sizes);
     let limits = device.limits();
     let most = limits
         .max_storage_buffer_binding_size
@@ -388,21 +389,21 @@ fn upload_boundary(
         (std::mem::size_of::<GpuCollider>() * samples.colliders.len().max(1)) as u64;
     let body_bytes = (4 * samples.body.len() as u64).max(16);
     let mesh_bytes = (16 * samples.meshes.len() as u64).max(16);
-    let mut grown = false;
-    for (buf, need) in [
-        (Buf::BoundaryPosition, need),
-        (Buf::BoundaryVelocity, need),
-        (Buf::Colliders, collider_bytes),
-        (Buf::BoundaryBody, body_bytes),
-        (Buf::Meshes, mesh_bytes),
-    ] {
-        grown |= buffers.grow(device, buf, need);
-    }
     let starts = bytemuck::cast_slice(&samples.cell_start);
     if buffers.size(Buf::BoundaryCellStart) < starts.len() as u64 {
         // The grid and the samples disagree (a container change in flight): skip this frame.
         return;
     }
+    let grown = buffers.grow(
+        device,
+        &[
+            (Buf::BoundaryPosition, need),
+            (Buf::BoundaryVelocity, need),
+            (Buf::Colliders, collider_bytes),
+            (Buf::BoundaryBody, body_bytes),
+            (Buf::Meshes, mesh_bytes),
+        ],
+    );
     if !samples.position.is_empty() {
         let position = bytemuck::cast_slice(&samples.position);
         buffers.write(queue, Buf::BoundaryPosition, 0, position);

@@ -1,5 +1,5 @@
 // Composite: the water surface over the view's colour, before tonemapping. Per pixel of the
-// view: the scaled targets' normal (bilinear: its w is the water's coverage) and thickness; the
+// view: the scaled targets' normal and thickness, upsampled depth-aware (see below); the
 // scene behind refracted along the normal by the thickness; Beer-Lambert absorption toward the
 // deep-water colour over the thickness; Fresnel (Schlick, F0 = 0.02) reflection of the sky; a
 // Blinn-Phong highlight of the sun (van der Laan, Green & Sainz 2009). Opaque geometry nearer
@@ -53,46 +53,56 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     }
     // Depth-aware upsampling: of the four scaled texels around the pixel, weighted bilinearly,
     // only those whose water lies in front of the opaque geometry at this full-resolution pixel
-    // and on the nearest such surface (within the filter's depth range) count, so the water's
-    // edges against geometry follow the full resolution, and neither hidden water nor another
-    // surface's normal blends in.
+    // count toward the coverage, so the water's edges against geometry follow the full
+    // resolution. The normal and the thickness are those of the nearest such surface (the
+    // texels within the filter's depth range of the nearest), so neither hidden water nor a
+    // surface behind blends in.
+    let below = scaled - 0.5;
+    let base = vec2<i32>(floor(below));
+    let f = below - floor(below);
+    let low = clamp(base, vec2<i32>(0), last);
+    let high = clamp(base + vec2<i32>(1), vec2<i32>(0), last);
+    let corners = array<vec2<i32>, 4>(low, vec2<i32>(high.x, low.y), vec2<i32>(low.x, high.y), high);
+    let weights = array<f32, 4>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+    var depths = array<f32, 4>(0.0, 0.0, 0.0, 0.0);
+    var any_water = false;
+    for (var k = 0; k < 4; k++) {
+        depths[k] = textureLoad(fluid_depth, corners[k], 0).r;
+        any_water = any_water || depths[k] > 0.0;
+    }
+    if !any_water {
+        return behind_water;
+    }
     let ndc = pixel_ndc(in_view, surface.view_size);
     let opaque = textureLoad(scene_depth, vec2<i32>(position.xy), 0);
     var opaque_depth = 3.4e38;
     if opaque > 0.0 {
         opaque_depth = -unproject(surface, ndc, opaque).z;
     }
-    let below = scaled - 0.5;
-    let corner = clamp(vec2<i32>(floor(below)), vec2<i32>(0), last);
-    let f = clamp(below - floor(below), vec2<f32>(0.0), vec2<f32>(1.0));
-    let corners = array<vec2<i32>, 4>(corner, min(corner + vec2<i32>(1, 0), last), min(corner + vec2<i32>(0, 1), last), min(corner + vec2<i32>(1, 1), last));
-    let weights = array<f32, 4>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
-    var depths = array<f32, 4>(0.0, 0.0, 0.0, 0.0);
+    var coverage = 0.0;
     var nearest = 0.0;
     for (var k = 0; k < 4; k++) {
-        let d = textureLoad(fluid_depth, corners[k], 0).r;
-        if d > 0.0 && d < opaque_depth {
-            depths[k] = d;
-            if nearest == 0.0 || d < nearest {
-                nearest = d;
+        if depths[k] > 0.0 && depths[k] < opaque_depth {
+            coverage += weights[k];
+            if nearest == 0.0 || depths[k] < nearest {
+                nearest = depths[k];
             }
         }
     }
-    if nearest == 0.0 {
+    if coverage < 0.5 {
         return behind_water;
     }
-    var coverage = 0.0;
+    var front = 0.0;
     var sum_normal = vec3<f32>(0.0);
     var sum_water = 0.0;
     for (var k = 0; k < 4; k++) {
-        if depths[k] > 0.0 && depths[k] <= nearest + surface.depth_range {
-            let n = textureLoad(normals, corners[k], 0);
-            coverage += weights[k] * n.w;
-            sum_normal += weights[k] * n.xyz;
+        if depths[k] > 0.0 && depths[k] < opaque_depth && depths[k] <= nearest + surface.depth_range {
+            front += weights[k];
+            sum_normal += weights[k] * textureLoad(normals, corners[k], 0).xyz;
             sum_water += weights[k] * textureLoad(thickness, corners[k], 0).r;
         }
     }
-    if coverage < 0.5 || dot(sum_normal, sum_normal) < 1e-12 {
+    if dot(sum_normal, sum_normal) < 1e-12 {
         return behind_water;
     }
     let normal = normalize(sum_normal);
@@ -100,7 +110,7 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     if surface.orthographic == 0u {
         to_eye = -normalize(unproject(surface, ndc, 1.0));
     }
-    let water = sum_water / coverage;
+    let water = sum_water / front;
     // Refraction: the scene behind, moved along the normal's screen direction by the thickness.
     let offset = vec2<f32>(normal.x, -normal.y) * surface.refraction_strength * water;
     let refracted = textureSampleLevel(scene_color, linear_sampler, clamp(uv - offset, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;

@@ -30,11 +30,12 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) f32 {
     let last = vec2<i32>(surface.target_size) - vec2<i32>(1);
     let sigma = max(0.5 * radius, 0.5);
     let range = surface.depth_range;
-    // The centre, then the pairs at k and -k. A pair counts only when both of its samples are
-    // on this surface, so the window stays symmetric at a silhouette: a surface seen at a
-    // grazing angle, whose depth is linear across the window, keeps its depth. A one-sided
-    // window there would move each column by how far its edge is, and the normals would show
-    // vertical strands along the water's edges.
+    // The centre, then the pairs at k and -k. A pair counts only when neither of its samples is
+    // empty or more than the range in front (a sample more than the range behind counts,
+    // clamped), so the window stays symmetric at a silhouette: a surface seen at a grazing
+    // angle, whose depth is linear across the window, keeps its depth. A one-sided window there
+    // moves each column by how far its edge is, and the normals show vertical strands along the
+    // water's edges.
     var sum = depth;
     var weights = 1.0;
     for (var k = 1; k <= taps; k += 1) {

@@ -2,8 +2,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// The simulation clock (WGSL `SphClock`, the same names in the same order), a storage buffer
-/// written only by the GPU: the
+/// The simulation clock (WGSL `SphClock`, the same names in the same order), a member of the
+/// shared storage structure ([`crate::gpu_layout::GpuShared`]) written only by the GPU: the
 /// `sph_time_step` pass chooses each step's dt from the extremes the last pass of the previous
 /// step recorded, advances time and freezes the simulation when a step went unstable.
 #[repr(C)]
