@@ -28,6 +28,8 @@ pub struct Settings<'w, 's> {
     next: ResMut<'w, NextState<AppState>>,
     gate: Option<ResMut<'w, GateLift>>,
     gates: Query<'w, 's, (), With<Gate>>,
+    whitewater: Option<Res<'w, SphWhitewater>>,
+    commands: Commands<'w, 's>,
 }
 
 /// How the water is drawn.
@@ -66,6 +68,9 @@ pub fn runtime_panel(
                 egui::CollapsingHeader::new("View")
                     .default_open(true)
                     .show(ui, |ui| view_settings(ui, &mut view, &readings.stats));
+                egui::CollapsingHeader::new("Whitewater").show(ui, |ui| {
+                    whitewater_settings(ui, &mut settings, &readings.stats)
+                });
                 egui::CollapsingHeader::new("Plot")
                     .default_open(true)
                     .show(ui, |ui| plot(ui, &readings.history));
@@ -183,6 +188,28 @@ fn solver_statistics(ui: &mut egui::Ui, stats: &SphStats) {
 }
 
 /// The flow check, instability and the plugin's errors, in colour.
+/// Whitewater on or off (`SphWhitewater` with its default settings), its counts, and why it
+/// does not run.
+fn whitewater_settings(ui: &mut egui::Ui, settings: &mut Settings, stats: &SphStats) {
+    let mut on = settings.whitewater.is_some();
+    if ui.checkbox(&mut on, "spray, foam and bubbles").changed() {
+        if on {
+            settings.commands.insert_resource(SphWhitewater::default());
+        } else {
+            settings.commands.remove_resource::<SphWhitewater>();
+        }
+    }
+    if let Some(c) = stats.whitewater {
+        ui.label(format!(
+            "spray {} · foam {} · bubbles {} · born {} · dropped {}",
+            c.spray, c.foam, c.bubbles, c.born, c.dropped
+        ));
+    }
+    if let Some(error) = &stats.whitewater_error {
+        ui.colored_label(Color32::ORANGE, error);
+    }
+}
+
 fn warnings(ui: &mut egui::Ui, stats: &SphStats) {
     if let Some(flow) = &stats.flow_error {
         ui.colored_label(Color32::ORANGE, flow);

@@ -196,6 +196,23 @@ impl SphHealth {
     }
 }
 
+/// The diffuse particles by class, and what the pool did since whitewater was turned on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Reflect)]
+pub struct SphWhitewaterCounts {
+    /// Spray now (few fluid neighbours: ballistic).
+    pub spray: u32,
+    /// Foam now (on the surface: carried by the water, ageing).
+    pub foam: u32,
+    /// Bubbles now (under the surface: buoyant, dragged).
+    pub bubbles: u32,
+    /// Shed so far.
+    pub born: u64,
+    /// Refused so far by a full pool.
+    pub dropped: u64,
+    /// Died so far (foam at the end of its lifetime, any that left the container).
+    pub expired: u64,
+}
+
 /// Statistics of the simulation, updated every frame.
 #[derive(Resource, Clone, Debug, Default, Reflect)]
 #[reflect(Resource)]
@@ -245,6 +262,11 @@ pub struct SphStats {
     pub boundary_samples: u32,
     /// Colliders refused this frame (the simulation goes on without them).
     pub collider_errors: Vec<SphColliderError>,
+    /// The diffuse particles by class, while whitewater runs (`crate::whitewater`).
+    pub whitewater: Option<SphWhitewaterCounts>,
+    /// Why the `SphWhitewater` asked for does not run: a setting refused by name (the
+    /// whitewater before it runs on), or a backend without whitewater.
+    pub whitewater_error: Option<String>,
     /// Compute dispatches in the last step (GPU backend).
     pub dispatches_per_step: u32,
     /// DFSPH: constant-density iterations per step, mean over the last frame's steps (GPU: over

@@ -43,6 +43,7 @@ mod sets;
 pub mod shared;
 mod simulation;
 pub mod surface;
+pub mod whitewater;
 
 pub use api::*;
 #[cfg(feature = "avian")]
@@ -54,6 +55,7 @@ pub use scene_asset::{
 };
 pub use sets::{SphGraphSystems, SphStep, SphSystems};
 pub use surface::settings::{SphSurface, SphSurfaceDebugView, SphSurfaceError, SphSurfaceStatus};
+pub use whitewater::{SphDiffuseParticles, SphWhitewater};
 
 /// Commonly used items.
 pub mod prelude {
@@ -67,4 +69,5 @@ pub mod prelude {
     pub use crate::surface::settings::{
         SphSurface, SphSurfaceDebugView, SphSurfaceError, SphSurfaceStatus,
     };
+    pub use crate::whitewater::{SphDiffuseParticles, SphWhitewater};
 }

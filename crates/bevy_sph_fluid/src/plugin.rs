@@ -4,7 +4,7 @@
 use crate::api::*;
 use crate::sets::SphSystems;
 use crate::shared::SphSimulation;
-use crate::{cpu_buffers, readback, render, scene_asset, simulation};
+use crate::{cpu_buffers, readback, render, scene_asset, simulation, whitewater};
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 
@@ -66,6 +66,7 @@ impl Plugin for SphFluidPlugin {
         );
         simulation::add_systems(app, self.schedule);
         readback::add_systems(app, self.schedule);
+        whitewater::add_systems(app, self.schedule);
         cpu_buffers::add_systems(app, self.schedule);
         scene_asset::add_systems(app, self.schedule);
         crate::flow::add_systems(app, self.schedule);

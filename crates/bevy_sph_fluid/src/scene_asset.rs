@@ -16,6 +16,7 @@
 
 use crate::api::*;
 use crate::flow::{SphProbe, SphPump, SphSink};
+use crate::whitewater::SphWhitewater;
 use bevy::asset::io::Reader;
 use bevy::asset::{AssetLoadError, AssetLoadFailedEvent, AssetLoader, LoadContext};
 use bevy::prelude::*;
@@ -193,6 +194,13 @@ fn spawn_scene(
 ) {
     targets.params.0 = setup.params;
     targets.control.reset = true;
+    // The file decides whitewater, as it decides the parameters.
+    match setup.whitewater {
+        Some((settings, capacity)) => {
+            commands.insert_resource(SphWhitewater { settings, capacity })
+        }
+        None => commands.remove_resource::<SphWhitewater>(),
+    }
     let member = SphSceneMember(root);
     commands
         .entity(root)

@@ -482,3 +482,23 @@ fn a_file_cut_short_says_so() {
     let e = build("(container: (min: (0.0, 0.0, 0.0), max: \"big\"))").unwrap_err();
     assert!(!e.message.contains("end of file"), "{e}");
 }
+
+#[test]
+fn whitewater_is_off_unless_the_file_turns_it_on_and_bad_fields_are_named() {
+    let box_only = "(container: (min: (0.0, 0.0, 0.0), max: (0.3, 0.3, 0.3)))";
+    assert_eq!(build(box_only).unwrap().whitewater, None);
+    let on = build(
+        "(\n  container: (min: (0.0, 0.0, 0.0), max: (0.3, 0.3, 0.3)),\n  whitewater: (capacity: 1000, lifetime: (1.0, 3.0)),\n)",
+    )
+    .unwrap();
+    let (settings, capacity) = on.whitewater.expect("whitewater on");
+    assert_eq!(capacity, 1000);
+    assert_eq!(settings.lifetime, (1.0, 3.0));
+    let e = build(
+        "(\n  container: (min: (0.0, 0.0, 0.0), max: (0.3, 0.3, 0.3)),\n  whitewater: (\n    capacity: 0,\n  ),\n)",
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "whitewater.capacity");
+    assert_eq!(e.line, 4, "{e}");
+    assert!(e.message.contains("[1, 2^24]"), "{e}");
+}

@@ -408,6 +408,15 @@ impl SceneFile {
                 every_steps,
             });
         }
+        // A refused whitewater field is located by its key after `whitewater:`.
+        let whitewater = self
+            .whitewater
+            .map(|spec| spec.build())
+            .transpose()
+            .map_err(|e| {
+                let key = e.field.split('.').nth(1).unwrap_or("whitewater");
+                refuse(e.field.to_string(), (Some("whitewater"), key), 0, e)
+            })?;
         Ok(SceneSetup {
             params,
             container,
@@ -419,6 +428,7 @@ impl SceneFile {
             probes,
             controls,
             bindings,
+            whitewater,
         })
     }
 

@@ -10,6 +10,7 @@ pub mod error;
 pub mod mutations;
 pub mod setup;
 pub mod spec;
+pub mod whitewater;
 
 pub use error::SceneError;
 pub use setup::{BodyMass, Hinge, SceneCollider, SceneProbe, SceneSetup};

@@ -99,4 +99,6 @@ pub struct SceneSetup {
     pub controls: Vec<SceneControl>,
     /// What each control drives.
     pub bindings: Vec<ControlBinding>,
+    /// Whitewater's settings and pool capacity, when the file turns it on.
+    pub whitewater: Option<(crate::whitewater::settings::WhitewaterSettings, u32)>,
 }

@@ -363,4 +363,7 @@ pub struct SceneFile {
     /// Named controls (see [`crate::scene::controls`]).
     #[serde(default)]
     pub controls: Vec<ControlSpec>,
+    /// Spray, foam and bubbles where the water breaks (off when absent).
+    #[serde(default)]
+    pub whitewater: Option<crate::scene::whitewater::WhitewaterSpec>,
 }

@@ -5,10 +5,9 @@
 use super::CpuSolver;
 use crate::params::ParamError;
 use crate::whitewater::ihmsen2012::{FluidView, Whitewater};
-use crate::whitewater::settings::WhitewaterSettings;
+use crate::whitewater::settings::{check_capacity, WhitewaterSettings};
 
-/// The most diffuse particles a solver's pool may hold.
-pub const MAX_WHITEWATER_CAPACITY: usize = 1 << 24;
+pub use crate::whitewater::settings::MAX_WHITEWATER_CAPACITY;
 
 /// The seed of a solver's whitewater: the same scene sheds the same diffuse particles.
 const WHITEWATER_SEED: u64 = 0x5EED;
@@ -27,13 +26,7 @@ impl CpuSolver {
             return Ok(());
         };
         settings.validate()?;
-        if !(1..=MAX_WHITEWATER_CAPACITY).contains(&capacity) {
-            return Err(ParamError {
-                field: "whitewater.capacity",
-                value: capacity.to_string(),
-                allowed: "[1, 2^24] diffuse particles",
-            });
-        }
+        check_capacity(capacity)?;
         self.whitewater = Some(Box::new(self.empty_whitewater(settings, capacity)));
         Ok(())
     }

@@ -81,6 +81,22 @@ pub const MAX_LIFETIME: f32 = 600.0;
 /// The largest neighbour bound of the classes.
 pub const MAX_NEIGHBOR_BOUND: u32 = 1_000;
 
+/// The most diffuse particles a pool may hold.
+pub const MAX_WHITEWATER_CAPACITY: usize = 1 << 24;
+
+/// Refuses a pool of `capacity` diffuse particles outside 1 ..= [`MAX_WHITEWATER_CAPACITY`],
+/// by the field `whitewater.capacity`.
+pub fn check_capacity(capacity: usize) -> Result<(), ParamError> {
+    if (1..=MAX_WHITEWATER_CAPACITY).contains(&capacity) {
+        return Ok(());
+    }
+    Err(ParamError {
+        field: "whitewater.capacity",
+        value: capacity.to_string(),
+        allowed: "[1, 2^24] diffuse particles",
+    })
+}
+
 impl Limits {
     /// Checks that 0 ≤ min < max, both finite; the error names `min_field` or `max_field`.
     fn validate(&self, min_field: &'static str, max_field: &'static str) -> Result<(), ParamError> {
