@@ -106,6 +106,67 @@ mod tests {
         );
     }
 
+    /// Per shader stage: (storage buffers, uniform buffers, dynamic uniform buffers, sampled
+    /// textures, samplers) of `layout`.
+    fn bindings_of(layout: &bevy::render::render_resource::BindGroupLayoutDescriptor) -> [u32; 5] {
+        use bevy::render::render_resource::{BindingType, BufferBindingType};
+        let mut counts = [0; 5];
+        for entry in &layout.entries {
+            match entry.ty {
+                BindingType::Buffer {
+                    ty: BufferBindingType::Storage { .. },
+                    ..
+                } => counts[0] += 1,
+                BindingType::Buffer {
+                    has_dynamic_offset, ..
+                } => {
+                    counts[1] += 1;
+                    counts[2] += has_dynamic_offset as u32;
+                }
+                BindingType::Texture { .. } => counts[3] += 1,
+                BindingType::Sampler(_) => counts[4] += 1,
+                _ => {}
+            }
+        }
+        counts
+    }
+
+    #[test]
+    fn every_pipelines_bind_groups_fit_webgpus_defaults() {
+        use crate::surface::{composite, filter, impostor, normals};
+        let webgpu = WgpuLimits::default();
+        let most = [
+            webgpu.max_storage_buffers_per_shader_stage,
+            webgpu.max_uniform_buffers_per_shader_stage,
+            webgpu.max_dynamic_uniform_buffers_per_pipeline_layout,
+            webgpu.max_sampled_textures_per_shader_stage,
+            webgpu.max_samplers_per_shader_stage,
+        ];
+        let mut layouts: Vec<_> = all_stages()
+            .iter()
+            .map(|stage| crate::render::pipelines::stage_layout(stage))
+            .collect();
+        layouts.extend([
+            impostor::impostor_layout(),
+            filter::filter_layout(),
+            normals::normals_layout(),
+            composite::composite_layout(false),
+            composite::composite_layout(true),
+        ]);
+        for layout in &layouts {
+            let counts = bindings_of(layout);
+            for (k, (count, most)) in counts.iter().zip(most).enumerate() {
+                assert!(
+                    count <= &most,
+                    "{}: binding kind {k}: {count} > {most}",
+                    layout.label
+                );
+            }
+        }
+        // Every pipeline has this one group, besides the bitonic sort's group 1: one more
+        // uniform block, at a dynamic offset (2 and 1 of WebGPU's 12 and 8).
+    }
+
     #[test]
     fn bevy_creates_its_device_with_the_adapters_own_limits_by_default() {
         // What the module relies on instead of requesting limits (see the module docs).

@@ -36,7 +36,7 @@ pub struct SphPipelines {
 }
 
 /// The group-0 layout of `stage`: the uniform at binding 0 and the arenas of its buffers.
-fn stage_layout(stage: &GpuStage) -> BindGroupLayoutDescriptor {
+pub fn stage_layout(stage: &GpuStage) -> BindGroupLayoutDescriptor {
     let mut entries: Vec<BindGroupLayoutEntry> =
         vec![uniform_buffer_sized(false, None).build(0, ShaderStages::COMPUTE)];
     for arena in stage.arenas() {

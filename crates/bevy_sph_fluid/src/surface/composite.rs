@@ -68,6 +68,31 @@ impl SpecializedRenderPipeline for SurfaceCompositePipeline {
     }
 }
 
+/// The composite's group 0: the uniform block, the view's colour and its sampler, the fluid
+/// depth, the normals, the thickness, and the view's depth (`multisampled` or not).
+pub fn composite_layout(multisampled: bool) -> BindGroupLayoutDescriptor {
+    let depth = if multisampled {
+        texture_depth_2d_multisampled()
+    } else {
+        texture_depth_2d()
+    };
+    BindGroupLayoutDescriptor::new(
+        NAME,
+        &BindGroupLayoutEntries::sequential(
+            ShaderStages::FRAGMENT,
+            (
+                uniform_buffer::<GpuSurfaceUniform>(true),
+                texture_2d(TextureSampleType::Float { filterable: true }),
+                sampler(SamplerBindingType::Filtering),
+                texture_2d(TextureSampleType::Float { filterable: false }),
+                texture_2d(TextureSampleType::Float { filterable: true }),
+                texture_2d(TextureSampleType::Float { filterable: true }),
+                depth,
+            ),
+        ),
+    )
+}
+
 pub(crate) fn embed(app: &mut App) {
     embedded_asset!(app, "surface_composite.wgsl");
 }
@@ -82,30 +107,8 @@ pub(crate) fn init_surface_composite_pipeline(
     let Some(fullscreen) = fullscreen else {
         return;
     };
-    let layout = |multisampled: bool| {
-        let depth = if multisampled {
-            texture_depth_2d_multisampled()
-        } else {
-            texture_depth_2d()
-        };
-        BindGroupLayoutDescriptor::new(
-            NAME,
-            &BindGroupLayoutEntries::sequential(
-                ShaderStages::FRAGMENT,
-                (
-                    uniform_buffer::<GpuSurfaceUniform>(true),
-                    texture_2d(TextureSampleType::Float { filterable: true }),
-                    sampler(SamplerBindingType::Filtering),
-                    texture_2d(TextureSampleType::Float { filterable: false }),
-                    texture_2d(TextureSampleType::Float { filterable: true }),
-                    texture_2d(TextureSampleType::Float { filterable: true }),
-                    depth,
-                ),
-            ),
-        )
-    };
     commands.insert_resource(SurfaceCompositePipeline {
-        layouts: [layout(false), layout(true)],
+        layouts: [composite_layout(false), composite_layout(true)],
         shader: load_embedded_asset!(server.as_ref(), "surface_composite.wgsl"),
         vertex: fullscreen.to_vertex_state(),
         sampler: device.create_sampler(&SamplerDescriptor {

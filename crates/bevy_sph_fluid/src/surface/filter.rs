@@ -1,15 +1,13 @@
 //! The surface's depth filter (`surface_filter.wgsl`): a narrow-range Gaussian, one direction
 //! per fullscreen pass; each iteration is a horizontal then a vertical pass.
 
-use super::view::{GpuSurfaceUniform, FLUID_DEPTH_FORMAT};
+use super::view::{depth_reader_layout, FLUID_DEPTH_FORMAT};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use bevy::core_pipeline::FullscreenShader;
 use bevy::prelude::*;
-use bevy::render::render_resource::binding_types::{texture_2d, uniform_buffer};
 use bevy::render::render_resource::{
-    BindGroupLayoutDescriptor, BindGroupLayoutEntries, CachedRenderPipelineId, ColorTargetState,
-    ColorWrites, FragmentState, PipelineCache, RenderPipelineDescriptor, ShaderStages,
-    TextureSampleType,
+    BindGroupLayoutDescriptor, CachedRenderPipelineId, ColorTargetState, ColorWrites,
+    FragmentState, PipelineCache, RenderPipelineDescriptor,
 };
 
 /// Pass name (GPU timings, labels).
@@ -28,6 +26,11 @@ pub(crate) fn embed(app: &mut App) {
     embedded_asset!(app, "surface_filter.wgsl");
 }
 
+/// The filter passes' group 0: the uniform block and the depth being filtered.
+pub fn filter_layout() -> BindGroupLayoutDescriptor {
+    depth_reader_layout(NAME)
+}
+
 pub(crate) fn init_surface_filter_pipelines(
     mut commands: Commands,
     server: Res<AssetServer>,
@@ -39,16 +42,7 @@ pub(crate) fn init_surface_filter_pipelines(
         return;
     };
     let shader = load_embedded_asset!(server.as_ref(), "surface_filter.wgsl");
-    let layout = BindGroupLayoutDescriptor::new(
-        NAME,
-        &BindGroupLayoutEntries::sequential(
-            ShaderStages::FRAGMENT,
-            (
-                uniform_buffer::<GpuSurfaceUniform>(true),
-                texture_2d(TextureSampleType::Float { filterable: false }),
-            ),
-        ),
-    );
+    let layout = filter_layout();
     let queue = |defs: Vec<bevy::shader::ShaderDefVal>| {
         cache.queue_render_pipeline(RenderPipelineDescriptor {
             label: Some(NAME.into()),

@@ -1,15 +1,13 @@
 //! The surface's normals (`surface_normals.wgsl`): one fullscreen pass over the scaled target
 //! turns the smoothed depth into view-space normals and the water's coverage.
 
-use super::view::{GpuSurfaceUniform, NORMAL_FORMAT};
+use super::view::{depth_reader_layout, NORMAL_FORMAT};
 use bevy::asset::{embedded_asset, load_embedded_asset};
 use bevy::core_pipeline::FullscreenShader;
 use bevy::prelude::*;
-use bevy::render::render_resource::binding_types::{texture_2d, uniform_buffer};
 use bevy::render::render_resource::{
-    BindGroupLayoutDescriptor, BindGroupLayoutEntries, CachedRenderPipelineId, ColorTargetState,
-    ColorWrites, FragmentState, PipelineCache, RenderPipelineDescriptor, ShaderStages,
-    TextureSampleType,
+    BindGroupLayoutDescriptor, CachedRenderPipelineId, ColorTargetState, ColorWrites,
+    FragmentState, PipelineCache, RenderPipelineDescriptor,
 };
 
 /// Pass name (GPU timings, labels).
@@ -28,6 +26,11 @@ pub(crate) fn embed(app: &mut App) {
     embedded_asset!(app, "surface_normals.wgsl");
 }
 
+/// The normals pass's group 0: the uniform block and the filtered depth.
+pub fn normals_layout() -> BindGroupLayoutDescriptor {
+    depth_reader_layout(NAME)
+}
+
 pub(crate) fn init_surface_normals_pipeline(
     mut commands: Commands,
     server: Res<AssetServer>,
@@ -38,16 +41,7 @@ pub(crate) fn init_surface_normals_pipeline(
     let Some(fullscreen) = fullscreen else {
         return;
     };
-    let layout = BindGroupLayoutDescriptor::new(
-        NAME,
-        &BindGroupLayoutEntries::sequential(
-            ShaderStages::FRAGMENT,
-            (
-                uniform_buffer::<GpuSurfaceUniform>(true),
-                texture_2d(TextureSampleType::Float { filterable: false }),
-            ),
-        ),
-    );
+    let layout = normals_layout();
     let pipeline = cache.queue_render_pipeline(RenderPipelineDescriptor {
         label: Some(NAME.into()),
         layout: vec![layout.clone()],

@@ -279,3 +279,24 @@ pub(crate) fn prepare_sph_surface_views(
         commands.entity(entity).insert(resources);
     }
 }
+
+/// The group 0 of a full-screen pass that reads one depth target: the uniform block (dynamic
+/// offset) and the depth (the filter and the normals passes).
+pub fn depth_reader_layout(
+    label: &'static str,
+) -> bevy::render::render_resource::BindGroupLayoutDescriptor {
+    use bevy::render::render_resource::binding_types::{texture_2d, uniform_buffer};
+    use bevy::render::render_resource::{
+        BindGroupLayoutDescriptor, BindGroupLayoutEntries, ShaderStages, TextureSampleType,
+    };
+    BindGroupLayoutDescriptor::new(
+        label,
+        &BindGroupLayoutEntries::sequential(
+            ShaderStages::FRAGMENT,
+            (
+                uniform_buffer::<GpuSurfaceUniform>(true),
+                texture_2d(TextureSampleType::Float { filterable: false }),
+            ),
+        ),
+    )
+}
