@@ -23,6 +23,11 @@ fn app_with_whitewater(extent: Vec3, size: Vec3, velocity: Vec3) -> App {
     app
 }
 
+fn assert_no_diffuse_particles(app: &App) {
+    let particles = app.world().resource::<SphDiffuseParticles>();
+    assert!(particles.position.is_empty() && particles.kind.is_empty());
+}
+
 fn counts(app: &App) -> SphWhitewaterCounts {
     let stats = app.world().resource::<SphStats>();
     assert_eq!(stats.whitewater_error, None);
@@ -37,11 +42,7 @@ fn still_water_sheds_nothing() {
     step_to(&mut app, 200);
     let counts = counts(&app);
     assert_eq!(counts.born, 0, "{counts:?}");
-    assert!(app
-        .world()
-        .resource::<SphDiffuseParticles>()
-        .position
-        .is_empty());
+    assert_no_diffuse_particles(&app);
 }
 
 #[test]
@@ -92,11 +93,7 @@ fn a_refused_setting_is_named_the_running_whitewater_stays_and_removal_turns_it_
     let stats = app.world().resource::<SphStats>();
     assert_eq!(stats.whitewater, None);
     assert_eq!(stats.whitewater_error, None);
-    assert!(app
-        .world()
-        .resource::<SphDiffuseParticles>()
-        .position
-        .is_empty());
+    assert_no_diffuse_particles(&app);
 }
 
 #[test]
