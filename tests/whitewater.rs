@@ -23,6 +23,18 @@ fn app_with_whitewater(extent: Vec3, size: Vec3, velocity: Vec3) -> App {
     app
 }
 
+/// The container of [`thrown_block_app`].
+const THROWN_EXTENT: Vec3 = Vec3::new(0.4, 0.3, 0.2);
+
+/// A block thrown at 3 m/s against the far wall of a [`THROWN_EXTENT`] container.
+fn thrown_block_app() -> App {
+    app_with_whitewater(
+        THROWN_EXTENT,
+        Vec3::new(0.1, 0.1, 0.2),
+        Vec3::new(3.0, 0.0, 0.0),
+    )
+}
+
 fn assert_no_diffuse_particles(app: &App) {
     let particles = app.world().resource::<SphDiffuseParticles>();
     assert!(particles.position.is_empty() && particles.kind.is_empty());
@@ -47,8 +59,7 @@ fn still_water_sheds_nothing() {
 
 #[test]
 fn water_thrown_at_a_wall_sheds_diffuse_particles_counted_by_class() {
-    let extent = Vec3::new(0.4, 0.3, 0.2);
-    let mut app = app_with_whitewater(extent, Vec3::new(0.1, 0.1, 0.2), Vec3::new(3.0, 0.0, 0.0));
+    let mut app = thrown_block_app();
     step_to(&mut app, 150);
     let counts = counts(&app);
     println!("{counts:?}");
@@ -62,7 +73,7 @@ fn water_thrown_at_a_wall_sheds_diffuse_particles_counted_by_class() {
     let particles = app.world().resource::<SphDiffuseParticles>();
     assert_eq!(particles.position.len(), live as usize);
     assert_eq!(particles.kind.len(), live as usize);
-    let container = BoxContainer::from_min_max(Vec3::ZERO, extent);
+    let container = BoxContainer::from_min_max(Vec3::ZERO, THROWN_EXTENT);
     assert!(
         particles
             .position
@@ -74,8 +85,7 @@ fn water_thrown_at_a_wall_sheds_diffuse_particles_counted_by_class() {
 
 #[test]
 fn a_refused_setting_is_named_the_running_whitewater_stays_and_removal_turns_it_off() {
-    let extent = Vec3::new(0.4, 0.3, 0.2);
-    let mut app = app_with_whitewater(extent, Vec3::new(0.1, 0.1, 0.2), Vec3::new(3.0, 0.0, 0.0));
+    let mut app = thrown_block_app();
     step_to(&mut app, 100);
     let before = counts(&app);
     app.insert_resource(SphWhitewater {

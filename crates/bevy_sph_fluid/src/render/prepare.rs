@@ -69,13 +69,14 @@ pub(crate) fn prepare_sph_buffers(
         }
     };
     let key = VariantKey::of(&frame.params, frame.neighbor_counts);
-    if let Err(reason) = fits_the_device(&device, &frame, grid.dims, key) {
-        state.status = Some(reason);
-        state.bind_groups.clear();
-        return;
-    }
     let reallocated = needs_allocation(&state, &frame, grid.dims, key, &readable);
     if reallocated {
+        // Buffers in place were checked when they were allocated.
+        if let Err(reason) = fits_the_device(&device, &frame, grid.dims, key) {
+            state.status = Some(reason);
+            state.bind_groups.clear();
+            return;
+        }
         reallocate(
             &gpu, &feedback, &mut state, &frame, grid.dims, key, readable,
         );
