@@ -58,6 +58,10 @@ pub struct Cli {
     /// How the water is drawn.
     #[arg(long, value_enum, default_value_t = RenderMode::Surface)]
     pub render: RenderMode,
+    /// Whitewater (spray, foam and bubbles) on with its default settings, once the scene runs
+    /// (a scene file that loads later decides again). The CPU backend's only, for now.
+    #[arg(long)]
+    pub whitewater: bool,
     /// What the surface shows first: lit, or one of its passes raw.
     #[arg(long, value_enum, default_value_t = SurfaceView::Lit)]
     pub surface_view: SurfaceView,

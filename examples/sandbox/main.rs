@@ -118,7 +118,7 @@ fn main() {
     .add_systems(
         Update,
         (
-            apply_cli_toggles.in_set(SandboxSet::Read),
+            (apply_cli_toggles, apply_cli_whitewater).in_set(SandboxSet::Read),
             take_screenshot.in_set(SandboxSet::Draw),
         )
             .run_if(in_state(AppState::Running)),
@@ -184,6 +184,19 @@ fn spawn_camera_and_light(mut commands: Commands, cli: Res<Cli>) {
 fn auto_start(cli: Res<Cli>, mut next: ResMut<NextState<AppState>>) {
     if cli.starts_at_once() {
         next.set(AppState::Running);
+    }
+}
+
+/// `--whitewater`: whitewater on after the first step, once a scene file has decided its own.
+fn apply_cli_whitewater(
+    cli: Res<Cli>,
+    stats: Res<SphStats>,
+    mut applied: Local<bool>,
+    mut commands: Commands,
+) {
+    if cli.whitewater && !*applied && stats.step_count > 0 {
+        commands.insert_resource(SphWhitewater::default());
+        *applied = true;
     }
 }
 

@@ -187,7 +187,6 @@ fn solver_statistics(ui: &mut egui::Ui, stats: &SphStats) {
     }
 }
 
-/// The flow check, instability and the plugin's errors, in colour.
 /// Whitewater on or off (`SphWhitewater` with its default settings), its counts, and why it
 /// does not run.
 fn whitewater_settings(ui: &mut egui::Ui, settings: &mut Settings, stats: &SphStats) {
@@ -210,6 +209,7 @@ fn whitewater_settings(ui: &mut egui::Ui, settings: &mut Settings, stats: &SphSt
     }
 }
 
+/// The flow check, instability and the plugin's errors, in colour.
 fn warnings(ui: &mut egui::Ui, stats: &SphStats) {
     if let Some(flow) = &stats.flow_error {
         ui.colored_label(Color32::ORANGE, flow);

@@ -30,6 +30,8 @@ pub enum SurfaceView {
     Thickness,
     /// The view-space normals.
     Normals,
+    /// The whitewater by class: spray red, foam green, bubbles blue.
+    Whitewater,
 }
 
 impl SurfaceView {
@@ -40,6 +42,7 @@ impl SurfaceView {
             SurfaceView::Depth => SphSurfaceDebugView::Depth,
             SurfaceView::Thickness => SphSurfaceDebugView::Thickness,
             SurfaceView::Normals => SphSurfaceDebugView::Normals,
+            SurfaceView::Whitewater => SphSurfaceDebugView::Whitewater,
         }
     }
 }
@@ -184,6 +187,7 @@ fn surface_settings(ui: &mut egui::Ui, s: &mut SphSurface) {
             (SphSurfaceDebugView::Depth, "depth"),
             (SphSurfaceDebugView::Thickness, "thickness"),
             (SphSurfaceDebugView::Normals, "normals"),
+            (SphSurfaceDebugView::Whitewater, "whitewater"),
         ] {
             ui.radio_value(&mut s.debug_view, view, label);
         }

@@ -1,14 +1,17 @@
 //! Whitewater in the plugin: the [`SphWhitewater`] resource turns on the diffuse particles of
 //! Ihmsen et al. 2012 (`sph_core::whitewater`: spray, foam and bubbles shed where the water
-//! breaks), [`SphDiffuseParticles`] holds them after every frame for drawing, and
+//! breaks), [`SphDiffuseParticles`] holds them after every frame for drawing (the surface draws
+//! them from its buffer as billboards), and
 //! [`SphStats::whitewater`] counts them. The CPU backend steps them after every stable step; the
 //! GPU backend has no whitewater stages, and [`SphStats::whitewater_error`] says so.
 
 use crate::api::{SphBackend, SphStats, SphWhitewaterCounts};
 use crate::sets::SphSystems;
 use crate::shared::SphSimulation;
+use bevy::asset::RenderAssetUsages;
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
+use bevy::render::storage::ShaderBuffer;
 use sph_core::whitewater::pool::DiffuseKind;
 use sph_core::whitewater::settings::WhitewaterSettings;
 
@@ -42,6 +45,19 @@ pub struct SphDiffuseParticles {
     pub position: Vec<Vec3>,
     /// Each one's class: spray, foam or bubble.
     pub kind: Vec<DiffuseKind>,
+    /// The same particles in a buffer of the pool's capacity, what the surface draws: one
+    /// `vec4<f32>` a particle, xyz the position and w the class ([`diffuse_class_w`]), slots
+    /// `0..position.len()` live. `None` while whitewater is off.
+    pub buffer: Option<Handle<ShaderBuffer>>,
+}
+
+/// The class of a diffuse particle as the drawing buffer's w: 0 spray, 1 foam, 2 bubble.
+pub fn diffuse_class_w(kind: DiffuseKind) -> f32 {
+    match kind {
+        DiffuseKind::Spray => 0.0,
+        DiffuseKind::Foam => 1.0,
+        DiffuseKind::Bubble => 2.0,
+    }
 }
 
 pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
@@ -90,23 +106,46 @@ fn sph_apply_whitewater(
     }
 }
 
-/// Copies the diffuse particles and their counts out of the CPU solver.
+/// Copies the diffuse particles and their counts out of the CPU solver, and into the drawing
+/// buffer (made once per capacity).
 fn sph_read_whitewater(
     sim: Res<SphSimulation>,
     mut particles: ResMut<SphDiffuseParticles>,
     mut stats: ResMut<SphStats>,
+    mut assets: ResMut<Assets<ShaderBuffer>>,
+    mut made_for: Local<Option<(usize, Handle<ShaderBuffer>)>>,
 ) {
     let white = sim.cpu.as_ref().and_then(|solver| solver.whitewater());
     let Some(white) = white.filter(|_| sim.backend == SphBackend::Cpu) else {
-        if !particles.position.is_empty() {
+        if !particles.position.is_empty() || particles.buffer.is_some() {
             *particles = SphDiffuseParticles::default();
         }
+        *made_for = None;
         stats.whitewater = None;
         return;
     };
     let pool = &white.pool;
     particles.position.clone_from(&pool.position);
     particles.kind.clone_from(&pool.kind);
+    let capacity = pool.capacity().max(1);
+    if made_for.as_ref().map(|(c, _)| *c) != Some(capacity) {
+        let usage = RenderAssetUsages::MAIN_WORLD | RenderAssetUsages::RENDER_WORLD;
+        let handle = assets.add(ShaderBuffer::new(&vec![0u8; 16 * capacity], usage));
+        *made_for = Some((capacity, handle));
+    }
+    if let Some((_, handle)) = made_for.as_ref() {
+        if let Some(mut buffer) = assets.get_mut(handle) {
+            if let Some(data) = buffer.data.as_mut() {
+                let live = pool.position.iter().zip(&pool.kind);
+                for (slot, (x, kind)) in data.chunks_exact_mut(16).zip(live) {
+                    for (k, c) in [x.x, x.y, x.z, diffuse_class_w(*kind)].iter().enumerate() {
+                        slot[4 * k..4 * k + 4].copy_from_slice(&c.to_le_bytes());
+                    }
+                }
+            }
+        }
+        particles.buffer = Some(handle.clone());
+    }
     let [spray, foam, bubbles] = pool.counts().map(|n| n as u32);
     stats.whitewater = Some(SphWhitewaterCounts {
         spray,

@@ -31,7 +31,7 @@ type Entry = (
 );
 
 /// Every entry shader.
-const ENTRIES: [Entry; 5] = [
+const ENTRIES: [Entry; 6] = [
     (
         "surface_depth.wgsl",
         &[&[]],
@@ -39,6 +39,11 @@ const ENTRIES: [Entry; 5] = [
     ),
     (
         "surface_thickness.wgsl",
+        &[&[]],
+        &[naga::ShaderStage::Vertex, naga::ShaderStage::Fragment],
+    ),
+    (
+        "surface_whitewater.wgsl",
         &[&[]],
         &[naga::ShaderStage::Vertex, naga::ShaderStage::Fragment],
     ),
@@ -54,7 +59,12 @@ const ENTRIES: [Entry; 5] = [
     ),
     (
         "surface_composite.wgsl",
-        &[&[], &["MULTISAMPLED_DEPTH"]],
+        &[
+            &[],
+            &["MULTISAMPLED_DEPTH"],
+            &["WHITEWATER"],
+            &["MULTISAMPLED_DEPTH", "WHITEWATER"],
+        ],
         &[naga::ShaderStage::Fragment],
     ),
 ];
@@ -110,7 +120,7 @@ fn every_surface_shader_and_variant_composes_and_validates() {
             validated += 1;
         }
     }
-    assert_eq!(validated, 7);
+    assert_eq!(validated, 10);
 }
 
 #[test]
@@ -126,7 +136,7 @@ fn every_surface_shader_variant_translates_to_metal_hlsl_and_spirv() {
             translated += 1;
         }
     }
-    assert_eq!(translated, 7);
+    assert_eq!(translated, 10);
 }
 
 #[test]

@@ -150,9 +150,12 @@ mod tests {
             impostor::impostor_layout(),
             filter::filter_layout(),
             normals::normals_layout(),
-            composite::composite_layout(false),
-            composite::composite_layout(true),
         ]);
+        for whitewater in [false, true] {
+            for multisampled in [false, true] {
+                layouts.push(composite::composite_layout(multisampled, whitewater));
+            }
+        }
         for layout in &layouts {
             let counts = bindings_of(layout);
             for (k, (count, most)) in counts.iter().zip(most).enumerate() {

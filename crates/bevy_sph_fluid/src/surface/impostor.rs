@@ -1,13 +1,16 @@
-//! What the two impostor passes share (`surface_impostor.wgsl`): their bind group (the uniform
-//! block and the particle positions) and its layout.
+//! What the impostor passes share (`surface_impostor.wgsl`): their bind group (the uniform
+//! block and the particle positions), its layout, and the additive pipeline of the passes that
+//! sum over every particle (thickness, whitewater).
 
 use super::view::{GpuSurfaceUniform, SurfaceUniforms};
+use bevy::prelude::*;
 use bevy::render::render_resource::binding_types::{
     storage_buffer_read_only_sized, uniform_buffer,
 };
 use bevy::render::render_resource::{
-    BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, Buffer,
-    PipelineCache, ShaderStages,
+    BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, BlendComponent,
+    BlendFactor, BlendOperation, BlendState, Buffer, ColorTargetState, ColorWrites, FragmentState,
+    PipelineCache, RenderPipelineDescriptor, ShaderStages, TextureFormat, VertexState,
 };
 use bevy::render::renderer::RenderDevice;
 
@@ -37,4 +40,39 @@ pub fn impostor_bind_group(
         &cache.get_bind_group_layout(&impostor_layout()),
         &BindGroupEntries::sequential((uniforms.0.binding()?, positions.as_entire_binding())),
     ))
+}
+
+/// The pipeline of an impostor pass that adds every fragment into a `format` target, not
+/// depth-tested: `shader`'s `vertex` and `fragment`, labelled `label`.
+pub fn additive_impostor_pipeline(
+    label: &'static str,
+    shader: Handle<Shader>,
+    format: TextureFormat,
+) -> RenderPipelineDescriptor {
+    let add = BlendComponent {
+        src_factor: BlendFactor::One,
+        dst_factor: BlendFactor::One,
+        operation: BlendOperation::Add,
+    };
+    RenderPipelineDescriptor {
+        label: Some(label.into()),
+        layout: vec![impostor_layout()],
+        vertex: VertexState {
+            shader: shader.clone(),
+            ..default()
+        },
+        fragment: Some(FragmentState {
+            shader,
+            targets: vec![Some(ColorTargetState {
+                format,
+                blend: Some(BlendState {
+                    color: add,
+                    alpha: add,
+                }),
+                write_mask: ColorWrites::ALL,
+            })],
+            ..default()
+        }),
+        ..default()
+    }
 }

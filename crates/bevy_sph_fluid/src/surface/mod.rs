@@ -1,7 +1,8 @@
 //! A water surface drawn from the particles in screen space, per camera: add
 //! [`SphSurface`](crate::SphSurface) to a `Camera3d`. The passes, each a `.rs` + `.wgsl` pair
 //! over the scaled targets of the view:
-//! `depth` (nearest sphere impostor), `thickness` (summed chords), `filter` (narrow-range
+//! `depth` (nearest sphere impostor), `thickness` (summed chords), `whitewater` (the diffuse
+//! particles' billboards by class, while whitewater is on), `filter` (narrow-range
 //! smoothing of the depth, Truong & Yuksel 2018), `normals` (of the smoothed depth), then
 //! `composite` (Fresnel, refraction, absorption, highlight) into the view's colour before
 //! tonemapping (van der Laan, Green & Sainz 2009). This module only wires them.
@@ -17,6 +18,7 @@ pub mod settings;
 pub mod thickness;
 mod timings;
 pub mod view;
+pub mod whitewater;
 
 use bevy::core_pipeline::{schedule::Core3d, Core3dSystems};
 use bevy::prelude::*;
@@ -32,6 +34,7 @@ pub(crate) fn build(app: &mut App, schedule: bevy::ecs::schedule::InternedSchedu
     filter::embed(app);
     normals::embed(app);
     composite::embed(app);
+    whitewater::embed(app);
     app.register_type::<settings::SphSurface>()
         .register_type::<settings::SphSurfaceStatus>()
         .register_type::<settings::SphSurfaceDebugView>()
@@ -66,7 +69,11 @@ pub(crate) fn build(app: &mut App, schedule: bevy::ecs::schedule::InternedSchedu
         .add_systems(
             Render,
             (
-                composite::queue_sph_surface_composite.in_set(RenderSystems::Queue),
+                (
+                    composite::queue_sph_surface_composite,
+                    whitewater::queue_sph_surface_whitewater,
+                )
+                    .in_set(RenderSystems::Queue),
                 view::prepare_sph_surface_views.in_set(RenderSystems::PrepareResources),
             ),
         )

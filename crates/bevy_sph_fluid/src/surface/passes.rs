@@ -1,5 +1,6 @@
 //! The surface's passes for one view, in `Core3dSystems::EarlyPostProcess`: depth, thickness,
-//! the filter's iterations, normals, then the composite into the view target. Each pass is GPU-timed
+//! whitewater (while it is on), the filter's iterations, normals, then the composite into the
+//! view target. Each pass is GPU-timed
 //! under its name when `RenderDiagnosticsPlugin` is added.
 
 use super::composite::{SurfaceCompositePipeline, NAME as COMPOSITE};
@@ -12,6 +13,7 @@ use super::view::{
     ExtractedSphSurface, SurfaceCompositeVariant, SurfaceParticles, SurfaceUniforms,
     SurfaceViewResources,
 };
+use super::whitewater::{SurfaceWhitewaterPipeline, NAME as WHITEWATER};
 use bevy::prelude::*;
 use bevy::render::diagnostic::RecordDiagnostics;
 use bevy::render::render_asset::RenderAssets;
@@ -30,6 +32,8 @@ struct Pipelines<'a> {
     filter: [&'a RenderPipeline; 2],
     normals: &'a RenderPipeline,
     composite: &'a RenderPipeline,
+    /// The whitewater pass's, once compiled, when the composite variant reads whitewater.
+    whitewater: Option<&'a RenderPipeline>,
     /// The filter's, normals' and composite's resources (their bind-group layouts).
     layouts: (
         &'a SurfaceFilterPipelines,
@@ -47,6 +51,7 @@ pub(crate) struct SurfacePipelineResources<'w> {
     filter: Option<Res<'w, SurfaceFilterPipelines>>,
     normals: Option<Res<'w, SurfaceNormalsPipeline>>,
     composite: Option<Res<'w, SurfaceCompositePipeline>>,
+    whitewater: Option<Res<'w, SurfaceWhitewaterPipeline>>,
     cache: Res<'w, PipelineCache>,
 }
 
@@ -63,6 +68,12 @@ impl SurfacePipelineResources<'_> {
             return None;
         };
         let cache = &self.cache;
+        // Until the whitewater pass compiles, the water is drawn without it.
+        let whitewater = self
+            .whitewater
+            .as_ref()
+            .filter(|_| variant.whitewater)
+            .and_then(|pipeline| cache.get_render_pipeline(pipeline.0));
         Some(Pipelines {
             depth: cache.get_render_pipeline(depth.0)?,
             thickness: cache.get_render_pipeline(thickness.0)?,
@@ -72,6 +83,7 @@ impl SurfacePipelineResources<'_> {
             ],
             normals: cache.get_render_pipeline(normals.pipeline)?,
             composite: cache.get_render_pipeline(variant.pipeline)?,
+            whitewater,
             layouts: (filter, normals, composite),
         })
     }
@@ -157,6 +169,33 @@ pub(crate) fn sph_surface_passes(
         pass.draw(0..6, 0..count);
         span.end(&mut pass);
     }
+    // Whitewater: every diffuse particle's disc, added by class (the target only cleared until
+    // the pass compiles or while its buffer uploads).
+    if let Some(target) = &resources.whitewater {
+        let draw = pipelines.whitewater.zip(
+            particles
+                .diffuse
+                .as_ref()
+                .and_then(|handle| buffers.get(handle))
+                .and_then(|diffuse| {
+                    impostor_bind_group(&device, cache, &uniforms, &diffuse.buffer)
+                }),
+        );
+        let mut pass = ctx
+            .command_encoder()
+            .begin_render_pass(&RenderPassDescriptor {
+                label: Some(WHITEWATER),
+                color_attachments: &[Some(clear_attachment(&target.default_view))],
+                ..Default::default()
+            });
+        if let Some((pipeline, group)) = draw {
+            let span = diagnostics.pass_span(&mut pass, WHITEWATER);
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &group, &offset);
+            pass.draw(0..6, 0..particles.diffuse_count);
+            span.end(&mut pass);
+        }
+    }
     // The filter: [0] -> [1] along the rows, [1] -> [0] down the columns, per iteration.
     let filter_layout = cache.get_bind_group_layout(&filter.layout);
     let reads: [BindGroup; 2] = [0, 1].map(|k| {
@@ -211,20 +250,31 @@ pub(crate) fn sph_surface_passes(
     }
     // Composite into the view target.
     let post_process = target.post_process_write();
-    let multisampled = variant.multisampled as usize;
-    let composite_group = device.create_bind_group(
-        COMPOSITE,
-        &cache.get_bind_group_layout(&composite.layouts[multisampled]),
-        &BindGroupEntries::sequential((
-            uniform,
-            post_process.source,
-            &composite.sampler,
-            &resources.fluid_depth[0].default_view,
-            &resources.normals.default_view,
-            &resources.thickness.default_view,
-            view_depth.view(),
-        )),
+    let layout = cache.get_bind_group_layout(
+        &composite.layouts[variant.whitewater as usize][variant.multisampled as usize],
     );
+    let entries = (
+        uniform,
+        post_process.source,
+        &composite.sampler,
+        &resources.fluid_depth[0].default_view,
+        &resources.normals.default_view,
+        &resources.thickness.default_view,
+        view_depth.view(),
+    );
+    let composite_group = match (variant.whitewater, &resources.whitewater) {
+        (true, Some(white)) => {
+            let (a, b, c, d, e, f, g) = entries;
+            let entries = (a, b, c, d, e, f, g, &white.default_view);
+            device.create_bind_group(COMPOSITE, &layout, &BindGroupEntries::sequential(entries))
+        }
+        (false, _) => {
+            device.create_bind_group(COMPOSITE, &layout, &BindGroupEntries::sequential(entries))
+        }
+        // The variant and the view's textures disagree for a frame after whitewater turns on
+        // or off: draw nothing rather than bind the wrong layout.
+        (true, None) => return,
+    };
     let mut pass = ctx
         .command_encoder()
         .begin_render_pass(&RenderPassDescriptor {

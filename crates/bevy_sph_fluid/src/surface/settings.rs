@@ -69,6 +69,9 @@ pub enum SphSurfaceDebugView {
     Thickness = 2,
     /// The view-space normal n as 0.5 + 0.5 n in r, g and b; 0 without water.
     Normals = 3,
+    /// The whitewater's billboards by class, 1 - e^(-amount): spray in r, foam in g, bubbles
+    /// in b; black without whitewater.
+    Whitewater = 4,
 }
 
 impl Default for SphSurface {

@@ -3,7 +3,9 @@
 // scene behind refracted along the normal by the thickness; Beer-Lambert absorption toward the
 // deep-water colour over the thickness; Fresnel (Schlick, F0 = 0.02) reflection of the sky; a
 // Blinn-Phong highlight of the sun (van der Laan, Green & Sainz 2009). Opaque geometry nearer
-// than the water (the view's depth) hides it.
+// than the water (the view's depth) hides it. With whitewater (Ihmsen et al. 2012's diffuse
+// particles, drawn by the whitewater pass), bubbles cloud the light seen through the water, and
+// foam and spray lie over everything that is not nearer than their mean depth.
 
 #import bevy_sph_fluid::surface_types::{SurfaceUniform, unproject, pixel_ndc}
 
@@ -18,10 +20,42 @@
 #else
 @group(0) @binding(6) var scene_depth: texture_depth_2d;
 #endif
+#ifdef WHITEWATER
+@group(0) @binding(7) var whitewater: texture_2d<f32>;
+#endif
 
 // Water reflects about 2 % of the light at normal incidence.
 const WATER_F0: f32 = 0.02;
 const SHININESS: f32 = 256.0;
+// Whitewater's colour, its opacity per unit of summed billboard weight (a disc's centre alone
+// covers 1 - e^-1.5 = 78 %), and its unlit share (lit from the sun by the rest).
+const WHITEWATER_COLOR: vec3<f32> = vec3<f32>(0.92, 0.95, 1.0);
+const WHITEWATER_OPACITY: f32 = 1.5;
+const WHITEWATER_AMBIENT: f32 = 0.6;
+
+// The view-space distance along the view axis of the opaque geometry at `pixel` (the largest
+// float where there is none).
+fn opaque_depth_at(pixel: vec2<f32>, ndc: vec2<f32>) -> f32 {
+    let opaque = textureLoad(scene_depth, vec2<i32>(pixel), 0);
+    if opaque > 0.0 {
+        return -unproject(surface, ndc, opaque).z;
+    }
+    return 3.4e38;
+}
+
+// The direction to the eye through `ndc`, view space.
+fn toward_eye(ndc: vec2<f32>) -> vec3<f32> {
+    if surface.orthographic == 0u {
+        return -normalize(unproject(surface, ndc, 1.0));
+    }
+    return vec3<f32>(0.0, 0.0, 1.0);
+}
+
+// Whitewater's colour lit by the sun, its billboards facing the eye along `to_eye`.
+fn whitewater_color(to_eye: vec3<f32>) -> vec3<f32> {
+    let sun = max(dot(normalize(surface.sun_direction.xyz), to_eye), 0.0);
+    return WHITEWATER_COLOR * (WHITEWATER_AMBIENT + (1.0 - WHITEWATER_AMBIENT) * sun);
+}
 
 @fragment
 fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
@@ -33,6 +67,34 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         return behind_water;
     }
     let uv = in_view / surface.view_size;
+    // Spray r, foam g, bubbles b, spray's and foam's weighted depth a.
+    var white = vec4<f32>(0.0);
+#ifdef WHITEWATER
+    white = textureSampleLevel(whitewater, linear_sampler, uv, 0.0);
+#endif
+    // A debug view: one pass's output, raw.
+    if surface.debug_view == 4u {
+        return vec4<f32>(1.0 - exp(-WHITEWATER_OPACITY * white.rgb), 1.0);
+    }
+    if surface.debug_view != 0u {
+        return vec4<f32>(water(position.xy, in_view, uv, behind_water.rgb, 0.0), 1.0);
+    }
+    var color = water(position.xy, in_view, uv, behind_water.rgb, white.b);
+    let over = white.r + white.g;
+    if over > 1e-4 {
+        let ndc = pixel_ndc(in_view, surface.view_size);
+        if white.a / over < opaque_depth_at(position.xy, ndc) {
+            let opacity = 1.0 - exp(-WHITEWATER_OPACITY * over);
+            color = mix(color, whitewater_color(toward_eye(ndc)), opacity);
+        }
+    }
+    return vec4<f32>(color, behind_water.a);
+}
+
+// The lit water at the view pixel `pixel` (`in_view` within the view, `uv` its share), over
+// `behind` (the scene's colour there), with `bubbles` of summed bubble weight clouding the light
+// it lets through; `behind` where no water is drawn.
+fn water(pixel: vec2<f32>, in_view: vec2<f32>, uv: vec2<f32>, behind: vec3<f32>, bubbles: f32) -> vec3<f32> {
     let last = vec2<i32>(surface.target_size) - vec2<i32>(1);
     let scaled = uv * surface.target_size;
     if surface.debug_view != 0u {
@@ -40,14 +102,14 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         let texel = clamp(vec2<i32>(scaled), vec2<i32>(0), last);
         switch surface.debug_view {
             case 1u: {
-                return vec4<f32>(vec3<f32>(textureLoad(fluid_depth, texel, 0).r), 1.0);
+                return vec3<f32>(textureLoad(fluid_depth, texel, 0).r);
             }
             case 2u: {
-                return vec4<f32>(vec3<f32>(textureLoad(thickness, texel, 0).r), 1.0);
+                return vec3<f32>(textureLoad(thickness, texel, 0).r);
             }
             default: {
                 let n = textureLoad(normals, texel, 0);
-                return vec4<f32>(select(vec3<f32>(0.0), 0.5 + 0.5 * n.xyz, n.w > 0.5), 1.0);
+                return select(vec3<f32>(0.0), 0.5 + 0.5 * n.xyz, n.w > 0.5);
             }
         }
     }
@@ -71,14 +133,10 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         any_water = any_water || depths[k] > 0.0;
     }
     if !any_water {
-        return behind_water;
+        return behind;
     }
     let ndc = pixel_ndc(in_view, surface.view_size);
-    let opaque = textureLoad(scene_depth, vec2<i32>(position.xy), 0);
-    var opaque_depth = 3.4e38;
-    if opaque > 0.0 {
-        opaque_depth = -unproject(surface, ndc, opaque).z;
-    }
+    let opaque_depth = opaque_depth_at(pixel, ndc);
     var coverage = 0.0;
     var nearest = 0.0;
     for (var k = 0; k < 4; k++) {
@@ -90,7 +148,7 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
     if coverage < 0.5 {
-        return behind_water;
+        return behind;
     }
     var front = 0.0;
     var sum_normal = vec3<f32>(0.0);
@@ -103,24 +161,21 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
     if dot(sum_normal, sum_normal) < 1e-12 {
-        return behind_water;
+        return behind;
     }
     let normal = normalize(sum_normal);
-    var to_eye = vec3<f32>(0.0, 0.0, 1.0);
-    if surface.orthographic == 0u {
-        to_eye = -normalize(unproject(surface, ndc, 1.0));
-    }
+    let to_eye = toward_eye(ndc);
     let water = sum_water / front;
     // Refraction: the scene behind, moved along the normal's screen direction by the thickness.
     let offset = vec2<f32>(normal.x, -normal.y) * surface.refraction_strength * water;
     let refracted = textureSampleLevel(scene_color, linear_sampler, clamp(uv - offset, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
     let transmittance = exp(-surface.absorption.rgb * water);
-    let transmitted = refracted * transmittance + surface.deep_color.rgb * (1.0 - transmittance);
+    var transmitted = refracted * transmittance + surface.deep_color.rgb * (1.0 - transmittance);
+    transmitted = mix(transmitted, whitewater_color(to_eye), 1.0 - exp(-WHITEWATER_OPACITY * bubbles));
     let cos_view = clamp(dot(normal, to_eye), 0.0, 1.0);
     let fresnel = WATER_F0 + (1.0 - WATER_F0) * pow(1.0 - cos_view, 5.0);
     let sun = normalize(surface.sun_direction.xyz);
     let half_way = normalize(sun + to_eye);
     let highlight = surface.sun_direction.w * pow(max(dot(normal, half_way), 0.0), SHININESS);
-    let color = mix(transmitted, surface.sky_color.rgb, fresnel) + vec3<f32>(highlight);
-    return vec4<f32>(color, behind_water.a);
+    return mix(transmitted, surface.sky_color.rgb, fresnel) + vec3<f32>(highlight);
 }

@@ -19,8 +19,13 @@ struct ImpostorVarying {
 // moved toward the eye by one radius, so that it covers the sphere's outline (whose radius in
 // that plane is r (d - r) / sqrt(d^2 - r^2) < r). Slots past the live count are culled.
 fn impostor_vertex(vertex: u32, slot: u32) -> ImpostorVarying {
+    return billboard_vertex(vertex, slot, surface.particle_count, surface.sphere_radius);
+}
+
+// The same quad for a sphere of radius `r` at `positions[slot]`, of `count` live slots.
+fn billboard_vertex(vertex: u32, slot: u32, count: u32, r: f32) -> ImpostorVarying {
     var out: ImpostorVarying;
-    if slot >= surface.particle_count {
+    if slot >= count {
         out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
         return out;
     }
@@ -28,7 +33,6 @@ fn impostor_vertex(vertex: u32, slot: u32) -> ImpostorVarying {
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
     );
-    let r = surface.sphere_radius;
     let center = (surface.view_from_world * vec4<f32>(positions[slot].xyz, 1.0)).xyz;
     var toward_eye = vec3<f32>(0.0, 0.0, 1.0);
     if surface.orthographic == 0u {

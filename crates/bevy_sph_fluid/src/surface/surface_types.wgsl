@@ -19,7 +19,9 @@ struct SurfaceUniform {
     // The view [pixels], and its top-left corner in the render target.
     view_size: vec2<f32>,
     view_origin: vec2<f32>,
-    pad: vec2<f32>,
+    // Live diffuse particles (whitewater) and their billboards' radius [m].
+    diffuse_count: u32,
+    diffuse_radius: f32,
     particle_count: u32,
     sphere_radius: f32,
     filter_radius: f32,
@@ -29,7 +31,7 @@ struct SurfaceUniform {
     orthographic: u32,
     // Water volume per sphere volume: summed chords times this is the water's thickness.
     chord_weight: f32,
-    // 0 = the lit surface, 1 depth, 2 thickness, 3 normals (SphSurfaceDebugView).
+    // 0 = the lit surface, 1 depth, 2 thickness, 3 normals, 4 whitewater (SphSurfaceDebugView).
     debug_view: u32,
 }
 

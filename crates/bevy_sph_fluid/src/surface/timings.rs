@@ -8,6 +8,7 @@ use super::normals::NAME as NORMALS;
 use super::passes::filter_pass_name;
 use super::settings::SphSurfaceStatus;
 use super::thickness::NAME as THICKNESS;
+use super::whitewater::NAME as WHITEWATER;
 use crate::api::SphStats;
 use bevy::diagnostic::{DiagnosticPath, DiagnosticsStore};
 use bevy::prelude::*;
@@ -19,8 +20,8 @@ fn measured(store: &DiagnosticsStore, name: &str) -> Option<f64> {
         .and_then(|d| d.value())
 }
 
-/// Depth, thickness, the filter's passes summed, normals and the composite, of the first surface
-/// camera; empty without timestamps.
+/// Depth, thickness, whitewater (while on), the filter's passes summed, normals and the
+/// composite, of the first surface camera; empty without timestamps.
 pub(crate) fn sph_record_surface_timings(
     store: Option<Res<DiagnosticsStore>>,
     cameras: Query<&SphSurfaceStatus>,
@@ -33,7 +34,7 @@ pub(crate) fn sph_record_surface_timings(
         return;
     };
     let mut times = Vec::new();
-    for name in [DEPTH, THICKNESS] {
+    for name in [DEPTH, THICKNESS, WHITEWATER] {
         if let Some(ms) = measured(&store, name) {
             times.push((name.to_string(), ms));
         }

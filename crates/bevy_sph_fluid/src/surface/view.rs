@@ -4,6 +4,7 @@
 use super::settings::{SphSurface, SphSurfaceStatus};
 use crate::api::SphGpuBuffers;
 use crate::shared::SphSimulation;
+use crate::whitewater::SphDiffuseParticles;
 use bevy::math::UVec4;
 use bevy::prelude::*;
 use bevy::render::render_resource::{
@@ -25,6 +26,13 @@ pub const THICKNESS_FORMAT: TextureFormat = TextureFormat::R16Float;
 /// Format of the normals target: xyz the view-space normal, w the water's coverage (filterable,
 /// so the composite upsamples it bilinearly).
 pub const NORMAL_FORMAT: TextureFormat = TextureFormat::Rgba16Float;
+/// Format of the whitewater target: each class's summed billboard weights (spray r, foam g,
+/// bubbles b) and, in a, spray's and foam's weights times their distance along the view axis
+/// (additive blending; a / (r + g) is their mean depth, for the opaque geometry's test).
+pub const WHITEWATER_FORMAT: TextureFormat = TextureFormat::Rgba16Float;
+/// A diffuse particle's billboard radius per particle spacing Δx: smaller than the fluid's
+/// spheres, as Ihmsen et al. 2012 draw their spray and foam.
+pub const DIFFUSE_RADIUS_SCALE: f32 = 0.5;
 /// Format of the impostors' depth-test attachment.
 pub const IMPOSTOR_DEPTH_FORMAT: TextureFormat = TextureFormat::Depth32Float;
 
@@ -42,6 +50,11 @@ pub struct SurfaceParticles {
     pub count: u32,
     /// Particle spacing Δx [m] of the running parameters.
     pub spacing: f32,
+    /// The diffuse particles' `array<vec4<f32>>` (xyz the position, w the class: 0 spray,
+    /// 1 foam, 2 bubble), while whitewater is on.
+    pub diffuse: Option<Handle<ShaderBuffer>>,
+    /// Live diffuse particles (slots `0..diffuse_count`).
+    pub diffuse_count: u32,
 }
 
 /// A 3D camera's render-world entity, its surface status, and whether it has a surface.
@@ -58,6 +71,7 @@ pub(crate) fn extract_sph_surfaces(
     cameras: Extract<Query<SurfaceCamera, With<Camera3d>>>,
     sim: Extract<Res<SphSimulation>>,
     buffers: Extract<Option<Res<SphGpuBuffers>>>,
+    diffuse: Extract<Option<Res<SphDiffuseParticles>>>,
 ) {
     for (render_entity, status, has_surface) in &cameras {
         let Ok(mut entity) = commands.get_entity(render_entity) else {
@@ -76,6 +90,8 @@ pub(crate) fn extract_sph_surfaces(
         position: buffers.as_ref().map(|b| b.position.clone()),
         count: sim.particle_count,
         spacing: sim.frame.params.spacing(),
+        diffuse: diffuse.as_ref().and_then(|d| d.buffer.clone()),
+        diffuse_count: diffuse.as_ref().map_or(0, |d| d.position.len() as u32),
     });
 }
 
@@ -102,8 +118,10 @@ pub struct GpuSurfaceUniform {
     pub view_size: Vec2,
     /// Top-left corner of the view in its render target [pixels] (a `Camera::viewport`).
     pub view_origin: Vec2,
-    /// Padding to 16 bytes.
-    pub pad: Vec2,
+    /// Live diffuse particles (whitewater; 0 without).
+    pub diffuse_count: u32,
+    /// Radius of each diffuse particle's billboard [m].
+    pub diffuse_radius: f32,
     /// Live particles.
     pub particle_count: u32,
     /// Radius of each particle's sphere [m].
@@ -177,7 +195,8 @@ impl GpuSurfaceUniform {
             target_size: size.as_vec2(),
             view_size: view_size.as_vec2(),
             view_origin: viewport.xy().as_vec2(),
-            pad: Vec2::ZERO,
+            diffuse_count: 0,
+            diffuse_radius: DIFFUSE_RADIUS_SCALE * spacing,
             particle_count,
             sphere_radius,
             filter_radius: settings.filter_radius,
@@ -200,6 +219,8 @@ pub struct SurfaceCompositeVariant {
     pub pipeline: bevy::render::render_resource::CachedRenderPipelineId,
     /// Whether the view's depth is multisampled.
     pub multisampled: bool,
+    /// Whether it reads the whitewater target.
+    pub whitewater: bool,
 }
 
 /// Every surface camera's uniform block this frame.
@@ -219,6 +240,8 @@ pub struct SurfaceViewResources {
     pub normals: CachedTexture,
     /// Summed chord lengths through the particles' spheres [m].
     pub thickness: CachedTexture,
+    /// The whitewater's billboards ([`WHITEWATER_FORMAT`]), while whitewater is on.
+    pub whitewater: Option<CachedTexture>,
 }
 
 /// Writes each surface camera's uniform block and takes its textures from the cache.
@@ -237,7 +260,7 @@ pub(crate) fn prepare_sph_surface_views(
     };
     for (entity, view, surface) in &views {
         let settings = &surface.0;
-        let block = GpuSurfaceUniform::placed(
+        let mut block = GpuSurfaceUniform::placed(
             settings,
             view.clip_from_view,
             view.world_from_view.to_matrix(),
@@ -245,6 +268,7 @@ pub(crate) fn prepare_sph_surface_views(
             particles.count,
             particles.spacing,
         );
+        block.diffuse_count = particles.diffuse_count;
         let size = block.target_size.as_uvec2();
         let uniform_offset = writer.write(&block);
         let mut texture = |label: &'static str, format: TextureFormat| {
@@ -275,6 +299,10 @@ pub(crate) fn prepare_sph_surface_views(
             ],
             normals: texture("sph_surface_normals", NORMAL_FORMAT),
             thickness: texture("sph_surface_thickness", THICKNESS_FORMAT),
+            whitewater: particles
+                .diffuse
+                .is_some()
+                .then(|| texture("sph_surface_whitewater", WHITEWATER_FORMAT)),
         };
         commands.entity(entity).insert(resources);
     }
