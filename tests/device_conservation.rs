@@ -30,8 +30,9 @@ const SUBSTEPS: u32 = 4;
 /// Wall-clock bound of one scene on one backend: a run that stalls fails instead of hanging.
 const WALL_BOUND: Duration = Duration::from_secs(600);
 
-const SCENES: [&str; 6] = [
+const SCENES: [&str; 7] = [
     "aquaplay.ron",
+    "basin_jet.ron",
     "dam_break.ron",
     "gate.ron",
     "lock.ron",

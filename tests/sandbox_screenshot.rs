@@ -154,6 +154,7 @@ fn every_shipped_scene_file_renders() {
         "assets/scenes/lock.ron",
         "assets/scenes/aquaplay.ron",
         "assets/scenes/ramp.ron",
+        "assets/scenes/basin_jet.ron",
     ] {
         let path = format!("{}/{file}", env!("CARGO_MANIFEST_DIR"));
         // The pipe starts empty and its water arrives with the steps taken, and the first
@@ -427,4 +428,109 @@ fn sandbox_refuses_bad_options_by_name_and_lists_them() {
             "{option} missing from --help: {text}"
         );
     }
+}
+
+/// The pixel column and row of the world point `p` seen from `eye` looking at `focus` (the
+/// sandbox's `--camera`, Bevy's default vertical field of view of π/4) in a `w` × `h` view.
+fn project(eye: [f32; 3], focus: [f32; 3], p: [f32; 3], w: u32, h: u32) -> (f32, f32) {
+    use bevy::math::{Mat4, Vec3};
+    let view = Mat4::look_at_rh(Vec3::from(eye), Vec3::from(focus), Vec3::Y);
+    let projection = Mat4::perspective_rh(
+        std::f32::consts::FRAC_PI_4,
+        w as f32 / h as f32,
+        0.01,
+        100.0,
+    );
+    let ndc = (projection * view).project_point3(Vec3::from(p));
+    (
+        (ndc.x + 1.0) / 2.0 * w as f32,
+        (1.0 - ndc.y) / 2.0 * h as f32,
+    )
+}
+
+/// The pixels `[first, last)` in x and in y where the basin's slice `x0 ..= x1` [m] shows: every
+/// corner of the slice's box (the container's full height and depth) projected.
+fn pixels_of(
+    (eye, focus): ([f32; 3], [f32; 3]),
+    (x0, x1): (f32, f32),
+    (w, h): (u32, u32),
+) -> [(u32, u32); 2] {
+    let mut corners = Vec::new();
+    for x in [x0, x1] {
+        for y in [0.0, 0.35] {
+            for z in [0.0, 0.3] {
+                corners.push(project(eye, focus, [x, y, z], w, h));
+            }
+        }
+    }
+    let range = |values: Vec<f32>, size: u32| {
+        let first = values.iter().cloned().fold(f32::MAX, f32::min).max(0.0);
+        let last = values
+            .iter()
+            .cloned()
+            .fold(f32::MIN, f32::max)
+            .min(size as f32);
+        (first as u32, last as u32)
+    };
+    [
+        range(corners.iter().map(|c| c.0).collect(), w),
+        range(corners.iter().map(|c| c.1).collect(), h),
+    ]
+}
+
+/// basin_jet.ron with `--whitewater` on the CPU backend: where the jet breaks into the basin
+/// (0.35 m from the pipe's wall) the lit surface shows white pixels and the class view (spray
+/// red, foam green, bubbles blue over black) shows whitewater; over the basin's far end, still
+/// water, the class view shows none.
+#[test]
+fn whitewater_shows_where_the_jet_breaks_in_and_not_over_the_still_far_end() {
+    let camera = ([0.2, 0.75, 1.35], [0.2, 0.0, 0.15]);
+    let base = [
+        "--scene",
+        "scenes/basin_jet.ron",
+        "--cpu",
+        "--whitewater",
+        "--camera",
+        "0.2,0.75,1.35,0.2,0.0,0.15",
+        "--frames",
+        "60",
+    ];
+    let run = |more: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend(more);
+        screenshot(&args)
+    };
+    let (w, h, lit) = run(&[]);
+    let (_, _, classes) = run(&["--surface-view", "whitewater"]);
+    let count = |rgb: &[u8], [columns, rows]: [(u32, u32); 2], pick: &dyn Fn(&[u8]) -> bool| {
+        (rows.0..rows.1)
+            .flat_map(|y| (columns.0..columns.1).map(move |x| 3 * (y * w + x) as usize))
+            .filter(|&i| pick(&rgb[i..i + 3]))
+            .count()
+    };
+    let white = |p: &[u8]| p.iter().all(|&c| c >= 200);
+    let coloured = |p: &[u8]| p.iter().any(|&c| c >= 40);
+    let impact = pixels_of(camera, (0.25, 0.45), (w, h));
+    // The far end: right of everything nearer than 0.85 m, over the end's rows.
+    let [end_columns, end_rows] = pixels_of(camera, (0.85, 1.0), (w, h));
+    let nearer = pixels_of(camera, (0.0, 0.85), (w, h))[0].1;
+    let far = [(nearer, end_columns.1), end_rows];
+    let (white_at_impact, whitewater_at_impact, whitewater_far) = (
+        count(&lit, impact, &white),
+        count(&classes, impact, &coloured),
+        count(&classes, far, &coloured),
+    );
+    println!(
+        "impact {impact:?}: {white_at_impact} white, {whitewater_at_impact} whitewater; \
+         far end {far:?}: {whitewater_far} whitewater"
+    );
+    assert!(
+        white_at_impact >= 200,
+        "{white_at_impact} white pixels at the impact"
+    );
+    assert!(
+        whitewater_at_impact >= 500,
+        "{whitewater_at_impact} whitewater pixels at the impact"
+    );
+    assert_eq!(whitewater_far, 0, "whitewater over the still far end");
 }

@@ -233,6 +233,7 @@ mod shipped_scenes {
             "lock.ron",
             "aquaplay.ron",
             "ramp.ron",
+            "basin_jet.ron",
         ] {
             two_seconds(file, Backend::Cpu);
         }
@@ -250,6 +251,7 @@ mod shipped_scenes {
             "lock.ron",
             "gate.ron",
             "aquaplay.ron",
+            "basin_jet.ron",
         ] {
             two_seconds(file, Backend::Gpu);
         }
