@@ -223,7 +223,8 @@ fn apply_cli_toggles(
 }
 
 /// With `--screenshot`, saves the window after `--frames` frames of the scene, prints the median
-/// frame time and the real-time factor of the second half, then exits. Frames while the GPU
+/// frame time and the real-time factor of the second half (with the surface passes' GPU times and
+/// the whitewater's counts when there are), then exits. Frames while the GPU
 /// backend still compiles its shaders or prepares its buffers (`SphStats::gpu_warming_up`) do not
 /// count: on a slow machine a DFSPH scene can take more than 20 frames to compile, and the
 /// picture would show no water.
@@ -268,6 +269,20 @@ fn take_screenshot(
             stats.particle_count,
             stats.frame_steps
         );
+        if !stats.surface_ms.is_empty() {
+            let passes: Vec<String> = stats
+                .surface_ms
+                .iter()
+                .map(|(pass, ms)| format!("{pass} {ms:.2}"))
+                .collect();
+            println!("sandbox: surface GPU ms: {}", passes.join(", "));
+        }
+        if let Some(c) = stats.whitewater {
+            println!(
+                "sandbox: whitewater: spray {}, foam {}, bubbles {}, born {}, dropped {}",
+                c.spray, c.foam, c.bubbles, c.born, c.dropped
+            );
+        }
         commands
             .spawn(Screenshot::primary_window())
             .observe(save_to_disk(path))

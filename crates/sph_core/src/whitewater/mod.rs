@@ -5,7 +5,8 @@
 //! (buoyant, dragged by the water). They never act on the water. They live in a pool of fixed
 //! capacity ([`pool`]); a particle that finds it full is counted, never lost without a trace.
 //!
-//! This is the CPU reference; the plugin's GPU stages and their rendering are to follow it.
+//! This is the CPU reference: the plugin runs it on its CPU backend (its surface draws the
+//! diffuse particles); GPU stages are to follow it.
 
 pub mod ihmsen2012;
 pub mod pool;
