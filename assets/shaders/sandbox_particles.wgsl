@@ -1,6 +1,7 @@
 // Sphere impostors drawn straight from the simulation's GPU buffers: one camera-facing quad per
 // particle slot, positioned from `positions[index]` (the mesh carries only the corner and the
-// index), shaded as a sphere and coloured by density, speed, pressure or neighbour count.
+// index), shaded as a sphere and coloured by density, speed, pressure or neighbour count, or
+// (the whitewater's diffuse particles) by class.
 #import bevy_pbr::mesh_view_bindings::view
 #import bevy_pbr::view_transformations::position_world_to_clip
 
@@ -52,6 +53,14 @@ fn vertex(v: Vertex) -> VertexOutput {
     let world = center + (right * v.corner.x + up * v.corner.y) * draw.radius;
     out.clip = position_world_to_clip(world);
     out.corner = v.corner.xy;
+    if draw.color_mode == 4u {
+        // The whitewater's diffuse particles, by class in w: spray, foam, bubbles.
+        let classes = array<vec3<f32>, 3>(
+            vec3<f32>(1.0, 1.0, 1.0), vec3<f32>(0.9, 0.95, 1.0), vec3<f32>(0.55, 0.8, 1.0),
+        );
+        out.color = classes[min(u32(positions[i].w + 0.5), 2u)];
+        return out;
+    }
     var t: f32;
     if draw.color_mode == 1u {
         t = length(velocities[i].xyz) / draw.max_speed;

@@ -1,5 +1,6 @@
 //! Particles drawn straight from the simulation's GPU buffers: one mesh of camera-facing quads,
 //! one per particle slot, whose vertex shader reads `positions[slot]`. No CPU copy per frame.
+//! The whitewater's diffuse particles, while it is on, are a second such mesh over their buffer.
 
 use crate::{AppState, SandboxSet};
 use bevy::asset::RenderAssetUsages;
@@ -27,6 +28,11 @@ pub enum ColorMode {
     /// Neighbours within h (debug view; the density pass records them while shown).
     Neighbors,
 }
+
+/// The shader's colour mode of the whitewater's diffuse particles: by class, from w.
+const DIFFUSE_COLOR_MODE: u32 = 4;
+/// A diffuse particle's drawn radius per particle spacing (the water's is 0.6).
+const DIFFUSE_RADIUS_SCALE: f32 = 0.3;
 
 /// The draw settings the shader reads.
 #[derive(Clone, Copy, Debug, Default, ShaderType)]
@@ -181,6 +187,106 @@ pub fn update_particle_draw(
     }
 }
 
+/// The whitewater's mesh and the diffuse buffer it draws.
+#[derive(Component)]
+pub struct DiffuseMesh {
+    buffer: Handle<ShaderBuffer>,
+    material: Handle<ParticleMaterial>,
+}
+
+/// What the whitewater's mesh is drawn from: the diffuse particles, the pool's settings (its
+/// capacity) and the water's spacing.
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct DiffuseSource<'w> {
+    diffuse: Res<'w, SphDiffuseParticles>,
+    whitewater: Option<Res<'w, SphWhitewater>>,
+    params: Res<'w, SphParams>,
+}
+
+/// Draws the whitewater's diffuse particles in the particle view: a mesh of one quad per pool
+/// slot over `SphDiffuseParticles::buffer`, coloured by class, its count kept to the live
+/// particles; rebuilt when the buffer changes, gone when whitewater is off.
+pub fn sync_diffuse_mesh(
+    mut commands: Commands,
+    source: DiffuseSource,
+    view: Res<crate::surface::RenderView>,
+    mut existing: Query<(Entity, &DiffuseMesh, &mut Visibility)>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<ParticleMaterial>>,
+) {
+    let DiffuseSource {
+        diffuse,
+        whitewater,
+        params,
+    } = source;
+    let wanted = diffuse.buffer.as_ref().zip(whitewater);
+    let mut current = None;
+    for (entity, mesh, visibility) in &mut existing {
+        if wanted
+            .as_ref()
+            .is_some_and(|(buffer, _)| **buffer == mesh.buffer)
+        {
+            current = Some((mesh.material.clone(), visibility));
+        } else {
+            commands.entity(entity).despawn();
+        }
+    }
+    let Some((buffer, whitewater)) = wanted else {
+        return;
+    };
+    let shown = view.mode == crate::surface::RenderMode::Particles && !view.hide_water;
+    let count = diffuse.position.len() as u32;
+    let Some((material, mut visibility)) = current else {
+        let material = materials.add(ParticleMaterial {
+            positions: buffer.clone(),
+            velocities: buffer.clone(),
+            densities: buffer.clone(),
+            neighbor_counts: buffer.clone(),
+            draw: ParticleDraw {
+                count,
+                color_mode: DIFFUSE_COLOR_MODE,
+                radius: DIFFUSE_RADIUS_SCALE * params.spacing(),
+                rest_density: 1.0,
+                max_speed: 1.0,
+                ..default()
+            },
+        });
+        commands.spawn((
+            Mesh3d(meshes.add(quads(whitewater.capacity))),
+            MeshMaterial3d(material.clone()),
+            Transform::IDENTITY,
+            NoFrustumCulling,
+            if shown {
+                Visibility::Inherited
+            } else {
+                Visibility::Hidden
+            },
+            crate::scene::SceneEntity,
+            DiffuseMesh {
+                buffer: buffer.clone(),
+                material,
+            },
+        ));
+        return;
+    };
+    let wanted_visibility = if shown {
+        Visibility::Inherited
+    } else {
+        Visibility::Hidden
+    };
+    if *visibility != wanted_visibility {
+        *visibility = wanted_visibility;
+    }
+    if materials
+        .get(&material)
+        .is_some_and(|m| m.draw.count != count)
+    {
+        if let Some(mut m) = materials.get_mut(&material) {
+            m.draw.count = count;
+        }
+    }
+}
+
 /// The particles drawn as sphere impostors.
 pub struct ParticlesPlugin;
 
@@ -189,7 +295,7 @@ impl Plugin for ParticlesPlugin {
         app.add_plugins(MaterialPlugin::<ParticleMaterial>::default())
             .add_systems(
                 Update,
-                update_particle_draw
+                (update_particle_draw, sync_diffuse_mesh)
                     .in_set(SandboxSet::Draw)
                     .run_if(in_state(AppState::Running)),
             );

@@ -180,7 +180,8 @@ fn surface_settings(ui: &mut egui::Ui, s: &mut SphSurface) {
         ui.color_edit_button_rgb(&mut rgb);
         s.deep_color = Vec3::from_array(rgb);
     });
-    ui.horizontal(|ui| {
+    // Wrapped, so the fifth view does not widen the panel over the scene.
+    ui.horizontal_wrapped(|ui| {
         ui.label("show");
         for (view, label) in [
             (SphSurfaceDebugView::None, "surface"),

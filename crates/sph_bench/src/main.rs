@@ -127,6 +127,13 @@ fn run_command(args: &RunArgs, bars: &Bars) -> Result<(), String> {
             w.ms_per_step,
             w.steps
         );
+        if let Some([low, high]) = w.foam_extent {
+            eprintln!(
+                "sph-bench: the foam lies in x {:.3} to {:.3}, y {:.3} to {:.3}, z {:.3} to {:.3} m \
+                 (5th to 95th percentile)",
+                low[0], high[0], low[1], high[1], low[2], high[2]
+            );
+        }
     }
     eprintln!(
         "sph-bench: end speed mean {:.4} m/s, max {:.4} m/s; boundary corrections {} ({} at \

@@ -164,6 +164,9 @@ pub struct WhitewaterFigures {
     pub ms_per_step: f64,
     /// [[t, spray, foam, bubbles]] after each step.
     pub counts: Vec<[f64; 4]>,
+    /// Where the foam lies at the end: the 5th and the 95th percentile of its positions along
+    /// each axis [m] (`None` without foam).
+    pub foam_extent: Option<[[f32; 3]; 2]>,
 }
 
 /// A probe's readings over the run (`--scene FILE`).

@@ -53,7 +53,7 @@ pub fn setup_from_file(path: &Path) -> Result<Setup, String> {
         gate_x: None,
         walls: true,
         wall_friction: None,
-        whitewater: None,
+        whitewater: built.whitewater.map(|(settings, _)| settings),
         extras: Some(SceneExtras {
             file,
             emitters: built.emitters.clone(),

@@ -6,6 +6,7 @@ use crate::report::WhitewaterFigures;
 use crate::scenarios::Setup;
 use crate::sim::State;
 use sph_core::whitewater::ihmsen2012::{FluidView, Whitewater};
+use sph_core::whitewater::pool::DiffuseKind;
 use sph_core::whitewater::settings::WhitewaterSettings;
 use std::time::Instant;
 
@@ -72,12 +73,34 @@ impl WhitewaterSampler {
 
     /// The figures of the run.
     pub(crate) fn finish(mut self) -> WhitewaterFigures {
-        let [spray, foam, bubbles] = self.whitewater.pool.counts();
+        let pool = &self.whitewater.pool;
+        let [spray, foam, bubbles] = pool.counts();
         let f = &mut self.figures;
         (f.spray, f.foam, f.bubbles) = (spray, foam, bubbles);
         f.ms_per_step = self.ms_sum / f.steps.max(1) as f64;
+        let foam: Vec<_> = (0..pool.len())
+            .filter(|&i| pool.kind[i] == DiffuseKind::Foam)
+            .map(|i| pool.position[i])
+            .collect();
+        f.foam_extent = extent(&foam);
         self.figures
     }
+}
+
+/// The 5th and the 95th percentile of `points` along each axis, or `None` without points.
+fn extent(points: &[sph_core::glam::Vec3]) -> Option<[[f32; 3]; 2]> {
+    if points.is_empty() {
+        return None;
+    }
+    let mut low = [0.0; 3];
+    let mut high = [0.0; 3];
+    for axis in 0..3 {
+        let mut values: Vec<f32> = points.iter().map(|p| p[axis]).collect();
+        values.sort_by(f32::total_cmp);
+        let at = |share: f32| values[((values.len() - 1) as f32 * share).round() as usize];
+        (low[axis], high[axis]) = (at(0.05), at(0.95));
+    }
+    Some([low, high])
 }
 
 #[cfg(test)]
@@ -118,5 +141,43 @@ mod tests {
             ..args
         });
         assert!(plain.whitewater.is_none());
+    }
+
+    /// A scene file's `whitewater` runs with its settings, and `--whitewater on` adds the
+    /// defaults to a file without; the foam's extent lies inside the container.
+    #[test]
+    fn a_scene_files_whitewater_runs_and_the_flag_adds_it_to_one_without() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes");
+        let text = std::fs::read_to_string(dir.join("basin_jet.ron")).unwrap();
+        let with = text.replacen(
+            "solver:",
+            "whitewater: (trapped_air_rate: 80.0),\n    solver:",
+            1,
+        );
+        let file = std::env::temp_dir().join(format!("sph_bench_white_{}.ron", std::process::id()));
+        std::fs::write(&file, with).unwrap();
+        let setup = crate::scene_run::setup_from_file(&file).unwrap();
+        let _ = std::fs::remove_file(&file);
+        let settings = setup.whitewater.expect("the file's whitewater");
+        assert_eq!(settings.trapped_air_rate, 80.0);
+        let run = |scene: std::path::PathBuf, whitewater: bool| {
+            let args = RunArgs {
+                scene: Some(scene),
+                time: Some(0.6),
+                whitewater,
+                ..Default::default()
+            };
+            crate::run::run(&args, &Bars::new(true)).unwrap()
+        };
+        let plain = run(dir.join("basin_jet.ron"), false);
+        assert!(plain.whitewater.is_none());
+        let flagged = run(dir.join("basin_jet.ron"), true);
+        let w = flagged
+            .whitewater
+            .expect("--whitewater on adds the defaults");
+        assert!(w.born > 0, "{w:?}");
+        let [low, high] = w.foam_extent.expect("foam where the jet lands");
+        assert!(low.iter().zip(&high).all(|(l, h)| l <= h));
+        assert!(low.iter().all(|&c| c >= 0.0) && high[0] <= 1.0 && high[2] <= 0.3);
     }
 }

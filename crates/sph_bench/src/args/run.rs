@@ -113,8 +113,9 @@ pub struct RunArgs {
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub walls: bool,
     /// Diffuse particles after Ihmsen et al. 2012 over the water (spray, foam, bubbles),
-    /// stepped on the CPU on every state sample: their counts per class and the cost of a step
-    /// in the JSON's `whitewater`.
+    /// stepped on the CPU on every state sample: their counts per class, where the foam lies
+    /// and the cost of a step in the JSON's `whitewater`. With --scene, the file's own
+    /// `whitewater` runs whether or not this is on.
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "off")]
     pub whitewater: bool,
     /// No-slip walls with this friction factor (times the fluid's viscosity); 0 is free slip

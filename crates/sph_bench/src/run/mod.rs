@@ -284,6 +284,10 @@ pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
                     .map_err(|e| format!("--solver {}: {e}", solver.name()))?;
             }
             setup.rollback = rollback(args.rollback);
+            // The file's whitewater, or the defaults with --whitewater on.
+            if args.whitewater && setup.whitewater.is_none() {
+                setup.whitewater = Some(Default::default());
+            }
             if let Some(extras) = &mut setup.extras {
                 extras.bodies = args.bodies;
             }

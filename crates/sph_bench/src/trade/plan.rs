@@ -182,6 +182,18 @@ pub(super) fn plan(args: &TradeArgs) -> Vec<Planned> {
                 ..at_largest.clone()
             },
         ));
+        if backend == Backend::Cpu {
+            // Whitewater is stepped on the CPU over the state samples of either backend; its
+            // cost is the CPU's.
+            plan.push(Planned::new(
+                WHITEWATER_GROUP,
+                "whitewater on".into(),
+                RunArgs {
+                    whitewater: true,
+                    ..at_largest.clone()
+                },
+            ));
+        }
         plan.push(Planned::new(
             "hydrostatic",
             "tank at rest, 1 s".into(),
@@ -316,6 +328,9 @@ pub(super) fn plan(args: &TradeArgs) -> Vec<Planned> {
     plan
 }
 
+/// The group of the run with whitewater on (its cost is tabled with the optional stages').
+pub(super) const WHITEWATER_GROUP: &str = "whitewater";
+
 /// The largest particle count of the sweep (where search and the optional stages are compared).
 pub(super) fn largest_count(args: &TradeArgs) -> usize {
     args.particles
@@ -347,11 +362,16 @@ mod tests {
         let plan = plan(&args);
         // 12 integrator × dt, 4 DFSPH and 5 PBF variants; per backend 2 counts, search, surface
         // tension, viscosity, tank, 2 dambreak32k; the CPU adds 2 α, 2 DFSPH counts, a DFSPH
-        // tank and 3 DFSPH and 1 PBF dambreak32k runs; the GPU 2 PBF counts, 2 DFSPH counts
-        // and 1 PBF and 1 DFSPH dambreak32k run.
+        // tank, a whitewater run and 3 DFSPH and 1 PBF dambreak32k runs; the GPU 2 PBF counts,
+        // 2 DFSPH counts and 1 PBF and 1 DFSPH dambreak32k run.
         assert_eq!(
             plan.len(),
-            12 + 9 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 4 + 2 + 2 + 1 + 1
+            12 + 9 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 1 + 4 + 2 + 2 + 1 + 1
+        );
+        assert_eq!(
+            plan.iter().filter(|p| p.args.whitewater).count(),
+            1,
+            "one run with whitewater, on the CPU"
         );
         let on_the_gpu = |solver: Solver| {
             plan.iter()

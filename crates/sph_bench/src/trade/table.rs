@@ -1,6 +1,6 @@
 //! The study's rows (a planned run with its report) and the Markdown tables made of them.
 
-use super::plan::Planned;
+use super::plan::{Planned, WHITEWATER_GROUP};
 use crate::args::{Backend, Duration};
 use crate::progress::Bars;
 use crate::report::Report;
@@ -113,10 +113,23 @@ fn ms_of(rows: &[Row], pred: impl Fn(&Row) -> bool) -> Option<f64> {
         .map(|r| r.report.ms_per_step_median)
 }
 
-/// What the optional stages cost on each backend, against the baseline at `particles`.
+/// What whitewater adds to a simulated second of the row's water, in seconds of wall clock and
+/// against the water's own cost: its steps' mean ms over the run's simulated time.
+fn whitewater_cost(row: &Row) -> Option<String> {
+    let (r, w) = (&row.report, row.report.whitewater.as_ref()?);
+    let added = w.ms_per_step * w.steps as f64 / 1e3 / r.sim_time.max(1e-9);
+    Some(format!(
+        "+{added:.2} s per sim s ({:+.0} %), {} diffuse at the end",
+        added / r.cost_per_sim_second_s * 100.0,
+        w.spray + w.foam + w.bubbles
+    ))
+}
+
+/// What the optional stages cost on each backend, against the baseline at `particles`, and
+/// what whitewater adds to the water's cost.
 pub(super) fn stage_cost_table(rows: &[Row], backends: &[Backend], particles: usize) -> String {
     let mut s = String::from(
-        "| backend | baseline (viscosity on, surface tension off) ms/step | surface tension on | viscosity off |\n|---|---|---|---|\n",
+        "| backend | baseline (viscosity on, surface tension off) ms/step | surface tension on | viscosity off | whitewater on (stepped on the CPU) |\n|---|---|---|---|---|\n",
     );
     for &b in backends {
         let name = b.name();
@@ -134,12 +147,17 @@ pub(super) fn stage_cost_table(rows: &[Row], backends: &[Backend], particles: us
             (Some(v), Some(b)) => format!("{v:.2} ({:+.0} %)", (v / b - 1.0) * 100.0),
             _ => "–".into(),
         };
+        let whitewater = rows
+            .iter()
+            .find(|r| r.group == WHITEWATER_GROUP && r.report.backend == name)
+            .and_then(whitewater_cost);
         let _ = writeln!(
             s,
-            "| {name} | {} | {} | {} |",
+            "| {name} | {} | {} | {} | {} |",
             base.map_or("–".into(), |b| format!("{b:.2}")),
             cell(at("surface tension")),
-            cell(at("viscosity"))
+            cell(at("viscosity")),
+            whitewater.unwrap_or_else(|| "–".into())
         );
     }
     s
