@@ -106,35 +106,45 @@ fn sph_apply_whitewater(
     }
 }
 
+/// What the drawing buffer holds: the pool's capacity, and the step, births, deaths and length
+/// it was written at (the same again: nothing moved, nothing to upload).
+type WrittenPool = (usize, Handle<ShaderBuffer>, (u64, u64, u64, usize));
+
 /// Copies the diffuse particles and their counts out of the CPU solver, and into the drawing
-/// buffer (made once per capacity).
+/// buffer (made once per capacity), when the pool changed.
 fn sph_read_whitewater(
     sim: Res<SphSimulation>,
     mut particles: ResMut<SphDiffuseParticles>,
     mut stats: ResMut<SphStats>,
     mut assets: ResMut<Assets<ShaderBuffer>>,
-    mut made_for: Local<Option<(usize, Handle<ShaderBuffer>)>>,
+    mut written: Local<Option<WrittenPool>>,
 ) {
     let white = sim.cpu.as_ref().and_then(|solver| solver.whitewater());
     let Some(white) = white.filter(|_| sim.backend == SphBackend::Cpu) else {
         if !particles.position.is_empty() || particles.buffer.is_some() {
             *particles = SphDiffuseParticles::default();
         }
-        *made_for = None;
+        *written = None;
         stats.whitewater = None;
         return;
     };
     let pool = &white.pool;
+    let state = (stats.step_count, pool.born, pool.expired, pool.len());
+    let capacity = pool.capacity().max(1);
+    if written.as_ref().map(|w| (w.0, w.2)) == Some((capacity, state)) {
+        return;
+    }
     particles.position.clone_from(&pool.position);
     particles.kind.clone_from(&pool.kind);
-    let capacity = pool.capacity().max(1);
-    if made_for.as_ref().map(|(c, _)| *c) != Some(capacity) {
+    if written.as_ref().map(|w| w.0) != Some(capacity) {
         let usage = RenderAssetUsages::MAIN_WORLD | RenderAssetUsages::RENDER_WORLD;
         let handle = assets.add(ShaderBuffer::new(&vec![0u8; 16 * capacity], usage));
-        *made_for = Some((capacity, handle));
+        *written = Some((capacity, handle, state));
     }
-    if let Some((_, handle)) = made_for.as_ref() {
-        if let Some(mut buffer) = assets.get_mut(handle) {
+    if let Some((_, handle, at)) = written.as_mut() {
+        *at = state;
+        let handle = handle.clone();
+        if let Some(mut buffer) = assets.get_mut(&handle) {
             if let Some(data) = buffer.data.as_mut() {
                 let live = pool.position.iter().zip(&pool.kind);
                 for (slot, (x, kind)) in data.chunks_exact_mut(16).zip(live) {
@@ -144,7 +154,7 @@ fn sph_read_whitewater(
                 }
             }
         }
-        particles.buffer = Some(handle.clone());
+        particles.buffer = Some(handle);
     }
     let [spray, foam, bubbles] = pool.counts().map(|n| n as u32);
     stats.whitewater = Some(SphWhitewaterCounts {

@@ -1,7 +1,6 @@
 //! The surface's passes for one view, in `Core3dSystems::EarlyPostProcess`: depth, thickness,
 //! whitewater (while it is on), the filter's iterations, normals, then the composite into the
-//! view target. Each pass is GPU-timed
-//! under its name when `RenderDiagnosticsPlugin` is added.
+//! view target. Each pass is GPU-timed under its name when `RenderDiagnosticsPlugin` is added.
 
 use super::composite::{SurfaceCompositePipeline, NAME as COMPOSITE};
 use super::depth::{SurfaceDepthPipeline, NAME as DEPTH};
