@@ -1,6 +1,7 @@
 //! The water surface (`SphSurface`) drawn on lavapipe into an image: it shows water where the
 //! particles are, an opaque box in front hides it, every pass's output matches its CPU twin
-//! (`bevy_sph_fluid::surface::cpu_twin`), and refused settings leave the previous ones drawing.
+//! (`bevy_sph_fluid::surface::cpu_twin`), the whitewater's billboards included, and refused
+//! settings leave the previous ones drawing.
 
 mod common;
 
@@ -520,4 +521,102 @@ fn every_surface_pass_matches_its_cpu_twin() {
     assert!(smooth_share >= 0.99, "filtered depth: {smooth_share}");
     assert!(thickness_share >= 0.99, "thickness: {thickness_share}");
     assert!(normals_within >= 0.98, "normals: {normals_within}");
+}
+
+/// The whitewater pass against its CPU twin: a CPU app throws a block at a wall with whitewater
+/// on, pauses, and draws the class view (`SphSurfaceDebugView::Whitewater`, 1 - e^(-1.5 w) per
+/// class, at full resolution); the twin draws `SphDiffuseParticles` seen by the same camera.
+#[test]
+fn the_whitewater_pass_matches_its_cpu_twin() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    common::require_gpu_adapter();
+    let mut app = bevy_sph_fluid::headless::headless_app_that_draws(
+        DefaultPlugins.build().disable::<bevy::winit::WinitPlugin>(),
+        4_000,
+        SphBackend::Cpu,
+    );
+    app.insert_resource(SphWhitewater::default());
+    let world = app.world_mut();
+    let extent = Vec3::new(0.4, 0.3, 0.2);
+    world.spawn(SphContainer(BoxContainer::from_min_max(Vec3::ZERO, extent)));
+    world.spawn(SphBlockSpawn {
+        block: BlockSpawn::new(Vec3::ZERO, Vec3::new(0.1, 0.1, 0.2), 0.02),
+        velocity: Vec3::new(3.0, 0.0, 0.0),
+    });
+    app.update();
+    common::step_to(&mut app, 120);
+    let world = app.world_mut();
+    let mut image =
+        Image::new_target_texture(TWIN_WIDTH, TWIN_HEIGHT, TextureFormat::Rgba32Float, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    let target = world.resource_mut::<Assets<Image>>().add(image);
+    let settings = SphSurface {
+        resolution_scale: 1.0,
+        debug_view: SphSurfaceDebugView::Whitewater,
+        ..default()
+    };
+    let camera = world
+        .spawn((
+            Camera3d::default(),
+            Camera {
+                clear_color: ClearColorConfig::Custom(CLEAR),
+                ..default()
+            },
+            RenderTarget::Image(target.clone().into()),
+            Hdr,
+            Tonemapping::None,
+            Msaa::Off,
+            Transform::from_xyz(0.25, 0.35, 0.75).looking_at(Vec3::new(0.28, 0.08, 0.1), Vec3::Y),
+            settings.clone(),
+        ))
+        .id();
+    world.init_resource::<Captured>();
+    let gpu = draw_debug_view(&mut app, camera, &target, settings.clone());
+
+    let world = app.world();
+    let diffuse = world.resource::<SphDiffuseParticles>();
+    let particles: Vec<(Vec3, u32)> = diffuse
+        .position
+        .iter()
+        .zip(&diffuse.kind)
+        .map(|(&p, &kind)| (p, bevy_sph_fluid::whitewater::diffuse_class_w(kind) as u32))
+        .collect();
+    assert!(
+        particles.len() >= 20,
+        "{} diffuse particles",
+        particles.len()
+    );
+    let mut block = GpuSurfaceUniform::new(
+        &settings,
+        world.get::<Camera>(camera).unwrap().clip_from_view(),
+        world.get::<GlobalTransform>(camera).unwrap().to_matrix(),
+        UVec2::new(TWIN_WIDTH, TWIN_HEIGHT),
+        0,
+        world.resource::<SphParams>().0.spacing(),
+    );
+    block.diffuse_count = particles.len() as u32;
+    let cpu: Vec<Vec3> = cpu_twin::whitewater_pass(&block, &particles)
+        .iter()
+        .map(|w| Vec3::ONE - (-1.5 * w.truncate()).exp())
+        .collect();
+    // Every channel of every pixel that either side colours; the target is f16.
+    let pairs: Vec<(f32, f32)> = gpu
+        .iter()
+        .zip(&cpu)
+        .flat_map(|(g, c)| (0..3).map(move |k| (g[k], c[k])))
+        .filter(|(g, c)| *g > 0.0 || *c > 0.0)
+        .collect();
+    let coloured = cpu.iter().filter(|c| c.max_element() > 0.0).count();
+    let (share, worst) = agreement(&pairs, |_| 0.01);
+    println!(
+        "{} diffuse particles, {coloured} pixels coloured; {:.2} % of the channels within 0.01 \
+         (worst {worst:.3})",
+        particles.len(),
+        100.0 * share
+    );
+    assert!(
+        coloured >= 50,
+        "the diffuse particles cover {coloured} pixels"
+    );
+    assert!(share >= 0.98, "{share}");
 }

@@ -77,8 +77,31 @@ pub fn headless_app_with(
     timed: bool,
     more: impl FnOnce(&mut App),
 ) -> App {
+    let draws = backend == SphBackend::Gpu;
+    app_on(default_plugins, capacity, backend, timed, draws, more)
+}
+
+/// [`headless_app`] with a renderer whatever the backend (the GPU backend always has one), so
+/// that cameras draw the CPU backend's water too. Needs an adapter (see [`gpu_adapter`]).
+pub fn headless_app_that_draws(
+    default_plugins: PluginGroupBuilder,
+    capacity: u32,
+    backend: SphBackend,
+) -> App {
+    app_on(default_plugins, capacity, backend, false, true, |_| {})
+}
+
+/// The headless app, with Bevy's renderer on a device when `draws`, without one otherwise.
+fn app_on(
+    default_plugins: PluginGroupBuilder,
+    capacity: u32,
+    backend: SphBackend,
+    timed: bool,
+    draws: bool,
+    more: impl FnOnce(&mut App),
+) -> App {
     let mut app = App::new();
-    let render = if backend == SphBackend::Gpu {
+    let render = if draws {
         RenderPlugin {
             synchronous_pipeline_compilation: true,
             ..default()

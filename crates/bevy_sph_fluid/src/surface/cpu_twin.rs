@@ -1,5 +1,6 @@
 //! CPU twins of the surface's passes, line for line after their WGSL (`surface_depth`,
-//! `surface_thickness`, `surface_filter`, `surface_normals`), over images of the scaled target's
+//! `surface_thickness`, `surface_whitewater`, `surface_filter`, `surface_normals`), over images
+//! of the scaled target's
 //! size stored row by row. The parity test (`tests/surface_rendering.rs`) draws the GPU passes'
 //! outputs through [`SphSurfaceDebugView`](super::settings::SphSurfaceDebugView) and compares.
 
@@ -113,6 +114,39 @@ pub fn thickness_pass(u: &GpuSurfaceUniform, positions: &[Vec3]) -> Vec<f32> {
         thickness[index] += chord * u.chord_weight;
     });
     thickness
+}
+
+/// The whitewater pass (`surface_whitewater.wgsl`): for every diffuse particle at `position`
+/// of class `class` (0 spray, 1 foam, 2 bubble) whose disc of `u.diffuse_radius` the pixel's ray
+/// crosses at q radii from its centre, (1 - q²)² added to its class's channel, and for spray and
+/// foam that weight times the centre's distance along the view axis to w.
+pub fn whitewater_pass(u: &GpuSurfaceUniform, particles: &[(Vec3, u32)]) -> Vec<Vec4> {
+    let s = size(u);
+    let mut out = vec![Vec4::ZERO; (s.x * s.y) as usize];
+    let centers: Vec<(Vec3, u32)> = particles
+        .iter()
+        .map(|&(p, class)| (u.view_from_world.transform_point3(p), class.min(2)))
+        .collect();
+    for y in 0..s.y {
+        for x in 0..s.x {
+            let (origin, direction) = pixel_ray(u, UVec2::new(x, y));
+            let index = (y * s.x + x) as usize;
+            for &(center, class) in &centers {
+                let to_center = center - origin;
+                let along = to_center.dot(direction);
+                let off_axis = (to_center - along * direction).length() / u.diffuse_radius;
+                if off_axis >= 1.0 {
+                    continue;
+                }
+                let weight = (1.0 - off_axis * off_axis).powi(2);
+                out[index][class as usize] += weight;
+                if class < 2 {
+                    out[index].w += weight * -center.z;
+                }
+            }
+        }
+    }
+    out
 }
 
 /// One direction of the narrow-range filter (`surface_filter.wgsl`).
