@@ -7,7 +7,7 @@
 // particles, drawn by the whitewater pass), bubbles cloud the light seen through the water, and
 // foam and spray lie over everything that is not nearer than their mean depth.
 
-#import bevy_sph_fluid::surface_types::{SurfaceUniform, unproject, pixel_ndc}
+#import bevy_sph_fluid::surface_types::{SurfaceUniform, unproject, pixel_ndc, view_position}
 
 @group(0) @binding(0) var<uniform> surface: SurfaceUniform;
 @group(0) @binding(1) var scene_color: texture_2d<f32>;
@@ -49,6 +49,17 @@ fn toward_eye(ndc: vec2<f32>) -> vec3<f32> {
         return -normalize(unproject(surface, ndc, 1.0));
     }
     return vec3<f32>(0.0, 0.0, 1.0);
+}
+
+// Whether the surface at view-space `point` is the water's face against a container wall (within
+// the contact distance of one): seen through the wall, it meets no air and catches no sun.
+fn against_a_wall(point: vec3<f32>) -> bool {
+    if surface.container_min.w == 0.0 {
+        return false;
+    }
+    let world = (surface.world_from_view * vec4<f32>(point, 1.0)).xyz;
+    let near = surface.container_max.w;
+    return any(world < surface.container_min.xyz + near) || any(world > surface.container_max.xyz - near);
 }
 
 // Whitewater's colour lit by the sun, its billboards facing the eye along `to_eye`.
@@ -176,6 +187,9 @@ fn water(pixel: vec2<f32>, in_view: vec2<f32>, uv: vec2<f32>, behind: vec3<f32>,
     let fresnel = WATER_F0 + (1.0 - WATER_F0) * pow(1.0 - cos_view, 5.0);
     let sun = normalize(surface.sun_direction.xyz);
     let half_way = normalize(sun + to_eye);
-    let highlight = surface.sun_direction.w * pow(max(dot(normal, half_way), 0.0), SHININESS);
+    var highlight = surface.sun_direction.w * pow(max(dot(normal, half_way), 0.0), SHININESS);
+    if against_a_wall(view_position(surface, ndc, nearest)) {
+        highlight = 0.0;
+    }
     return mix(transmitted, surface.sky_color.rgb, fresnel) + vec3<f32>(highlight);
 }

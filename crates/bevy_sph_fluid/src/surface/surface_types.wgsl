@@ -14,6 +14,12 @@ struct SurfaceUniform {
     deep_color: vec4<f32>,
     // Toward the sun in view space (xyz), w = specular strength.
     sun_direction: vec4<f32>,
+    // View to world space.
+    world_from_view: mat4x4<f32>,
+    // The container's lower corner (xyz), w = 1 when there is one.
+    container_min: vec4<f32>,
+    // Its upper corner (xyz), w = how near a wall the water touches it [m].
+    container_max: vec4<f32>,
     // Scaled depth/thickness targets [pixels].
     target_size: vec2<f32>,
     // The view [pixels], and its top-left corner in the render target.

@@ -55,6 +55,8 @@ pub struct SurfaceParticles {
     pub diffuse: Option<Handle<ShaderBuffer>>,
     /// Live diffuse particles (slots `0..diffuse_count`).
     pub diffuse_count: u32,
+    /// The container's corners [m], once the simulation has one.
+    pub container: Option<(Vec3, Vec3)>,
 }
 
 /// A 3D camera's render-world entity, its surface status, and whether it has a surface.
@@ -92,6 +94,7 @@ pub(crate) fn extract_sph_surfaces(
         spacing: sim.frame.params.spacing(),
         diffuse: diffuse.as_ref().and_then(|d| d.buffer.clone()),
         diffuse_count: diffuse.as_ref().map_or(0, |d| d.position.len() as u32),
+        container: sim.container.as_ref().map(|c| (c.min(), c.max())),
     });
 }
 
@@ -112,6 +115,12 @@ pub struct GpuSurfaceUniform {
     pub deep_color: Vec4,
     /// Toward the sun in view space (xyz, unit), w = specular strength.
     pub sun_direction: Vec4,
+    /// View to world space.
+    pub world_from_view: Mat4,
+    /// The container's lower corner [m] (xyz), w = 1 when a container is known.
+    pub container_min: Vec4,
+    /// The container's upper corner [m] (xyz), w = how near a wall the water touches it [m].
+    pub container_max: Vec4,
     /// Size of the scaled depth and thickness targets [pixels].
     pub target_size: Vec2,
     /// Size of the view [pixels].
@@ -192,6 +201,9 @@ impl GpuSurfaceUniform {
             sky_color: settings.sky_color.extend(0.0),
             deep_color: settings.deep_color.extend(0.0),
             sun_direction: sun.extend(settings.specular),
+            world_from_view,
+            container_min: Vec4::ZERO,
+            container_max: Vec4::ZERO,
             target_size: size.as_vec2(),
             view_size: view_size.as_vec2(),
             view_origin: viewport.xy().as_vec2(),
@@ -209,6 +221,22 @@ impl GpuSurfaceUniform {
                 / (4.0 / 3.0 * std::f32::consts::PI * sphere_radius.powi(3)).max(1e-30),
             debug_view: settings.debug_view as u32,
         }
+    }
+}
+
+impl GpuSurfaceUniform {
+    /// The container whose walls the water touches, `(min, max)` [m]: where the surface lies
+    /// within one and a half sphere radii of a wall, it is the water's face against the wall
+    /// (seen through it), not a surface to the air, and the composite draws no sun highlight
+    /// there. `None`: no container, highlights everywhere.
+    pub fn touch_walls(&mut self, container: Option<(Vec3, Vec3)>) {
+        let Some((min, max)) = container else {
+            self.container_min = Vec4::ZERO;
+            self.container_max = Vec4::ZERO;
+            return;
+        };
+        self.container_min = min.extend(1.0);
+        self.container_max = max.extend(1.5 * self.sphere_radius);
     }
 }
 
@@ -269,6 +297,7 @@ pub(crate) fn prepare_sph_surface_views(
             particles.spacing,
         );
         block.diffuse_count = particles.diffuse_count;
+        block.touch_walls(particles.container);
         let size = block.target_size.as_uvec2();
         let uniform_offset = writer.write(&block);
         let mut texture = |label: &'static str, format: TextureFormat| {
