@@ -222,9 +222,7 @@ impl GpuSurfaceUniform {
             debug_view: settings.debug_view as u32,
         }
     }
-}
 
-impl GpuSurfaceUniform {
     /// The container whose walls the water touches, `(min, max)` [m]: where the surface lies
     /// within one and a half sphere radii of a wall, it is the water's face against the wall
     /// (seen through it), not a surface to the air, and the composite draws no sun highlight
