@@ -383,22 +383,9 @@ fn draw_debug_view(
     panic!("no screenshot after 100 frames");
 }
 
-/// The share of `pairs` within `tolerance` of each other, and the largest difference.
-fn agreement(pairs: &[(f32, f32)], tolerance: impl Fn(f32) -> f32) -> (f64, f32) {
-    let within = pairs
-        .iter()
-        .filter(|(g, c)| (g - c).abs() <= tolerance(*c))
-        .count();
-    let worst = pairs.iter().map(|(g, c)| (g - c).abs()).fold(0.0, f32::max);
-    (within as f64 / pairs.len().max(1) as f64, worst)
-}
-
-#[test]
-fn every_surface_pass_matches_its_cpu_twin() {
-    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
-    let mut app = paused_block(Vec3::new(0.4, 0.0, 0.4), Vec3::new(0.6, 0.16, 0.6));
-    let spacing = SPACING;
-    let world = app.world_mut();
+/// A `TWIN_WIDTH` × `TWIN_HEIGHT` `Rgba32Float` image and an HDR camera at `pose` drawing into
+/// it without tonemapping or MSAA, with `surface`: what the twin tests read their passes from.
+fn twin_camera(world: &mut World, pose: Transform, surface: SphSurface) -> (Entity, Handle<Image>) {
     let mut image =
         Image::new_target_texture(TWIN_WIDTH, TWIN_HEIGHT, TextureFormat::Rgba32Float, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
@@ -414,10 +401,34 @@ fn every_surface_pass_matches_its_cpu_twin() {
             Hdr,
             Tonemapping::None,
             Msaa::Off,
-            Transform::from_xyz(0.62, 0.42, 0.98).looking_at(Vec3::new(0.5, 0.08, 0.5), Vec3::Y),
-            SphSurface::default(),
+            pose,
+            surface,
         ))
         .id();
+    (camera, target)
+}
+
+/// The share of `pairs` within `tolerance` of each other, and the largest difference.
+fn agreement(pairs: &[(f32, f32)], tolerance: impl Fn(f32) -> f32) -> (f64, f32) {
+    let within = pairs
+        .iter()
+        .filter(|(g, c)| (g - c).abs() <= tolerance(*c))
+        .count();
+    let worst = pairs.iter().map(|(g, c)| (g - c).abs()).fold(0.0, f32::max);
+    (within as f64 / pairs.len().max(1) as f64, worst)
+}
+
+#[test]
+fn every_surface_pass_matches_its_cpu_twin() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let mut app = paused_block(Vec3::new(0.4, 0.0, 0.4), Vec3::new(0.6, 0.16, 0.6));
+    let spacing = SPACING;
+    let (camera, target) = twin_camera(
+        app.world_mut(),
+        Transform::from_xyz(0.62, 0.42, 0.98).looking_at(Vec3::new(0.5, 0.08, 0.5), Vec3::Y),
+        SphSurface::default(),
+    );
+    let world = app.world_mut();
     world.init_resource::<Captured>();
     for _ in 0..5 {
         app.update();
@@ -545,31 +556,17 @@ fn the_whitewater_pass_matches_its_cpu_twin() {
     });
     app.update();
     common::step_to(&mut app, 120);
-    let world = app.world_mut();
-    let mut image =
-        Image::new_target_texture(TWIN_WIDTH, TWIN_HEIGHT, TextureFormat::Rgba32Float, None);
-    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
-    let target = world.resource_mut::<Assets<Image>>().add(image);
     let settings = SphSurface {
         resolution_scale: 1.0,
         debug_view: SphSurfaceDebugView::Whitewater,
         ..default()
     };
-    let camera = world
-        .spawn((
-            Camera3d::default(),
-            Camera {
-                clear_color: ClearColorConfig::Custom(CLEAR),
-                ..default()
-            },
-            RenderTarget::Image(target.clone().into()),
-            Hdr,
-            Tonemapping::None,
-            Msaa::Off,
-            Transform::from_xyz(0.25, 0.35, 0.75).looking_at(Vec3::new(0.28, 0.08, 0.1), Vec3::Y),
-            settings.clone(),
-        ))
-        .id();
+    let (camera, target) = twin_camera(
+        app.world_mut(),
+        Transform::from_xyz(0.25, 0.35, 0.75).looking_at(Vec3::new(0.28, 0.08, 0.1), Vec3::Y),
+        settings.clone(),
+    );
+    let world = app.world_mut();
     world.init_resource::<Captured>();
     let gpu = draw_debug_view(&mut app, camera, &target, settings.clone());
 
