@@ -1,7 +1,7 @@
 //! `SphWhitewater` on the CPU backend: still water sheds nothing, water thrown against a wall
 //! sheds diffuse particles counted by class, a refused setting is named and the whitewater
-//! running before stays, and removing the resource turns it off. The GPU backend names why it
-//! has none.
+//! running before stays, and removing the resource turns it off. The GPU backend's are in
+//! `gpu_whitewater.rs`.
 
 mod common;
 
@@ -104,18 +104,6 @@ fn a_refused_setting_is_named_the_running_whitewater_stays_and_removal_turns_it_
     assert_eq!(stats.whitewater, None);
     assert_eq!(stats.whitewater_error, None);
     assert_no_diffuse_particles(&app);
-}
-
-#[test]
-fn the_gpu_backend_names_why_it_has_no_whitewater() {
-    let mut app = headless_app(1_000, SphBackend::Gpu);
-    app.insert_resource(SphWhitewater::default());
-    app.update();
-    let stats = app.world().resource::<SphStats>();
-    assert_eq!(stats.backend, SphBackend::Gpu);
-    let error = stats.whitewater_error.clone().unwrap_or_default();
-    assert!(error.contains("CPU backend only"), "{error:?}");
-    assert_eq!(stats.whitewater, None);
 }
 
 #[test]

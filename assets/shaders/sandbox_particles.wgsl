@@ -42,8 +42,9 @@ const STRONG: vec3<f32> = vec3<f32>(0.02, 0.2, 0.85);
 fn vertex(v: Vertex) -> VertexOutput {
     var out: VertexOutput;
     let i = u32(v.slot.x + 0.5);
-    if i >= draw.count {
-        // Unused slot: a degenerate triangle outside the clip volume.
+    // Unused slot, or an empty one of the GPU's whitewater pool (w < 0).
+    if i >= draw.count || (draw.color_mode == 4u && positions[i].w < 0.0) {
+        // A degenerate triangle outside the clip volume.
         out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
         return out;
     }

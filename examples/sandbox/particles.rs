@@ -235,7 +235,7 @@ pub fn sync_diffuse_mesh(
         return;
     };
     let shown = view.mode == crate::surface::RenderMode::Particles && !view.hide_water;
-    let count = diffuse.position.len() as u32;
+    let count = diffuse.slots;
     let Some((material, mut visibility)) = current else {
         let material = materials.add(ParticleMaterial {
             positions: buffer.clone(),

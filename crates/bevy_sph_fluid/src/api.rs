@@ -265,7 +265,7 @@ pub struct SphStats {
     /// The diffuse particles by class, while whitewater runs (`crate::whitewater`).
     pub whitewater: Option<SphWhitewaterCounts>,
     /// Why the `SphWhitewater` asked for does not run: a setting refused by name (the
-    /// whitewater before it runs on), or a backend without whitewater.
+    /// whitewater before it runs on).
     pub whitewater_error: Option<String>,
     /// Compute dispatches in the last step (GPU backend).
     pub dispatches_per_step: u32,

@@ -173,6 +173,26 @@ pub struct SphFrame {
     /// divergence-free solve (`crate::dfsph_budget`); a solve that converges sooner leaves the
     /// rest as empty dispatches.
     pub dfsph_iterations: [u32; 2],
+    /// Whitewater's stages run, with these settings and buffers (`crate::whitewater::gpu`).
+    pub whitewater: Option<GpuWhitewaterFrame>,
+}
+
+/// Whitewater on the GPU backend, as the render world runs it.
+#[derive(Clone, Debug)]
+pub struct GpuWhitewaterFrame {
+    /// The settings (validated).
+    pub settings: sph_core::whitewater::settings::WhitewaterSettings,
+    /// The diffuse pool's slots.
+    pub capacity: u32,
+    /// Bumped when the pool starts again empty (new settings or capacity).
+    pub generation: u64,
+    /// The main world's copy of the slots' (position, class) for drawing, capacity long.
+    pub draw: Handle<bevy::render::storage::ShaderBuffer>,
+    /// The main world's copy of the counters (`GpuDiffuseCounts`), read back every frame.
+    pub counts: Handle<bevy::render::storage::ShaderBuffer>,
+    /// The main world's copy of each fluid particle's potentials, in the state's order (for
+    /// checks: what the shedding saw at the last step).
+    pub potentials: Handle<bevy::render::storage::ShaderBuffer>,
 }
 
 impl SphFrame {

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 
 mod translate;
 
-const LIBRARY: [(&str, &str); 13] = [
+const LIBRARY: [(&str, &str); 14] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -63,20 +63,31 @@ const LIBRARY: [(&str, &str); 13] = [
         "dfsph.wgsl",
         include_str!("../src/render/solvers/dfsph/dfsph.wgsl"),
     ),
+    (
+        "whitewater.wgsl",
+        include_str!("../src/render/whitewater/whitewater.wgsl"),
+    ),
 ];
 
 /// The WGSL of a registered stage: `sph_<stem>` lives in `stages/<stem>.wgsl` (the shared
-/// stages) or in its solver's folder, `solvers/<solver>/<stem>.wgsl`.
+/// stages), in its solver's folder, `solvers/<solver>/<stem>.wgsl`, or in its feature's
+/// (`whitewater/<stem>.wgsl`).
 fn stage_source(stage: &GpuStage) -> (String, String) {
     let stem = stage
         .name
         .strip_prefix("sph_")
         .unwrap_or_else(|| panic!("{}: stage names start with sph_", stage.name));
     let render = format!("{}/src/render", env!("CARGO_MANIFEST_DIR"));
-    let source = ["stages", "solvers/wcsph", "solvers/dfsph", "solvers/pbf"]
-        .iter()
-        .find_map(|folder| std::fs::read_to_string(format!("{render}/{folder}/{stem}.wgsl")).ok())
-        .unwrap_or_else(|| panic!("{stem}.wgsl is in no stage folder under {render}"));
+    let source = [
+        "stages",
+        "solvers/wcsph",
+        "solvers/dfsph",
+        "solvers/pbf",
+        "whitewater",
+    ]
+    .iter()
+    .find_map(|folder| std::fs::read_to_string(format!("{render}/{folder}/{stem}.wgsl")).ok())
+    .unwrap_or_else(|| panic!("{stem}.wgsl is in no stage folder under {render}"));
     (format!("{stem}.wgsl"), source)
 }
 
@@ -358,7 +369,12 @@ fn every_uniform_field_sits_where_the_rust_layout_puts_it() {
         dfsph_density_warm_start, dfsph_divergence_warm_start, dfsph_max_correction, drain_frame,
         open_drains, drains_unused_z, drains_unused_w, dfsph_divergence_over_relaxation,
         dfsph_density_over_relaxation, boundary_friction, unmirrored_samples, contact_radius,
-        contact_modulus, max_surface_pressure, surface_margin, buffer_at,
+        contact_modulus, max_surface_pressure, surface_margin, whitewater_trapped_air_min,
+        whitewater_trapped_air_max, whitewater_wave_crest_min, whitewater_wave_crest_max,
+        whitewater_kinetic_min, whitewater_kinetic_max, whitewater_trapped_air_rate,
+        whitewater_wave_crest_rate, whitewater_spray_below, whitewater_bubble_above,
+        whitewater_lifetime_min, whitewater_lifetime_max, whitewater_buoyancy, whitewater_drag,
+        whitewater_capacity, whitewater_seed, buffer_at,
     );
 
     assert_eq!(wgsl_members("sph_density", "SphUniforms"), rust);
@@ -443,6 +459,68 @@ fn u32_constant(stage: &str, name: &str) -> u32 {
         naga::Expression::Literal(naga::Literal::U32(v)) => v,
         ref other => panic!("{name} is {other:?}"),
     }
+}
+
+/// The whitewater counters' word indices are `GpuDiffuseCounts`'s fields, in its order.
+#[test]
+fn the_whitewater_counters_sit_where_the_rust_layout_puts_them() {
+    use sph_core::gpu_layout::GpuDiffuseCounts;
+    // Each constant from a stage that uses it (naga keeps only what a module uses).
+    let (shed, advect, normals) = (
+        "sph_whitewater_shed",
+        "sph_whitewater_advect",
+        "sph_whitewater_normals",
+    );
+    let expected = [
+        (
+            "DIFFUSE_FREE",
+            shed,
+            std::mem::offset_of!(GpuDiffuseCounts, free),
+        ),
+        (
+            "DIFFUSE_BORN",
+            shed,
+            std::mem::offset_of!(GpuDiffuseCounts, born),
+        ),
+        (
+            "DIFFUSE_DROPPED",
+            shed,
+            std::mem::offset_of!(GpuDiffuseCounts, dropped),
+        ),
+        (
+            "DIFFUSE_EXPIRED",
+            advect,
+            std::mem::offset_of!(GpuDiffuseCounts, expired),
+        ),
+        (
+            "DIFFUSE_SPRAY",
+            shed,
+            std::mem::offset_of!(GpuDiffuseCounts, spray),
+        ),
+        (
+            "DIFFUSE_FOAM",
+            normals,
+            std::mem::offset_of!(GpuDiffuseCounts, foam),
+        ),
+        (
+            "DIFFUSE_BUBBLES",
+            normals,
+            std::mem::offset_of!(GpuDiffuseCounts, bubbles),
+        ),
+        (
+            "DIFFUSE_HIGH_WATER",
+            shed,
+            std::mem::offset_of!(GpuDiffuseCounts, high_water),
+        ),
+    ];
+    for (name, stage, offset) in expected {
+        assert_eq!(u32_constant(stage, name), (offset / 4) as u32, "{name}");
+    }
+    // The classes count at DIFFUSE_SPRAY + class (0 spray, 1 foam, 2 bubble).
+    assert_eq!(
+        u32_constant(normals, "DIFFUSE_BUBBLES"),
+        u32_constant(normals, "DIFFUSE_SPRAY") + 2
+    );
 }
 
 #[test]

@@ -203,6 +203,8 @@ pub enum CpuStage {
     Forces,
     /// Integration phases ([`crate::integrate`]).
     Integrate,
+    /// Whitewater's diffuse particles after a step ([`crate::whitewater::ihmsen2012`]).
+    Whitewater,
     /// WCSPH's own stages.
     Wcsph(WcsphStage),
     /// DFSPH's own stages.

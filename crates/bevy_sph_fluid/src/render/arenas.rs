@@ -108,7 +108,9 @@ impl Buf {
             | Buf::SortedAcceleration
             | Buf::SortedAccelerationStart
             | Buf::Checkpoint
-            | Buf::DfsphMirror => Arena::ParticleScratch,
+            | Buf::DfsphMirror
+            | Buf::DiffuseState
+            | Buf::WhitewaterFluid => Arena::ParticleScratch,
             Buf::CellOf
             | Buf::RankInCell
             | Buf::CellStart
@@ -118,8 +120,9 @@ impl Buf {
             | Buf::BucketEnd
             | Buf::NeighborCount
             | Buf::NeighborLists
-            | Buf::BoundaryCellStart => Arena::Grid,
-            Buf::CellCounts => Arena::CellCounts,
+            | Buf::BoundaryCellStart
+            | Buf::DiffuseFree => Arena::Grid,
+            Buf::CellCounts | Buf::DiffuseCounts => Arena::CellCounts,
             Buf::Clock | Buf::BodyForces | Buf::Pumps | Buf::Probes => Arena::Shared,
             Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::Meshes => Arena::Boundary,
             Buf::BoundaryBody => Arena::BoundaryBody,

@@ -83,11 +83,21 @@ pub enum Buf {
     /// DFSPH: the boundary's mirrored share of each particle's factor, (Σ_b g_ib over the
     /// samples that mirror κ_i, 1 when they do), written with the factors after each sort.
     DfsphMirror,
+    /// Whitewater: the diffuse pool's slots, (position, class: 0 spray, 1 foam, 2 bubble, -1
+    /// empty) in the first `diffuse capacity` elements, then (velocity, lifetime left).
+    DiffuseState,
+    /// Whitewater: per fluid particle, its surface normal n̂ (Ihmsen et al. 2012), then its
+    /// potentials (trapped air, wave crest, kinetic energy, shedding rate [1/s]).
+    WhitewaterFluid,
+    /// Whitewater: the diffuse pool's free list, popped from the end.
+    DiffuseFree,
+    /// Whitewater: the pool's counters (`sph_core::gpu_layout::GpuDiffuseCounts`), atomic.
+    DiffuseCounts,
 }
 
 impl Buf {
     /// Every logical buffer, in the order its arena packs them.
-    pub const ALL: [Buf; 37] = [
+    pub const ALL: [Buf; 41] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -125,5 +135,9 @@ impl Buf {
         Buf::DfsphPairs,
         Buf::PressureEos,
         Buf::DfsphMirror,
+        Buf::DiffuseState,
+        Buf::WhitewaterFluid,
+        Buf::DiffuseFree,
+        Buf::DiffuseCounts,
     ];
 }

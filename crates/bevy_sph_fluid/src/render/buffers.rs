@@ -40,6 +40,8 @@ pub const READABLE: [Buf; 9] = [
 pub struct GpuBuffers {
     /// Particle slots.
     pub capacity: u32,
+    /// Whitewater's diffuse particle slots (0 without whitewater).
+    pub diffuse_capacity: u32,
     /// Grid cells per axis.
     pub grid_dims: UVec3,
     /// The variant the buffers were sized for.
@@ -215,6 +217,22 @@ pub struct SphGpuState {
     /// Whether the boundary samples on the GPU do not mirror DFSPH's stiffness (a dynamic
     /// collider is among them; `GpuSphParams::unmirrored_samples`).
     pub boundary_unmirrored: bool,
+    /// The whitewater pool's generation the buffers hold (`None`: not emptied yet).
+    pub whitewater_generation: Option<u64>,
+    /// The main world's buffers whitewater publishes to.
+    pub whitewater_targets: Option<WhitewaterTargets>,
+}
+
+/// The main world's copies whitewater's buffers are published to: the slots for drawing, the
+/// counters, the fluid's potentials.
+#[derive(Clone, Debug)]
+pub struct WhitewaterTargets {
+    /// `capacity` vec4: (position, class or -1).
+    pub draw: Buffer,
+    /// `GpuDiffuseCounts`.
+    pub counts: Buffer,
+    /// Per fluid particle: (trapped air, wave crest, kinetic energy, rate).
+    pub potentials: Buffer,
 }
 
 /// New particles waiting for upload: first slot, positions (w = id), velocities.
@@ -230,10 +248,21 @@ pub(super) fn storage_buffer(device: &RenderDevice, label: &'static str, bytes: 
     })
 }
 
-/// Each logical buffer's size [bytes], at index `Buf as usize`: the normals and the hash arrays
-/// only when the variant needs them (a 16-byte placeholder keeps their region valid otherwise).
-pub fn buffer_sizes(capacity: u32, grid_dims: UVec3, key: VariantKey) -> Vec<u64> {
+/// Each logical buffer's size [bytes], at index `Buf as usize`: the normals, the hash arrays and
+/// whitewater's `diffuse_capacity` diffuse particles only when the variant needs them (a 16-byte
+/// placeholder keeps their region valid otherwise).
+pub fn buffer_sizes(
+    capacity: u32,
+    grid_dims: UVec3,
+    key: VariantKey,
+    diffuse_capacity: u32,
+) -> Vec<u64> {
     let n = capacity as u64;
+    let diffuse = if key.whitewater {
+        diffuse_capacity as u64
+    } else {
+        0
+    };
     let cells = (grid_dims.x * grid_dims.y * grid_dims.z) as u64;
     let hash = key.search == NeighborSearch::Hash;
     let sort_len = if hash { sort_length(capacity) } else { 0 };
@@ -275,6 +304,14 @@ pub fn buffer_sizes(capacity: u32, grid_dims: UVec3, key: VariantKey) -> Vec<u64
             Buf::PressureEos => 16,
             Buf::DfsphMirror if key.solver == Solver::Dfsph => 16 * n,
             Buf::DfsphMirror => 16,
+            Buf::DiffuseState => 2 * 16 * diffuse,
+            Buf::WhitewaterFluid if key.whitewater => 2 * 16 * n,
+            Buf::WhitewaterFluid => 16,
+            Buf::DiffuseFree => 4 * diffuse,
+            Buf::DiffuseCounts if key.whitewater => {
+                std::mem::size_of::<sph_core::gpu_layout::GpuDiffuseCounts>() as u64
+            }
+            Buf::DiffuseCounts => 16,
             // The shared structure's members have their own sizes.
             Buf::Clock | Buf::BodyForces | Buf::Pumps | Buf::Probes => 0,
             _ => 16 * n,
@@ -293,9 +330,10 @@ pub(super) fn allocate(
     capacity: u32,
     grid_dims: UVec3,
     key: VariantKey,
+    diffuse_capacity: u32,
     readable: [Buffer; 9],
 ) -> GpuBuffers {
-    let sizes = buffer_sizes(capacity, grid_dims, key);
+    let sizes = buffer_sizes(capacity, grid_dims, key, diffuse_capacity);
     let hash = key.search == NeighborSearch::Hash;
     let sort_len = if hash { sort_length(capacity) } else { 0 };
     let layout = ArenaLayout::of_sizes(&sizes);
@@ -329,6 +367,7 @@ pub(super) fn allocate(
         + steps.len() as u64 * BITONIC_STRIDE;
     GpuBuffers {
         capacity,
+        diffuse_capacity: if key.whitewater { diffuse_capacity } else { 0 },
         grid_dims,
         key,
         bytes,

@@ -1,7 +1,7 @@
 //! The render world, one way: the frame plan is extracted (`extract`), the GPU buffers
 //! (`buffers`: the logical buffers of `buf` packed into the arenas of `arenas`) are prepared
 //! (`prepare`), the pipelines of the scene's stage list are queued and bound (`pipelines`, from
-//! the registry in `stages` and the solvers' folders in `solvers`), and `simulate` encodes the
+//! the registry in `stages`, the solvers' folders in `solvers` and `whitewater`), and `simulate` encodes the
 //! stages once per force evaluation of every step, then copies the state where the main world
 //! reads it. This module only wires them.
 
@@ -17,6 +17,7 @@ pub mod simulate;
 pub mod solvers;
 pub mod stage;
 pub mod stages;
+pub mod whitewater;
 
 use crate::sets::{SphGraphSystems, SphStep};
 use crate::shared::SphRenderFeedback;
@@ -40,6 +41,7 @@ pub(crate) fn build(app: &mut App) {
     load_shader_library!(app, "shaders/speculative_contact.wgsl");
     load_shader_library!(app, "solvers/pbf/pbf.wgsl");
     load_shader_library!(app, "solvers/dfsph/dfsph.wgsl");
+    load_shader_library!(app, "whitewater/whitewater.wgsl");
     let mut embedded = Vec::new();
     for stage in stages::all_stages() {
         if !embedded.contains(&stage.name) {

@@ -105,7 +105,7 @@ pub(crate) fn queue_sph_pipelines(
     if !frame.active {
         return;
     }
-    let key = VariantKey::of(&frame.params, frame.neighbor_counts);
+    let key = VariantKey::of_frame(&frame);
     if pipelines.variants.contains_key(&key) {
         return;
     }

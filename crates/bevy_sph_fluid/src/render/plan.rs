@@ -23,6 +23,8 @@ pub struct VariantKey {
     pub solver: Solver,
     /// PBF's vorticity confinement stages (off: they are not in the list and cost nothing).
     pub vorticity: bool,
+    /// Whitewater's stages (`render::whitewater`; off: not in the list, no buffers).
+    pub whitewater: bool,
 }
 
 impl VariantKey {
@@ -43,13 +45,16 @@ impl VariantKey {
                                 (Solver::Dfsph, false),
                             ]
                             .into_iter()
-                            .map(move |(solver, vorticity)| VariantKey {
-                                search,
-                                surface_tension,
-                                viscosity,
-                                neighbor_counts,
-                                solver,
-                                vorticity,
+                            .flat_map(move |(solver, vorticity)| {
+                                flags.into_iter().map(move |whitewater| VariantKey {
+                                    search,
+                                    surface_tension,
+                                    viscosity,
+                                    neighbor_counts,
+                                    solver,
+                                    vorticity,
+                                    whitewater,
+                                })
                             })
                         })
                     })
@@ -68,6 +73,16 @@ impl VariantKey {
             neighbor_counts,
             solver: params.solver,
             vorticity: pbf && params.pbf.vorticity_epsilon > 0.0,
+            whitewater: false,
+        }
+    }
+
+    /// The variant a frame of the GPU backend runs: its parameters', with whitewater's stages
+    /// while it is on.
+    pub fn of_frame(frame: &crate::shared::SphFrame) -> Self {
+        Self {
+            whitewater: frame.whitewater.is_some(),
+            ..Self::of(&frame.params, frame.neighbor_counts)
         }
     }
 
@@ -147,6 +162,9 @@ pub struct EvaluationPlan {
     pub pbf: PbfPhase,
     /// The DFSPH phase of this pass over the list (`None` with WCSPH and PBF).
     pub dfsph: DfsphPhase,
+    /// The step's first pass that sorts: whitewater's stages run after its sort, where the
+    /// grid and the state agree.
+    pub step_first_sort: bool,
 }
 
 impl EvaluationPlan {

@@ -4,9 +4,10 @@
 //! and the boundary, mark the forces stale where the state changed, and write the uniform block.
 
 use super::arenas::{Arena, ArenaLayout};
-use super::buffers::{allocate, buffer_sizes, Buf, GpuBuffers, SphGpuState};
+use super::buffers::{allocate, buffer_sizes, Buf, GpuBuffers, SphGpuState, WhitewaterTargets};
 use super::extract::ExtractedSphFrame;
 use super::plan::VariantKey;
+use super::whitewater;
 use crate::api::STATUS_PREPARING_BUFFERS;
 use crate::shared::SphRenderFeedback;
 use bevy::prelude::*;
@@ -20,6 +21,9 @@ use sph_core::gpu_layout::{
 };
 use sph_core::neighbor::grid::DenseGrid;
 use sph_core::Solver;
+
+/// The shedding's seed: the CPU solver's, so both backends name the same scene's stream.
+const WHITEWATER_SEED: u32 = sph_core::solver::whitewater::WHITEWATER_SEED as u32;
 
 /// The device and its queue.
 struct Gpu<'a> {
@@ -68,18 +72,18 @@ pub(crate) fn prepare_sph_buffers(
             return;
         }
     };
-    let key = VariantKey::of(&frame.params, frame.neighbor_counts);
-    let reallocated = needs_allocation(&state, &frame, grid.dims, key, &readable);
+    let key = VariantKey::of_frame(&frame);
+    let diffuse = frame.whitewater.as_ref().map_or(0, |w| w.capacity);
+    state.whitewater_targets = whitewater_targets(&frame, &assets);
+    let reallocated = needs_allocation(&state, &frame, grid.dims, key, diffuse, &readable);
     if reallocated {
         // Buffers in place were checked when they were allocated.
-        if let Err(reason) = fits_the_device(&device, &frame, grid.dims, key) {
+        if let Err(reason) = fits_the_device(&device, &frame, grid.dims, key, diffuse) {
             state.status = Some(reason);
             state.bind_groups.clear();
             return;
         }
-        reallocate(
-            &gpu, &feedback, &mut state, &frame, grid.dims, key, readable,
-        );
+        reallocate(&gpu, &feedback, &mut state, &frame, grid.dims, readable);
     }
     state.status = None;
     let Some(buffers) = state.buffers.clone() else {
@@ -87,6 +91,14 @@ pub(crate) fn prepare_sph_buffers(
     };
     let pumps = write_frame_inputs(&gpu, &buffers, &frame);
     upload_spawns(&gpu, &buffers, &mut state, &frame);
+    let white = frame.whitewater.as_ref().filter(|_| buffers.key.whitewater);
+    if let Some(white) = white {
+        // A new pool, new buffers or a reset: the pool starts empty.
+        if state.whitewater_generation != Some(white.generation) || reallocated || frame.reset {
+            whitewater::empty_the_pool(&buffers, &queue);
+            state.whitewater_generation = Some(white.generation);
+        }
+    }
     note_changes(&gpu, &buffers, &mut state, &frame, reallocated);
     let mut uniforms = GpuSphParams::with_grid(
         &frame.params,
@@ -103,6 +115,9 @@ pub(crate) fn prepare_sph_buffers(
     )
     .with_wall_force(frame.wall_force)
     .with_drains(frame.number, pumps.sink_count);
+    if let Some(white) = white {
+        uniforms = uniforms.with_whitewater(&white.settings, white.capacity, WHITEWATER_SEED);
+    }
     if let Some((duration, number)) = frame.budget {
         uniforms = uniforms.with_frame_budget(duration, frame.steps, number);
     }
@@ -155,12 +170,26 @@ fn readable_buffers(
     readable.try_into().ok()
 }
 
+/// The main world's whitewater buffers, once they exist on the device.
+fn whitewater_targets(
+    frame: &ExtractedSphFrame,
+    assets: &RenderAssets<GpuShaderBuffer>,
+) -> Option<WhitewaterTargets> {
+    let white = frame.whitewater.as_ref()?;
+    Some(WhitewaterTargets {
+        draw: assets.get(&white.draw)?.buffer.clone(),
+        counts: assets.get(&white.counts)?.buffer.clone(),
+        potentials: assets.get(&white.potentials)?.buffer.clone(),
+    })
+}
+
 /// Refuses, by name, a scene the device's buffers cannot hold.
 fn fits_the_device(
     device: &RenderDevice,
     frame: &ExtractedSphFrame,
     grid_dims: UVec3,
     key: VariantKey,
+    diffuse: u32,
 ) -> Result<(), String> {
     if key.solver == Solver::Dfsph && frame.capacity > gpu_dfsph_pairs::MAX_PARTICLES {
         return Err(format!(
@@ -170,7 +199,7 @@ fn fits_the_device(
             frame.capacity
         ));
     }
-    let sizes = buffer_sizes(frame.capacity, grid_dims, key);
+    let sizes = buffer_sizes(frame.capacity, grid_dims, key, diffuse);
     let layout = ArenaLayout::of_sizes(&sizes);
     let limits = device.limits();
     let most = limits
@@ -192,17 +221,20 @@ fn fits_the_device(
     }
 }
 
-/// Whether the buffers must be (re)allocated: none yet, or a new capacity, grid, variant or
-/// readable buffer.
+/// Whether the buffers must be (re)allocated: none yet, or a new capacity, grid, variant,
+/// whitewater pool or readable buffer.
 fn needs_allocation(
     state: &SphGpuState,
     frame: &ExtractedSphFrame,
     grid_dims: UVec3,
     key: VariantKey,
+    diffuse: u32,
     readable: &[Buffer; 9],
 ) -> bool {
     state.buffers.as_ref().is_none_or(|b| {
         b.capacity != frame.capacity
+            || b.key.whitewater != key.whitewater
+            || b.diffuse_capacity != diffuse
             || b.grid_dims != grid_dims
             || b.key.search != key.search
             || b.key.surface_tension != key.surface_tension
@@ -223,10 +255,18 @@ fn reallocate(
     state: &mut SphGpuState,
     frame: &ExtractedSphFrame,
     grid_dims: UVec3,
-    key: VariantKey,
     readable: [Buffer; 9],
 ) {
-    let buffers = allocate(gpu.device, frame.capacity, grid_dims, key, readable);
+    let key = VariantKey::of_frame(frame);
+    let diffuse = frame.whitewater.as_ref().map_or(0, |w| w.capacity);
+    let buffers = allocate(
+        gpu.device,
+        frame.capacity,
+        grid_dims,
+        key,
+        diffuse,
+        readable,
+    );
     // Submitted before this frame's writes, which the queue applies at its next submission.
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     buffers.restore(&mut encoder);

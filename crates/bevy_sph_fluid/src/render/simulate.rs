@@ -44,6 +44,14 @@ pub fn sph_publish_state(
     }
     if let Some(buffers) = &state.buffers {
         buffers.publish(ctx.command_encoder(), state.particle_count);
+        if let Some(targets) = &state.whitewater_targets {
+            super::whitewater::publish(
+                buffers,
+                ctx.command_encoder(),
+                targets,
+                state.particle_count,
+            );
+        }
     }
 }
 
@@ -54,7 +62,7 @@ pub fn sph_simulate(world: &mut World) {
         return;
     }
     let (steps, params, dfsph_iterations) = (frame.steps, frame.params, frame.dfsph_iterations);
-    let key = VariantKey::of(&params, frame.neighbor_counts);
+    let key = VariantKey::of_frame(frame);
     let feedback = world.resource::<SphRenderFeedback>().clone();
     let state = world.resource::<SphGpuState>();
     let Some(gpu_buffers) = state
@@ -96,13 +104,15 @@ pub fn sph_simulate(world: &mut World) {
     let mut last_step_dispatches = 0;
     for step in 0..steps {
         let before = world.resource::<StageRun>().dispatches;
-        for (k, plan) in step_plans(&params, forces_stale, dfsph_iterations)
-            .into_iter()
-            .enumerate()
-        {
+        let plans = step_plans(&params, forces_stale, dfsph_iterations);
+        let first_sort = plans.iter().position(EvaluationPlan::sorts);
+        for (k, plan) in plans.into_iter().enumerate() {
             {
                 let mut run = world.resource_mut::<StageRun>();
-                run.plan = plan;
+                run.plan = EvaluationPlan {
+                    step_first_sort: Some(k) == first_sort,
+                    ..plan
+                };
                 // The first step's first evaluation, or every phase of a PBF or DFSPH step (each
                 // of its stages runs in some phases; the iterations' passes are timed in the
                 // last).

@@ -15,8 +15,13 @@ struct WhitewaterVarying {
 
 @vertex
 fn vertex(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u32) -> WhitewaterVarying {
-    let quad = billboard_vertex(vertex, slot, surface.diffuse_count, surface.diffuse_radius);
     var out: WhitewaterVarying;
+    // An empty slot of the GPU's pool (w < 0) draws nothing.
+    if slot < surface.diffuse_count && positions[slot].w < 0.0 {
+        out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
+        return out;
+    }
+    let quad = billboard_vertex(vertex, slot, surface.diffuse_count, surface.diffuse_radius);
     out.clip = quad.clip;
     out.on_quad = quad.on_quad;
     out.center = quad.center;

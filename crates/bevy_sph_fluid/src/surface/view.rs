@@ -51,9 +51,9 @@ pub struct SurfaceParticles {
     /// Particle spacing Δx [m] of the running parameters.
     pub spacing: f32,
     /// The diffuse particles' `array<vec4<f32>>` (xyz the position, w the class: 0 spray,
-    /// 1 foam, 2 bubble), while whitewater is on.
+    /// 1 foam, 2 bubble, negative an empty slot), while whitewater is on.
     pub diffuse: Option<Handle<ShaderBuffer>>,
-    /// Live diffuse particles (slots `0..diffuse_count`).
+    /// The slots worth drawing (`SphDiffuseParticles::slots`).
     pub diffuse_count: u32,
     /// The container's corners [m], once the simulation has one.
     pub container: Option<(Vec3, Vec3)>,
@@ -93,7 +93,7 @@ pub(crate) fn extract_sph_surfaces(
         count: sim.particle_count,
         spacing: sim.frame.params.spacing(),
         diffuse: diffuse.as_ref().and_then(|d| d.buffer.clone()),
-        diffuse_count: diffuse.as_ref().map_or(0, |d| d.position.len() as u32),
+        diffuse_count: diffuse.as_ref().map_or(0, |d| d.slots),
         container: sim.container.as_ref().map(|c| (c.min(), c.max())),
     });
 }

@@ -6,6 +6,7 @@
 pub mod body_forces;
 pub mod clock;
 pub mod colliders;
+pub mod diffuse;
 pub mod params;
 pub mod particles;
 pub mod probes;
@@ -16,6 +17,7 @@ pub mod sizes;
 pub use body_forces::*;
 pub use clock::*;
 pub use colliders::*;
+pub use diffuse::*;
 pub use params::*;
 pub use particles::*;
 pub use probes::*;

@@ -194,14 +194,47 @@ pub struct GpuSphParams {
     /// The speculative contact's margin from the solids' surfaces [m]
     /// ([`crate::boundary::speculative_contact::SURFACE_MARGIN`] Δx).
     pub surface_margin: f32,
+    /// Whitewater (Ihmsen et al. 2012, [`crate::whitewater`]): the trapped-air potential's
+    /// limits τ_min, τ_max [m/s] ([`Self::with_whitewater`]; zero while whitewater is off).
+    pub whitewater_trapped_air_min: f32,
+    /// τ_max of the trapped-air potential [m/s].
+    pub whitewater_trapped_air_max: f32,
+    /// τ_min of the wave-crest potential.
+    pub whitewater_wave_crest_min: f32,
+    /// τ_max of the wave-crest potential.
+    pub whitewater_wave_crest_max: f32,
+    /// τ_min of the kinetic-energy potential [J/kg].
+    pub whitewater_kinetic_min: f32,
+    /// τ_max of the kinetic-energy potential [J/kg].
+    pub whitewater_kinetic_max: f32,
+    /// k_ta [1/s].
+    pub whitewater_trapped_air_rate: f32,
+    /// k_wc [1/s].
+    pub whitewater_wave_crest_rate: f32,
+    /// A diffuse particle with fewer fluid neighbours is spray.
+    pub whitewater_spray_below: u32,
+    /// A diffuse particle with more fluid neighbours is a bubble.
+    pub whitewater_bubble_above: u32,
+    /// The shortest foam lifetime drawn at birth [s].
+    pub whitewater_lifetime_min: f32,
+    /// The longest foam lifetime drawn at birth [s].
+    pub whitewater_lifetime_max: f32,
+    /// Bubbles' buoyancy k_b.
+    pub whitewater_buoyancy: f32,
+    /// Bubbles' drag k_d.
+    pub whitewater_drag: f32,
+    /// The diffuse pool's slots (0: whitewater off).
+    pub whitewater_capacity: u32,
+    /// The seed of the shedding's random numbers.
+    pub whitewater_seed: u32,
     /// Where each packed storage buffer starts in its arena, in elements, at index `Buf as
     /// usize` (`bevy_sph_fluid::render::arenas`): four to a 16-byte row, so the uniform layout
     /// has no padding. WGSL reads it through `sph::bindings`'s `*_at` functions.
     pub buffer_at: [[u32; 4]; BUFFER_AT_ROWS],
 }
 
-/// The rows of [`GpuSphParams::buffer_at`]: room for 40 storage buffers.
-pub const BUFFER_AT_ROWS: usize = 10;
+/// The rows of [`GpuSphParams::buffer_at`]: room for 44 storage buffers.
+pub const BUFFER_AT_ROWS: usize = 11;
 
 impl GpuSphParams {
     /// The uniform block for `params` in `container`, `capacity` slots and `particle_count` live
@@ -316,9 +349,53 @@ impl GpuSphParams {
             contact_modulus: contact.modulus,
             max_surface_pressure: crate::stage::max_surface_pressure(params),
             surface_margin: crate::boundary::speculative_contact::SURFACE_MARGIN * contact.radius,
+            whitewater_trapped_air_min: 0.0,
+            whitewater_trapped_air_max: 0.0,
+            whitewater_wave_crest_min: 0.0,
+            whitewater_wave_crest_max: 0.0,
+            whitewater_kinetic_min: 0.0,
+            whitewater_kinetic_max: 0.0,
+            whitewater_trapped_air_rate: 0.0,
+            whitewater_wave_crest_rate: 0.0,
+            whitewater_spray_below: 0,
+            whitewater_bubble_above: 0,
+            whitewater_lifetime_min: 0.0,
+            whitewater_lifetime_max: 0.0,
+            whitewater_buoyancy: 0.0,
+            whitewater_drag: 0.0,
+            whitewater_capacity: 0,
+            whitewater_seed: 0,
             // Set by the plugin from its arenas' layout.
             buffer_at: [[0; 4]; BUFFER_AT_ROWS],
         }
+    }
+
+    /// The same block with whitewater on: `settings`, a pool of `capacity` diffuse particles and
+    /// the shedding's `seed`.
+    pub fn with_whitewater(
+        mut self,
+        settings: &crate::whitewater::settings::WhitewaterSettings,
+        capacity: u32,
+        seed: u32,
+    ) -> Self {
+        let s = settings;
+        self.whitewater_trapped_air_min = s.trapped_air.min;
+        self.whitewater_trapped_air_max = s.trapped_air.max;
+        self.whitewater_wave_crest_min = s.wave_crest.min;
+        self.whitewater_wave_crest_max = s.wave_crest.max;
+        self.whitewater_kinetic_min = s.kinetic_energy.min;
+        self.whitewater_kinetic_max = s.kinetic_energy.max;
+        self.whitewater_trapped_air_rate = s.trapped_air_rate;
+        self.whitewater_wave_crest_rate = s.wave_crest_rate;
+        self.whitewater_spray_below = s.spray_below;
+        self.whitewater_bubble_above = s.bubble_above;
+        self.whitewater_lifetime_min = s.lifetime.0;
+        self.whitewater_lifetime_max = s.lifetime.1;
+        self.whitewater_buoyancy = s.buoyancy;
+        self.whitewater_drag = s.drag;
+        self.whitewater_capacity = capacity;
+        self.whitewater_seed = seed;
+        self
     }
 
     /// The same block with a frame budget: `duration` seconds split among `steps` steps on the

@@ -10,7 +10,7 @@ use crate::whitewater::settings::{check_capacity, WhitewaterSettings};
 pub use crate::whitewater::settings::MAX_WHITEWATER_CAPACITY;
 
 /// The seed of a solver's whitewater: the same scene sheds the same diffuse particles.
-const WHITEWATER_SEED: u64 = 0x5EED;
+pub const WHITEWATER_SEED: u64 = 0x5EED;
 
 impl CpuSolver {
     /// Turns whitewater on with `settings` and a pool of `capacity` diffuse particles (an empty

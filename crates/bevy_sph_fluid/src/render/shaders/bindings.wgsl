@@ -18,14 +18,16 @@
 @group(0) @binding(2) var<storage, read_write> particle_scalars: array<f32>;
 // The scatter's sorted copies; the rollback checkpoint, three capacity-long runs (position,
 // velocity, acceleration, see shaders/checkpoint.wgsl); DFSPH's boundary share of each
-// particle's factor, (Σ_b g_ib over the samples that mirror κ_i, 1 when they do, else 0).
+// particle's factor, (Σ_b g_ib over the samples that mirror κ_i, 1 when they do, else 0);
+// whitewater's diffuse particles and, per fluid particle, its normal and potentials.
 @group(0) @binding(3) var<storage, read_write> particle_scratch: array<vec4<f32>>;
 // Grid mode: each particle's cell and rank in it, exclusive cell offsets. Hash mode: the
 // bitonic network's (key, particle) pairs, per-bucket start + 1 and end. Neighbours within h of
 // each particle (NEIGHBOR_COUNT), and PBF's and DFSPH's lists of the step's neighbours
 // (neighbour k of particle i at list_slot(i, k)). The boundary samples' exclusive cell offsets.
+// Whitewater's free list.
 @group(0) @binding(4) var<storage, read_write> grid: array<u32>;
-// Grid mode: per-cell counts.
+// Grid mode: per-cell counts. Whitewater's counters (render/whitewater/whitewater.wgsl).
 @group(0) @binding(5) var<storage, read_write> cell_counts: array<atomic<u32>>;
 // The frame's pumps (shaders/pumps.wgsl) and probes (shaders/probes.wgsl), the clock, and the
 // fluid's force on each body over the frame (written by the forces pass, read back).
@@ -60,6 +62,7 @@ fn sorted_acceleration_at(i: u32) -> u32 { return params.buffer_at[3].x + i; }
 fn sorted_acceleration_start_at(i: u32) -> u32 { return params.buffer_at[3].y + i; }
 fn cell_of_at(i: u32) -> u32 { return params.buffer_at[3].z + i; }
 fn rank_in_cell_at(i: u32) -> u32 { return params.buffer_at[3].w + i; }
+fn cell_counts_at(i: u32) -> u32 { return params.buffer_at[4].x + i; }
 fn cell_start_at(i: u32) -> u32 { return params.buffer_at[4].y + i; }
 fn sort_keys_at(i: u32) -> u32 { return params.buffer_at[4].z + i; }
 fn sort_values_at(i: u32) -> u32 { return params.buffer_at[4].w + i; }
@@ -74,3 +77,7 @@ fn meshes_at(i: u32) -> u32 { return params.buffer_at[8].y + i; }
 fn neighbor_lists_at(i: u32) -> u32 { return params.buffer_at[8].z + i; }
 fn pressure_eos_at(i: u32) -> u32 { return params.buffer_at[9].x + i; }
 fn dfsph_mirror_at(i: u32) -> u32 { return params.buffer_at[9].y + i; }
+fn diffuse_state_at(i: u32) -> u32 { return params.buffer_at[9].z + i; }
+fn whitewater_fluid_at(i: u32) -> u32 { return params.buffer_at[9].w + i; }
+fn diffuse_free_at(i: u32) -> u32 { return params.buffer_at[10].x + i; }
+fn diffuse_counts_at(i: u32) -> u32 { return params.buffer_at[10].y + i; }

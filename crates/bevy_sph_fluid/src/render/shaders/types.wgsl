@@ -174,9 +174,29 @@ struct SphUniforms {
     // The speculative contact's margin from the solids' surfaces [m]
     // (sph_core::boundary::speculative_contact::SURFACE_MARGIN Δx).
     surface_margin: f32,
+    // Whitewater (Ihmsen et al. 2012; GpuSphParams::with_whitewater, zero while it is off): the
+    // potentials' limits (trapped air [m/s], wave crest, kinetic energy [J/kg]), the rates k_ta
+    // and k_wc [1/s], the classes' neighbour bounds, the foam's lifetimes [s], the bubbles'
+    // buoyancy and drag, the pool's slots (0: off) and the shedding's seed.
+    whitewater_trapped_air_min: f32,
+    whitewater_trapped_air_max: f32,
+    whitewater_wave_crest_min: f32,
+    whitewater_wave_crest_max: f32,
+    whitewater_kinetic_min: f32,
+    whitewater_kinetic_max: f32,
+    whitewater_trapped_air_rate: f32,
+    whitewater_wave_crest_rate: f32,
+    whitewater_spray_below: u32,
+    whitewater_bubble_above: u32,
+    whitewater_lifetime_min: f32,
+    whitewater_lifetime_max: f32,
+    whitewater_buoyancy: f32,
+    whitewater_drag: f32,
+    whitewater_capacity: u32,
+    whitewater_seed: u32,
     // Where each packed storage buffer starts in its arena, in elements, at index `Buf as usize`
     // (bevy_sph_fluid::render::arenas), four to a row; read through sph::bindings's `*_at`.
-    buffer_at: array<vec4<u32>, 10>,
+    buffer_at: array<vec4<u32>, 11>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).

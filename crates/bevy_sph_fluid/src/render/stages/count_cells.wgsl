@@ -8,7 +8,7 @@
 //               Algorithm 1, line 8: the move after the constant-density solve)
 // (skipped while the clock is frozen), after the rollback checkpoint is saved or restored
 // (APPLY_CHECKPOINT: the roles that run right after the time-step pass), then the grid count (cell, rank by atomicAdd, per-cell count) or the hash key of every slot.
-#import sph::bindings::{params, particle_state, position_at, velocity_at, velocity_predicted_at, acceleration_at, acceleration_start_at, grid, cell_of_at, rank_in_cell_at, cell_counts, sort_keys_at, sort_values_at, shared_state}
+#import sph::bindings::{params, particle_state, position_at, velocity_at, velocity_predicted_at, acceleration_at, acceleration_start_at, grid, cell_of_at, rank_in_cell_at, cell_counts, cell_counts_at, sort_keys_at, sort_values_at, shared_state}
 #import sph::pumps::in_open_sink
 #import sph::types::{drained, DRAINED_BIT}
 #import sph::guard::guard
@@ -117,6 +117,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #else
     let cell = grid_index(grid_cell(x));
     grid[cell_of_at(i)] = cell;
-    grid[rank_in_cell_at(i)] = atomicAdd(&cell_counts[cell], 1u);
+    grid[rank_in_cell_at(i)] = atomicAdd(&cell_counts[cell_counts_at(cell)], 1u);
 #endif
 }

@@ -18,6 +18,7 @@ pub mod time_step;
 use super::plan::VariantKey;
 use super::solvers::{dfsph, pbf, wcsph};
 use super::stage::GpuStage;
+use super::whitewater;
 use sph_core::{NeighborSearch, Solver};
 
 /// The stages of one force evaluation of a scene of `key` (with PBF and DFSPH, of one step), in
@@ -32,6 +33,8 @@ pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
         NeighborSearch::Hash => list.extend([&bitonic_sort::STAGE, &hash_offsets::STAGE]),
     }
     list.push(&scatter::STAGE);
+    // Once a step, where the sort left the grid and the state in agreement.
+    list.extend(whitewater::stage_list(key));
     list.extend(match key.solver {
         Solver::Wcsph => wcsph::stage_list(key),
         Solver::Dfsph => dfsph::stage_list(key),
@@ -125,6 +128,7 @@ mod tests {
                     neighbor_counts: false,
                     solver: Solver::Pbf,
                     vorticity,
+                    whitewater: false,
                 };
                 let list = stage_list(&key);
                 let mut runs: Vec<(&str, usize)> = Vec::new();
@@ -254,7 +258,7 @@ mod tests {
     #[test]
     fn names_are_unique_except_the_two_places_of_the_time_step() {
         let all = all_stages();
-        assert_eq!(all.len(), 24, "every stage file, the time step twice");
+        assert_eq!(all.len(), 27, "every stage file, the time step twice");
         let mut names: Vec<&str> = all.iter().map(|s| s.name).collect();
         names.sort_unstable();
         names.dedup();

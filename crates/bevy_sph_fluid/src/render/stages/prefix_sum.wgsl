@@ -2,7 +2,7 @@
 // (cell_count + 1 entries; the drained particles, in no cell, land after cell_start[cell_count]
 // and their count goes to the clock), in one workgroup: serial chunk sums, a Hillis-Steele scan of the
 // 256 chunk sums in workgroup memory, then each chunk writes its offsets.
-#import sph::bindings::{params, cell_counts, grid, cell_start_at, shared_state}
+#import sph::bindings::{params, cell_counts, cell_counts_at, grid, cell_start_at, shared_state}
 
 const THREADS: u32 = #{WORKGROUP_SIZE}u;
 
@@ -17,7 +17,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
     let end = min(begin + chunk, n);
     var sum = 0u;
     for (var c = begin; c < end; c++) {
-        sum += atomicLoad(&cell_counts[c]);
+        sum += atomicLoad(&cell_counts[cell_counts_at(c)]);
     }
     partial[t] = sum;
     workgroupBarrier();
@@ -33,7 +33,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
     var running = partial[t] - sum;
     for (var c = begin; c < end; c++) {
         grid[cell_start_at(c)] = running;
-        running += atomicLoad(&cell_counts[c]);
+        running += atomicLoad(&cell_counts[cell_counts_at(c)]);
     }
     if t == THREADS - 1u {
         // The live particles in cells; the drained ones follow (their cell is n).

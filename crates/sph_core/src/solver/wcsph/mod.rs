@@ -230,10 +230,11 @@ impl WcsphStep<'_> {
                         compute_accelerations(ctx, neighbors, &input, &mut p.acceleration)
                     });
                 }
-                // The integrator's phases (placed by `advance`); the other solvers' stages are
-                // never in WCSPH's list.
+                // The integrator's phases (placed by `advance`), whitewater (after a stable
+                // step); the other solvers' stages are never in WCSPH's list.
                 CpuStage::TimeStep
                 | CpuStage::Integrate
+                | CpuStage::Whitewater
                 | CpuStage::NeighborLists
                 | CpuStage::Dfsph(_)
                 | CpuStage::Pbf(_) => {}
