@@ -2,8 +2,8 @@
 //! the CPU twin (`sph_core::whitewater::ihmsen2012::FluidView`) on the same state, the particles
 //! born in a step agree with the count the twin expects within Poisson noise, every particle
 //! born is alive or counted dead, still water sheds nothing, the classes' counts agree with the
-//! CPU backend's on the same scene within a stated tolerance, and removing the resource turns
-//! it off.
+//! CPU backend's on the same scene within a stated tolerance (a thrown block with WCSPH, the
+//! pipe's jet into a basin with PBF), and removing the resource turns it off.
 
 mod common;
 
@@ -300,4 +300,81 @@ fn still_water_on_the_gpu_sheds_nothing_and_a_bad_setting_is_named() {
     let error = stats.whitewater_error.unwrap_or_default();
     assert!(error.contains("whitewater.capacity"), "{error:?}");
     assert!(stats.whitewater.is_some(), "the whitewater before runs on");
+}
+
+/// The diffuse particles' (position, class) of a GPU app's pool, empty slots left out.
+fn gpu_diffuse_particles(app: &mut App) -> Vec<(Vec3, u32)> {
+    let handle = app.world().resource::<SphDiffuseParticles>().buffer.clone();
+    let bytes = read_buffer(app, handle.expect("the drawing buffer"));
+    bytes
+        .chunks_exact(16)
+        .filter_map(|c| {
+            let f: [f32; 4] = std::array::from_fn(|k| {
+                f32::from_le_bytes(c[4 * k..4 * k + 4].try_into().unwrap())
+            });
+            (f[3] >= 0.0).then(|| (Vec3::new(f[0], f[1], f[2]), f[3] as u32))
+        })
+        .collect()
+}
+
+/// The median of `values`.
+fn median(mut values: Vec<f32>) -> f32 {
+    values.sort_by(f32::total_cmp);
+    values[values.len() / 2]
+}
+
+/// PBF's prediction is fused into the sort the stages follow: they take its g dt back, or foam
+/// on still water would sink (and turn to bubbles) at g dt.
+#[test]
+fn the_pipes_foam_on_the_gpu_matches_the_cpu_backends_in_count_and_place() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let steps = 300;
+    let mut figures = Vec::new();
+    for backend in [SphBackend::Cpu, SphBackend::Gpu] {
+        let mut app = shipped_scene_app("scenes/basin_jet.ron", backend, |_| {});
+        app.insert_resource(SphWhitewater::default());
+        step_to(&mut app, steps);
+        let counts = settled_counts(&mut app);
+        let particles: Vec<(Vec3, u32)> = if backend == SphBackend::Cpu {
+            let d = app.world().resource::<SphDiffuseParticles>();
+            d.position
+                .iter()
+                .zip(&d.kind)
+                .map(|(p, k)| (*p, *k as u32))
+                .collect()
+        } else {
+            gpu_diffuse_particles(&mut app)
+        };
+        let foam_x: Vec<f32> = particles
+            .iter()
+            .filter(|p| p.1 == 1)
+            .map(|p| p.0.x)
+            .collect();
+        println!(
+            "{backend:?}: {counts:?}, foam's median x {:.3} m",
+            median(foam_x.clone())
+        );
+        let live = counts.spray + counts.foam + counts.bubbles;
+        assert_eq!(
+            particles.len(),
+            live as usize,
+            "{backend:?}: the pool holds the live ones"
+        );
+        figures.push((counts, median(foam_x)));
+    }
+    let ((cpu, cpu_x), (gpu, gpu_x)) = (figures[0], figures[1]);
+    for (name, c, g) in [
+        ("born", cpu.born as f64, gpu.born as f64),
+        ("foam", cpu.foam as f64, gpu.foam as f64),
+        ("bubbles", cpu.bubbles as f64, gpu.bubbles as f64),
+    ] {
+        assert!(
+            (c - g).abs() <= 0.25 * c.max(g).max(20.0),
+            "{name}: CPU {c}, GPU {g}"
+        );
+    }
+    assert!(
+        (cpu_x - gpu_x).abs() <= 0.05,
+        "foam's median x: CPU {cpu_x}, GPU {gpu_x}"
+    );
 }

@@ -3,7 +3,7 @@
 // counters, the scaled kernel W̃, the clamping Φ, the classes and the random numbers.
 #define_import_path sph::whitewater
 
-#import sph::bindings::{params, shared_state}
+#import sph::bindings::{params, shared_state, particle_state, velocity_at}
 
 // The counters' words in the cell_counts arena, in sph_core::gpu_layout::GpuDiffuseCounts's
 // order.
@@ -22,6 +22,19 @@ const EMPTY_SLOT: f32 = -1.0;
 // Below this share of h, a particle's normal sum is the bulk's: no surface
 // (ihmsen2012::SURFACE_THRESHOLD).
 const SURFACE_THRESHOLD: f32 = 0.2;
+
+// Fluid particle j's velocity as the last step left it. The stages run after the step's first
+// sort, into which PBF's prediction is fused: it has added g dt already (Macklin & Müller 2013,
+// Algorithm 1, line 2), and its density constraint takes that back later in the step. Read as
+// it is, still water would move down at g dt and foam riding it would sink.
+fn fluid_velocity(j: u32) -> vec3<f32> {
+    let v = particle_state[velocity_at(j)].xyz;
+#ifdef SOLVER_PBF
+    return v - params.gravity * shared_state.clock.dt;
+#else
+    return v;
+#endif
+}
 
 // W̃(r) = 1 - r/h within h, else 0 (eq. 2).
 fn scaled_weight(r: f32) -> f32 {

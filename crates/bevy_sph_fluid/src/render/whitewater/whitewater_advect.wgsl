@@ -4,9 +4,9 @@
 // ages, bubbles rise (-k_b g) and are dragged towards ṽ (k_d). Foam at the end of its lifetime
 // and any particle outside the container dies: its slot is emptied and pushed on the free list.
 // Rust twin: sph_core::whitewater::ihmsen2012::Whitewater::step (advect, then the deaths).
-#import sph::bindings::{params, particle_state, position_at, velocity_at, particle_scratch, diffuse_state_at, grid, diffuse_free_at, cell_counts, diffuse_counts_at, shared_state}
+#import sph::bindings::{params, particle_state, position_at, particle_scratch, diffuse_state_at, grid, diffuse_free_at, cell_counts, diffuse_counts_at, shared_state}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
-#import sph::whitewater::{scaled_weight, classify, EMPTY_SLOT, DIFFUSE_FREE, DIFFUSE_EXPIRED, DIFFUSE_SPRAY}
+#import sph::whitewater::{scaled_weight, classify, fluid_velocity, EMPTY_SLOT, DIFFUSE_FREE, DIFFUSE_EXPIRED, DIFFUSE_SPRAY}
 
 // The fluid around a point: neighbours within h, and their W̃-weighted mean velocity (zero
 // without neighbours).
@@ -30,7 +30,7 @@ fn fluid_around(x: vec3<f32>) -> Around {
                 let w = scaled_weight(sqrt(r2));
                 out.count += 1u;
                 weight += w;
-                sum += particle_state[velocity_at(j)].xyz * w;
+                sum += fluid_velocity(j) * w;
             }
         }
     }

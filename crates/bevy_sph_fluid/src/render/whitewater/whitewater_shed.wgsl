@@ -10,9 +10,9 @@
 // sweeps over the step, with that velocity plus its offset from the axis (eqs. 8-9). The
 // potentials and the rate go to the second half of whitewater_fluid, for checks.
 // Rust twin: sph_core::whitewater::ihmsen2012 (FluidView::potentials, shed_count, Whitewater).
-#import sph::bindings::{params, particle_state, position_at, velocity_at, particle_scratch, whitewater_fluid_at, diffuse_state_at, grid, diffuse_free_at, cell_counts, diffuse_counts_at, shared_state}
+#import sph::bindings::{params, particle_state, position_at, particle_scratch, whitewater_fluid_at, diffuse_state_at, grid, diffuse_free_at, cell_counts, diffuse_counts_at, shared_state}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
-#import sph::whitewater::{scaled_weight, clamp_potential, random, DIFFUSE_FREE, DIFFUSE_BORN, DIFFUSE_DROPPED, DIFFUSE_SPRAY, DIFFUSE_HIGH_WATER}
+#import sph::whitewater::{scaled_weight, clamp_potential, random, fluid_velocity, DIFFUSE_FREE, DIFFUSE_BORN, DIFFUSE_DROPPED, DIFFUSE_SPRAY, DIFFUSE_HIGH_WATER}
 
 // The most diffuse particles one fluid particle sheds in a step; the rest are counted as dropped
 // (a bound on the loop for settings and steps far beyond the defaults: 10,000/s at the largest
@@ -71,7 +71,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let x_i = particle_state[position_at(i)].xyz;
-    let v_i = particle_state[velocity_at(i)].xyz;
+    let v_i = fluid_velocity(i);
     let n_i = particle_scratch[whitewater_fluid_at(i)].xyz;
     let c = home_cell(x_i);
     var trapped_air = 0.0;
@@ -88,7 +88,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             let r = sqrt(r2);
             let w = scaled_weight(r);
             let x_hat = x_ij / r;
-            let v_ij = v_i - particle_state[velocity_at(j)].xyz;
+            let v_ij = v_i - fluid_velocity(j);
             let speed = length(v_ij);
             if speed > 0.0 {
                 trapped_air += speed * (1.0 - dot(v_ij / speed, x_hat)) * w;
