@@ -249,6 +249,14 @@ impl Whitewater {
             .collect();
         self.pool.remove_where(|i| dead[i]);
         for i in 0..fluid.len() {
+            // Φ_k = 0 multiplies the other potentials: a slow particle sheds nothing, and its
+            // neighbour loop is skipped (its draw is still taken, so that the particles after
+            // it see the same random numbers either way).
+            let kinetic = 0.5 * fluid.velocities[i].length_squared();
+            if self.settings.kinetic_energy.clamp(kinetic) <= 0.0 {
+                self.rng.next_f32();
+                continue;
+            }
             let expected = shed_count(&self.settings, &fluid.potentials(i), dt);
             let whole = expected.floor();
             let count = whole as u32 + u32::from(self.rng.next_f32() < expected - whole);

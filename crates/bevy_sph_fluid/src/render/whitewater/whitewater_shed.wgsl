@@ -8,7 +8,9 @@
 // part, and one more with the remainder's probability, each popped from the free list (counted
 // as dropped when it is empty) and placed at random in the cylinder of radius Δx/2 its velocity
 // sweeps over the step, with that velocity plus its offset from the axis (eqs. 8-9). The
-// potentials and the rate go to the second half of whitewater_fluid, for checks.
+// potentials and the rate go to the second half of whitewater_fluid, for checks. A particle
+// slower than the kinetic energy's lower limit sheds nothing whatever its other potentials
+// (Φ_k = 0 multiplies them): it skips their neighbour loop and records them as -1.
 // Rust twin: sph_core::whitewater::ihmsen2012 (FluidView::potentials, shed_count, Whitewater).
 #import sph::bindings::{params, particle_state, position_at, particle_scratch, whitewater_fluid_at, diffuse_state_at, grid, diffuse_free_at, cell_counts, diffuse_counts_at, shared_state}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
@@ -72,6 +74,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let x_i = particle_state[position_at(i)].xyz;
     let v_i = fluid_velocity(i);
+    let kinetic_energy = 0.5 * dot(v_i, v_i);
+    let kinetic = clamp_potential(kinetic_energy, params.whitewater_kinetic_min, params.whitewater_kinetic_max);
+    if kinetic <= 0.0 {
+        particle_scratch[whitewater_fluid_at(params.capacity + i)] = vec4<f32>(-1.0, -1.0, kinetic_energy, 0.0);
+        return;
+    }
     let n_i = particle_scratch[whitewater_fluid_at(i)].xyz;
     let c = home_cell(x_i);
     var trapped_air = 0.0;
@@ -105,8 +113,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if speed > 0.0 && dot(v_i / speed, n_i) >= 0.6 {
         wave_crest = curvature;
     }
-    let kinetic_energy = 0.5 * dot(v_i, v_i);
-    let rate = clamp_potential(kinetic_energy, params.whitewater_kinetic_min, params.whitewater_kinetic_max)
+    let rate = kinetic
         * (params.whitewater_trapped_air_rate
             * clamp_potential(trapped_air, params.whitewater_trapped_air_min, params.whitewater_trapped_air_max)
             + params.whitewater_wave_crest_rate
