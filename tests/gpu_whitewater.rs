@@ -179,7 +179,11 @@ fn the_gpu_potentials_and_births_match_the_cpu_twin() {
         let g = gpu[slot];
         if g[0] < 0.0 {
             // Too slow to shed: the stage skipped the other potentials.
-            assert_eq!(settings.kinetic_energy.clamp(cpu.kinetic_energy), 0.0, "{cpu:?}");
+            assert_eq!(
+                settings.kinetic_energy.clamp(cpu.kinetic_energy),
+                0.0,
+                "{cpu:?}"
+            );
             assert!((g[2] - cpu.kinetic_energy).abs() <= 1e-6 + 1e-3 * cpu.kinetic_energy);
             assert_eq!(g[3], 0.0);
             skipped += 1;

@@ -392,3 +392,48 @@ pub(super) fn allocate(
         }),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sph_core::SphParams;
+
+    /// Without whitewater its four buffers are 16-byte placeholders; with it, the pool's and the
+    /// fluid's regions grow with their capacities.
+    #[test]
+    fn whitewater_buffers_exist_only_with_whitewater() {
+        let whitewater = [
+            Buf::DiffuseState,
+            Buf::WhitewaterFluid,
+            Buf::DiffuseFree,
+            Buf::DiffuseCounts,
+        ];
+        let off = VariantKey::of(&SphParams::water(), false);
+        let on = VariantKey {
+            whitewater: true,
+            ..off
+        };
+        let dims = UVec3::splat(8);
+        let sizes = buffer_sizes(1_000, dims, off, 65_536);
+        for buf in whitewater {
+            assert!(
+                sizes[buf as usize] <= 16,
+                "{buf:?}: {}",
+                sizes[buf as usize]
+            );
+        }
+        let sizes = buffer_sizes(1_000, dims, on, 4_096);
+        assert_eq!(sizes[Buf::DiffuseState as usize], 2 * 16 * 4_096);
+        assert_eq!(sizes[Buf::WhitewaterFluid as usize], 2 * 16 * 1_000);
+        assert_eq!(sizes[Buf::DiffuseFree as usize], 4 * 4_096);
+        assert_eq!(sizes[Buf::DiffuseCounts as usize], 32);
+        // The rest is the same either way.
+        let (a, b) = (
+            buffer_sizes(1_000, dims, off, 0),
+            buffer_sizes(1_000, dims, on, 4_096),
+        );
+        for buf in Buf::ALL.into_iter().filter(|b| !whitewater.contains(b)) {
+            assert_eq!(a[buf as usize], b[buf as usize], "{buf:?}");
+        }
+    }
+}

@@ -63,6 +63,7 @@ pub fn all_stages() -> Vec<&'static GpuStage> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::plan::EvaluationPlan;
     use sph_core::solver::dfsph::step_stages as dfsph_step_stages;
     use sph_core::solver::pbf::step_stages as pbf_step_stages;
     use sph_core::solver::wcsph::step_stages as evaluation_stages;
@@ -250,6 +251,69 @@ mod tests {
                     assert!(at("sph_dfsph_reactions", 0) < at("sph_count_cells", 4));
                     assert!(at("sph_count_cells", 4) < at("sph_dfsph_source", 5 - warm as usize));
                     assert_eq!(runs.last().unwrap().0, "sph_dfsph_reactions");
+                }
+            }
+        }
+    }
+
+    /// With whitewater, its three stages follow the scatter and run once a step, after the
+    /// step's first sort, in every solver's plans (DFSPH's without a stale neighbourhood sorts
+    /// first in its move); without it, none is in the list.
+    #[test]
+    fn whitewater_runs_once_a_step_after_the_first_sort_in_every_solver() {
+        use crate::render::solvers::step_plans;
+        let whitewater_stages = |list: &[&GpuStage]| {
+            list.iter()
+                .filter(|s| s.name.starts_with("sph_whitewater"))
+                .count()
+        };
+        for solver in [Solver::Wcsph, Solver::Pbf, Solver::Dfsph] {
+            for integrator in [
+                sph_core::Integrator::SymplecticEuler,
+                sph_core::Integrator::KickDriftKick,
+                sph_core::Integrator::Leapfrog,
+            ] {
+                for stale in [false, true] {
+                    let mut params = SphParams::water();
+                    params.use_solver(solver);
+                    params.integrator = integrator;
+                    let off = VariantKey::of(&params, false);
+                    assert_eq!(whitewater_stages(&stage_list(&off)), 0);
+                    let key = VariantKey {
+                        whitewater: true,
+                        ..off
+                    };
+                    let list = stage_list(&key);
+                    let scatter = list.iter().position(|s| s.name == "sph_scatter").unwrap();
+                    let names: Vec<&str> = list[scatter + 1..scatter + 4]
+                        .iter()
+                        .map(|s| s.name)
+                        .collect();
+                    assert_eq!(
+                        names,
+                        [
+                            "sph_whitewater_normals",
+                            "sph_whitewater_advect",
+                            "sph_whitewater_shed"
+                        ]
+                    );
+                    // As `sph_simulate` marks the plans.
+                    let plans = step_plans(&params, stale, [3, 3]);
+                    let first_sort = plans.iter().position(EvaluationPlan::sorts);
+                    let mut runs = 0;
+                    for (k, plan) in plans.into_iter().enumerate() {
+                        let plan = EvaluationPlan {
+                            step_first_sort: Some(k) == first_sort,
+                            ..plan
+                        };
+                        for stage in &list[scatter + 1..scatter + 4] {
+                            if (stage.role)(&plan).is_some() {
+                                assert!(plan.sorts());
+                                runs += 1;
+                            }
+                        }
+                    }
+                    assert_eq!(runs, 3, "{solver:?} {integrator:?} stale {stale}");
                 }
             }
         }
