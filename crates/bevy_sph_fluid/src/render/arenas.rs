@@ -121,8 +121,9 @@ impl Buf {
             | Buf::NeighborCount
             | Buf::NeighborLists
             | Buf::BoundaryCellStart
-            | Buf::DiffuseFree => Arena::Grid,
-            Buf::CellCounts | Buf::DiffuseCounts => Arena::CellCounts,
+            | Buf::DiffuseFree
+            | Buf::DiffuseOrder => Arena::Grid,
+            Buf::CellCounts | Buf::DiffuseCounts | Buf::DiffuseBins => Arena::CellCounts,
             Buf::Clock | Buf::BodyForces | Buf::Pumps | Buf::Probes => Arena::Shared,
             Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::Meshes => Arena::Boundary,
             Buf::BoundaryBody => Arena::BoundaryBody,

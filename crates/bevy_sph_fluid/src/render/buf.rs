@@ -93,11 +93,16 @@ pub enum Buf {
     DiffuseFree,
     /// Whitewater: the pool's counters (`sph_core::gpu_layout::GpuDiffuseCounts`), atomic.
     DiffuseCounts,
+    /// Whitewater: the live diffuse particles per grid cell, then (in place) each cell's first
+    /// rank in cell order; the last entry is the live total.
+    DiffuseBins,
+    /// Whitewater: the live slots in cell order, then each slot's cell and rank in its cell.
+    DiffuseOrder,
 }
 
 impl Buf {
     /// Every logical buffer, in the order its arena packs them.
-    pub const ALL: [Buf; 41] = [
+    pub const ALL: [Buf; 43] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -139,5 +144,7 @@ impl Buf {
         Buf::WhitewaterFluid,
         Buf::DiffuseFree,
         Buf::DiffuseCounts,
+        Buf::DiffuseBins,
+        Buf::DiffuseOrder,
     ];
 }

@@ -312,6 +312,9 @@ pub fn buffer_sizes(
                 std::mem::size_of::<sph_core::gpu_layout::GpuDiffuseCounts>() as u64
             }
             Buf::DiffuseCounts => 16,
+            Buf::DiffuseBins if key.whitewater => 4 * (cells + 1),
+            Buf::DiffuseBins => 16,
+            Buf::DiffuseOrder => 3 * 4 * diffuse,
             // The shared structure's members have their own sizes.
             Buf::Clock | Buf::BodyForces | Buf::Pumps | Buf::Probes => 0,
             _ => 16 * n,
@@ -407,6 +410,8 @@ mod tests {
             Buf::WhitewaterFluid,
             Buf::DiffuseFree,
             Buf::DiffuseCounts,
+            Buf::DiffuseBins,
+            Buf::DiffuseOrder,
         ];
         let off = VariantKey::of(&SphParams::water(), false);
         let on = VariantKey {
@@ -427,6 +432,8 @@ mod tests {
         assert_eq!(sizes[Buf::WhitewaterFluid as usize], 2 * 16 * 1_000);
         assert_eq!(sizes[Buf::DiffuseFree as usize], 4 * 4_096);
         assert_eq!(sizes[Buf::DiffuseCounts as usize], 32);
+        assert_eq!(sizes[Buf::DiffuseBins as usize], 4 * (8 * 8 * 8 + 1));
+        assert_eq!(sizes[Buf::DiffuseOrder as usize], 3 * 4 * 4_096);
         // The rest is the same either way.
         let (a, b) = (
             buffer_sizes(1_000, dims, off, 0),

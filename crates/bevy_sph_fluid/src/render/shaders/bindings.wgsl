@@ -25,9 +25,10 @@
 // bitonic network's (key, particle) pairs, per-bucket start + 1 and end. Neighbours within h of
 // each particle (NEIGHBOR_COUNT), and PBF's and DFSPH's lists of the step's neighbours
 // (neighbour k of particle i at list_slot(i, k)). The boundary samples' exclusive cell offsets.
-// Whitewater's free list.
+// Whitewater's free list and its slots in cell order.
 @group(0) @binding(4) var<storage, read_write> grid: array<u32>;
-// Grid mode: per-cell counts. Whitewater's counters (render/whitewater/whitewater.wgsl).
+// Grid mode: per-cell counts. Whitewater's counters (render/whitewater/whitewater.wgsl) and its
+// per-cell counts.
 @group(0) @binding(5) var<storage, read_write> cell_counts: array<atomic<u32>>;
 // The frame's pumps (shaders/pumps.wgsl) and probes (shaders/probes.wgsl), the clock, and the
 // fluid's force on each body over the frame (written by the forces pass, read back).
@@ -81,3 +82,5 @@ fn diffuse_state_at(i: u32) -> u32 { return params.buffer_at[9].z + i; }
 fn whitewater_fluid_at(i: u32) -> u32 { return params.buffer_at[9].w + i; }
 fn diffuse_free_at(i: u32) -> u32 { return params.buffer_at[10].x + i; }
 fn diffuse_counts_at(i: u32) -> u32 { return params.buffer_at[10].y + i; }
+fn diffuse_bins_at(i: u32) -> u32 { return params.buffer_at[10].z + i; }
+fn diffuse_order_at(i: u32) -> u32 { return params.buffer_at[10].w + i; }

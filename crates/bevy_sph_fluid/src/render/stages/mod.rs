@@ -256,7 +256,7 @@ mod tests {
         }
     }
 
-    /// With whitewater, its three stages follow the scatter and run once a step, after the
+    /// With whitewater, its six stages follow the scatter and run once a step, after the
     /// step's first sort, in every solver's plans (DFSPH's without a stale neighbourhood sorts
     /// first in its move); without it, none is in the list.
     #[test]
@@ -285,7 +285,7 @@ mod tests {
                     };
                     let list = stage_list(&key);
                     let scatter = list.iter().position(|s| s.name == "sph_scatter").unwrap();
-                    let names: Vec<&str> = list[scatter + 1..scatter + 4]
+                    let names: Vec<&str> = list[scatter + 1..scatter + 7]
                         .iter()
                         .map(|s| s.name)
                         .collect();
@@ -293,6 +293,9 @@ mod tests {
                         names,
                         [
                             "sph_whitewater_normals",
+                            "sph_whitewater_bin",
+                            "sph_whitewater_bin_offsets",
+                            "sph_whitewater_order",
                             "sph_whitewater_advect",
                             "sph_whitewater_shed"
                         ]
@@ -306,14 +309,14 @@ mod tests {
                             step_first_sort: Some(k) == first_sort,
                             ..plan
                         };
-                        for stage in &list[scatter + 1..scatter + 4] {
+                        for stage in &list[scatter + 1..scatter + 7] {
                             if (stage.role)(&plan).is_some() {
                                 assert!(plan.sorts());
                                 runs += 1;
                             }
                         }
                     }
-                    assert_eq!(runs, 3, "{solver:?} {integrator:?} stale {stale}");
+                    assert_eq!(runs, 6, "{solver:?} {integrator:?} stale {stale}");
                 }
             }
         }
@@ -322,7 +325,7 @@ mod tests {
     #[test]
     fn names_are_unique_except_the_two_places_of_the_time_step() {
         let all = all_stages();
-        assert_eq!(all.len(), 27, "every stage file, the time step twice");
+        assert_eq!(all.len(), 30, "every stage file, the time step twice");
         let mut names: Vec<&str> = all.iter().map(|s| s.name).collect();
         names.sort_unstable();
         names.dedup();

@@ -1,14 +1,19 @@
-//! Whitewater on the GPU (Ihmsen et al. 2012; CPU twin `sph_core::whitewater`): three stages run
+//! Whitewater on the GPU (Ihmsen et al. 2012; CPU twin `sph_core::whitewater`): its stages run
 //! once a step, right after the step's first sort, where the grid and the state agree:
-//! [`whitewater_normals`] (the surface normals), [`whitewater_advect`] (classify, move and
-//! retire the diffuse particles) and [`whitewater_shed`] (the potentials, and the particles they
-//! shed). The pool is a fixed set of slots with a free list and atomic counters
+//! [`whitewater_normals`] (the surface normals), a counting sort of the live diffuse particles
+//! by cell ([`whitewater_bin`], [`whitewater_bin_offsets`], [`whitewater_order`]: the order in
+//! which the advection visits them, so that neighbouring threads search the same cells),
+//! [`whitewater_advect`] (classify, move and retire the diffuse particles) and
+//! [`whitewater_shed`] (the potentials, and the particles they shed). The pool is a fixed set of slots with a free list and atomic counters
 //! (`sph_core::gpu_layout::GpuDiffuseCounts`); nothing is compacted, so a slot keeps its
 //! particle for life and the drawing skips empty slots. Without whitewater none of this is in
 //! the stage list and none of its buffers is allocated (`VariantKey::whitewater`).
 
 pub mod whitewater_advect;
+pub mod whitewater_bin;
+pub mod whitewater_bin_offsets;
 pub mod whitewater_normals;
+pub mod whitewater_order;
 pub mod whitewater_shed;
 
 use super::buffers::{Buf, GpuBuffers, WhitewaterTargets};
@@ -23,6 +28,9 @@ pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
     if key.whitewater {
         vec![
             &whitewater_normals::STAGE,
+            &whitewater_bin::STAGE,
+            &whitewater_bin_offsets::STAGE,
+            &whitewater_order::STAGE,
             &whitewater_advect::STAGE,
             &whitewater_shed::STAGE,
         ]

@@ -1,5 +1,5 @@
 //! Whitewater's advection and deaths (`whitewater_advect.wgsl`; CPU twin
-//! `sph_core::whitewater::ihmsen2012::Whitewater::step`), one thread per pool slot.
+//! `sph_core::whitewater::ihmsen2012::Whitewater::step`), one thread per live slot, in cell order.
 
 use crate::render::buffers::Buf;
 use crate::render::stage::{Dispatch, GpuStage};
@@ -22,6 +22,8 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::DiffuseState,
         Buf::DiffuseFree,
         Buf::DiffuseCounts,
+        Buf::DiffuseBins,
+        Buf::DiffuseOrder,
         Buf::Clock,
     ],
     workgroup_size: WORKGROUP_SIZE,

@@ -1,10 +1,11 @@
-// Whitewater's advection (Ihmsen et al. 2012, §4.3 and §5), one thread per pool slot: each
+// Whitewater's advection (Ihmsen et al. 2012, §4.3 and §5), one thread per live slot, in cell
+// order (whitewater_order): each
 // diffuse particle is classified by its fluid neighbours within h and moved over the last
 // step's dt: spray falls under gravity, foam takes the water's W̃-weighted mean velocity ṽ and
 // ages, bubbles rise (-k_b g) and are dragged towards ṽ (k_d). Foam at the end of its lifetime
 // and any particle outside the container dies: its slot is emptied and pushed on the free list.
 // Rust twin: sph_core::whitewater::ihmsen2012::Whitewater::step (advect, then the deaths).
-#import sph::bindings::{params, particle_state, position_at, particle_scratch, diffuse_state_at, grid, diffuse_free_at, cell_counts, diffuse_counts_at, shared_state}
+#import sph::bindings::{params, particle_state, position_at, particle_scratch, diffuse_state_at, grid, diffuse_free_at, diffuse_order_at, cell_counts, diffuse_counts_at, diffuse_bins_at, shared_state}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
 #import sph::whitewater::{scaled_weight, classify, fluid_velocity, EMPTY_SLOT, DIFFUSE_FREE, DIFFUSE_EXPIRED, DIFFUSE_SPRAY}
 
@@ -42,11 +43,13 @@ fn fluid_around(x: vec3<f32>) -> Around {
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let k = id.x;
+    // The live slots in cell order (whitewater_order), the count of them last.
+    let t = id.x;
     let capacity = params.whitewater_capacity;
-    if k >= capacity {
+    if t >= atomicLoad(&cell_counts[diffuse_bins_at(params.cell_count)]) {
         return;
     }
+    let k = grid[diffuse_order_at(t)];
     let state = particle_scratch[diffuse_state_at(k)];
     if state.w < 0.0 {
         return;
