@@ -1,5 +1,5 @@
 //! Whitewater on the CPU backend, the main world's side: the solver steps the diffuse particles
-//! after every stable step; [`sph_read_whitewater`] copies them out for drawing and counting.
+//! after every stable step; `sph_read_whitewater` copies them out for drawing and counting.
 
 use super::resources::{diffuse_class_w, SphDiffuseParticles};
 use crate::api::{SphBackend, SphStats, SphWhitewaterCounts};

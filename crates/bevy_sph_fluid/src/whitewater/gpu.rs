@@ -1,8 +1,8 @@
-//! Whitewater on the GPU backend, the main world's side: [`apply`] validates [`SphWhitewater`]
+//! Whitewater on the GPU backend, the main world's side: `apply` validates [`SphWhitewater`]
 //! and hands it to the render world in the frame plan (`SphFrame::whitewater`) with the buffers
 //! it copies into: the slots for drawing, the counters, the fluid's potentials. The diffuse
 //! particles stay on the device; only the counters are read back every frame
-//! ([`sph_read_gpu_whitewater`]), into [`SphStats::whitewater`] and the slots worth drawing.
+//! (`sph_read_gpu_whitewater`), into [`SphStats::whitewater`] and the slots worth drawing.
 
 use super::resources::{SphDiffuseParticles, SphWhitewater};
 use crate::api::{SphStats, SphWhitewaterCounts};
