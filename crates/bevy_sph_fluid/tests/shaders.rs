@@ -10,7 +10,7 @@ use std::collections::HashMap;
 
 mod translate;
 
-const LIBRARY: [(&str, &str); 14] = [
+const LIBRARY: [(&str, &str); 15] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -23,6 +23,7 @@ const LIBRARY: [(&str, &str); 14] = [
         "kernels.wgsl",
         include_str!("../src/render/shaders/kernels.wgsl"),
     ),
+    ("scan.wgsl", include_str!("../src/render/shaders/scan.wgsl")),
     (
         "neighbors.wgsl",
         include_str!("../src/render/shaders/neighbors.wgsl"),

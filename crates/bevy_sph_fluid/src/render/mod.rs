@@ -31,6 +31,7 @@ pub(crate) fn build(app: &mut App) {
     load_shader_library!(app, "shaders/types.wgsl");
     load_shader_library!(app, "shaders/bindings.wgsl");
     load_shader_library!(app, "shaders/kernels.wgsl");
+    load_shader_library!(app, "shaders/scan.wgsl");
     load_shader_library!(app, "shaders/neighbors.wgsl");
     load_shader_library!(app, "shaders/clock.wgsl");
     load_shader_library!(app, "shaders/checkpoint.wgsl");

@@ -1,12 +1,11 @@
 // Pass 2 of the grid sort: exclusive prefix sum of the per-cell counts into cell_start
 // (cell_count + 1 entries; the drained particles, in no cell, land after cell_start[cell_count]
-// and their count goes to the clock), in one workgroup: serial chunk sums, a Hillis-Steele scan of the
-// 256 chunk sums in workgroup memory, then each chunk writes its offsets.
+// and their count goes to the clock), in one workgroup: serial chunk sums, a scan of the chunk
+// sums in workgroup memory (sph::scan), then each chunk writes its offsets.
 #import sph::bindings::{params, cell_counts, cell_counts_at, grid, cell_start_at, shared_state}
+#import sph::scan::{workgroup_exclusive_scan, scan_total}
 
 const THREADS: u32 = #{WORKGROUP_SIZE}u;
-
-var<workgroup> partial: array<u32, #{WORKGROUP_SIZE}>;
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
@@ -19,25 +18,14 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
     for (var c = begin; c < end; c++) {
         sum += atomicLoad(&cell_counts[cell_counts_at(c)]);
     }
-    partial[t] = sum;
-    workgroupBarrier();
-    for (var offset = 1u; offset < THREADS; offset *= 2u) {
-        var add = 0u;
-        if t >= offset {
-            add = partial[t - offset];
-        }
-        workgroupBarrier();
-        partial[t] += add;
-        workgroupBarrier();
-    }
-    var running = partial[t] - sum;
+    var running = workgroup_exclusive_scan(t, sum);
     for (var c = begin; c < end; c++) {
         grid[cell_start_at(c)] = running;
         running += atomicLoad(&cell_counts[cell_counts_at(c)]);
     }
     if t == THREADS - 1u {
         // The live particles in cells; the drained ones follow (their cell is n).
-        grid[cell_start_at(n)] = partial[t];
+        grid[cell_start_at(n)] = scan_total();
         shared_state.clock.tail_size = atomicExchange(&shared_state.clock.marked, 0u);
         shared_state.clock.tail_frame = params.drain_frame;
     }

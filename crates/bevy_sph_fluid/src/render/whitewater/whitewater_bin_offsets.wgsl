@@ -1,12 +1,11 @@
 // Whitewater's counting sort, pass 2, in one workgroup: the per-cell counts become, in place,
-// each cell's first rank in cell order (an exclusive prefix sum: serial chunk sums, a
-// Hillis-Steele scan of the chunk sums in workgroup memory, then each chunk writes its offsets,
-// as the water's prefix_sum); entry cell_count receives the live total.
+// each cell's first rank in cell order (an exclusive prefix sum: serial chunk sums, a scan of
+// the chunk sums in workgroup memory, sph::scan, then each chunk writes its offsets, as the
+// water's prefix_sum); entry cell_count receives the live total.
 #import sph::bindings::{params, cell_counts, diffuse_bins_at}
+#import sph::scan::{workgroup_exclusive_scan, scan_total}
 
 const THREADS: u32 = #{WORKGROUP_SIZE}u;
-
-var<workgroup> partial: array<u32, #{WORKGROUP_SIZE}>;
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
@@ -19,24 +18,13 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
     for (var c = begin; c < end; c++) {
         sum += atomicLoad(&cell_counts[diffuse_bins_at(c)]);
     }
-    partial[t] = sum;
-    workgroupBarrier();
-    for (var offset = 1u; offset < THREADS; offset *= 2u) {
-        var add = 0u;
-        if t >= offset {
-            add = partial[t - offset];
-        }
-        workgroupBarrier();
-        partial[t] += add;
-        workgroupBarrier();
-    }
-    var running = partial[t] - sum;
+    var running = workgroup_exclusive_scan(t, sum);
     for (var c = begin; c < end; c++) {
         let count = atomicLoad(&cell_counts[diffuse_bins_at(c)]);
         atomicStore(&cell_counts[diffuse_bins_at(c)], running);
         running += count;
     }
     if t == THREADS - 1u {
-        atomicStore(&cell_counts[diffuse_bins_at(n)], partial[t]);
+        atomicStore(&cell_counts[diffuse_bins_at(n)], scan_total());
     }
 }
