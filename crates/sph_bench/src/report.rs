@@ -157,15 +157,17 @@ pub struct WhitewaterFigures {
     pub dropped: u64,
     /// Died over the run (foam at the end of its life, any leaving the container).
     pub expired: u64,
-    /// Whitewater steps taken.
+    /// Whitewater steps taken (CPU), or samples of the GPU's counts.
     pub steps: u64,
-    /// Wall-clock cost of a whitewater step, the water's view and its neighbour sort included,
-    /// mean [ms].
+    /// The cost of a whitewater step [ms]: on the CPU the wall clock of the post-process, the
+    /// water's view and its neighbour sort included (mean); on the GPU the GPU time of its
+    /// stages in a timed step.
     pub ms_per_step: f64,
-    /// [[t, spray, foam, bubbles]] after each step.
+    /// [[t, spray, foam, bubbles]] after each step (CPU) or sample (GPU).
     pub counts: Vec<[f64; 4]>,
     /// Where the foam lies at the end: the 5th and the 95th percentile of its positions along
-    /// each axis [m] (`None` without foam).
+    /// each axis [m] (`None` without foam, and on the GPU, whose diffuse particles stay on the
+    /// device).
     pub foam_extent: Option<[[f32; 3]; 2]>,
 }
 

@@ -209,6 +209,19 @@ pub struct Setup {
     pub whitewater: Option<sph_core::whitewater::settings::WhitewaterSettings>,
 }
 
+/// Diffuse particles the whitewater's pool holds per fluid slot of the scenario.
+pub const POOL_PER_PARTICLE: usize = 4;
+
+impl Setup {
+    /// The whitewater pool's slots: [`POOL_PER_PARTICLE`] per fluid slot, at most
+    /// `MAX_WHITEWATER_CAPACITY`.
+    pub fn whitewater_capacity(&self) -> usize {
+        self.capacity
+            .saturating_mul(POOL_PER_PARTICLE)
+            .min(sph_core::whitewater::settings::MAX_WHITEWATER_CAPACITY)
+    }
+}
+
 /// What a scene file adds to a setup.
 #[derive(Clone, Debug, Default)]
 pub struct SceneExtras {

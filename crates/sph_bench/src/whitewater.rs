@@ -1,17 +1,16 @@
 //! `--whitewater on`: the diffuse particles of Ihmsen et al. 2012 (`sph_core::whitewater`) over a
-//! run's water, stepped as a post-process on every state sample (every 0.01 s of simulated time)
-//! of either backend, with their counts per class and the cost of a step.
+//! run's water, with their counts per class and the cost of a step. On the CPU they are stepped
+//! as a post-process on every state sample (every 0.01 s of simulated time); on the GPU the
+//! plugin's whitewater stages run them every step, and each sample reads their counts.
 
 use crate::report::WhitewaterFigures;
 use crate::scenarios::Setup;
 use crate::sim::State;
+use bevy_sph_fluid::prelude::SphWhitewaterCounts;
 use sph_core::whitewater::ihmsen2012::{FluidView, Whitewater};
 use sph_core::whitewater::pool::DiffuseKind;
 use sph_core::whitewater::settings::WhitewaterSettings;
 use std::time::Instant;
-
-/// Diffuse particles the pool holds per fluid slot of the scenario.
-pub const POOL_PER_PARTICLE: usize = 4;
 
 /// The pool and its running figures.
 pub(crate) struct WhitewaterSampler {
@@ -19,12 +18,15 @@ pub(crate) struct WhitewaterSampler {
     last_time: Option<f64>,
     figures: WhitewaterFigures,
     ms_sum: f64,
+    /// The counts came from the simulation's own whitewater (the GPU's stages).
+    on_the_device: bool,
 }
 
 impl WhitewaterSampler {
-    /// An empty pool of [`POOL_PER_PARTICLE`] slots per fluid slot of `setup`, with `settings`.
-    pub(crate) fn new(setup: &Setup, settings: WhitewaterSettings) -> Self {
-        let capacity = setup.capacity.saturating_mul(POOL_PER_PARTICLE);
+    /// An empty pool of `setup`'s whitewater capacity ([`Setup::whitewater_capacity`]), with
+    /// `settings`; or, `on_the_device`, a reader of the simulation's own whitewater.
+    pub(crate) fn new(setup: &Setup, settings: WhitewaterSettings, on_the_device: bool) -> Self {
+        let capacity = setup.whitewater_capacity();
         Self {
             whitewater: Whitewater::new(settings, setup.scene.container, capacity, 1),
             last_time: None,
@@ -33,7 +35,26 @@ impl WhitewaterSampler {
                 ..Default::default()
             },
             ms_sum: 0.0,
+            on_the_device,
         }
+    }
+
+    /// Whether the simulation runs the whitewater itself (the GPU's stages).
+    pub(crate) fn on_the_device(&self) -> bool {
+        self.on_the_device
+    }
+
+    /// A sample of the simulation's own whitewater at `time`: its counts as read back.
+    pub(crate) fn record_counts(&mut self, time: f64, counts: SphWhitewaterCounts) {
+        let f = &mut self.figures;
+        f.steps += 1;
+        (f.born, f.dropped, f.expired) = (counts.born, counts.dropped, counts.expired);
+        let [spray, foam, bubbles] =
+            [counts.spray, counts.foam, counts.bubbles].map(|n| n as usize);
+        (f.spray, f.foam, f.bubbles) = (spray, foam, bubbles);
+        f.counts
+            .push([time, spray as f64, foam as f64, bubbles as f64]);
+        f.most_alive = f.most_alive.max(spray + foam + bubbles);
     }
 
     /// One whitewater step over `state` at `time`, of the simulated time since the last sample
@@ -71,8 +92,17 @@ impl WhitewaterSampler {
         Ok(())
     }
 
-    /// The figures of the run.
-    pub(crate) fn finish(mut self) -> WhitewaterFigures {
+    /// The figures of the run; `stage_ms` are the simulation's per-stage times of a step (the
+    /// GPU's whitewater stages among them when it ran its own).
+    pub(crate) fn finish(mut self, stage_ms: &[(String, f64)]) -> WhitewaterFigures {
+        if self.on_the_device {
+            self.figures.ms_per_step = stage_ms
+                .iter()
+                .filter(|(name, _)| name.contains("whitewater"))
+                .map(|(_, ms)| ms)
+                .sum();
+            return self.figures;
+        }
         let pool = &self.whitewater.pool;
         let [spray, foam, bubbles] = pool.counts();
         let f = &mut self.figures;
@@ -141,6 +171,38 @@ mod tests {
             ..args
         });
         assert!(plain.whitewater.is_none());
+    }
+
+    /// On the GPU the plugin's stages run the whitewater every step: each sample reads their
+    /// counts, every diffuse particle is accounted for, and the stages' GPU time is the cost.
+    #[test]
+    fn on_the_gpu_the_plugins_stages_run_it_and_each_sample_reads_their_counts() {
+        let args = RunArgs {
+            scenario: Scenario::DamBreak,
+            particles: 1_000,
+            whitewater: true,
+            ..Default::default()
+        };
+        let setup = configured_setup(&args);
+        let report = run_setup(
+            &setup,
+            Backend::Gpu,
+            1,
+            Duration::Time(0.4),
+            &Bars::new(true),
+        )
+        .unwrap();
+        let w = report.whitewater.expect("whitewater figures");
+        let alive = w.spray + w.foam + w.bubbles;
+        assert!(w.born > 0, "{w:?}");
+        assert_eq!(w.born, alive as u64 + w.expired, "{w:?}");
+        assert_eq!(w.capacity, setup.whitewater_capacity());
+        assert!(w.steps >= 30 && w.counts.len() as u64 == w.steps, "{w:?}");
+        assert!(w.ms_per_step > 0.0, "the stages' GPU time: {w:?}");
+        assert!(
+            w.foam_extent.is_none(),
+            "the GPU's particles stay on the device"
+        );
     }
 
     /// A scene file's `whitewater` runs with its settings, and `--whitewater on` adds the

@@ -99,7 +99,7 @@ pub fn run_setup(
         track.record(setup, sim.as_ref(), &forces.last, false);
         if samples.wanted() && sim.time() + 1e-9 >= next_sample {
             let state = sim.state()?;
-            samples.record(setup, sim.time(), &state)?;
+            samples.record(setup, sim.time(), &state, sim.whitewater_counts())?;
             next_sample += SAMPLE_INTERVAL;
         }
         if finished(sim.as_ref()) || sim.unstable_step().is_some() {
@@ -261,7 +261,8 @@ pub fn run_setup(
     report.u_tube = samples.u_tube.map(|u| u.finish(g));
     report.orifice = samples.orifice.map(|o| o.finish(g));
     report.thin_wall = samples.thin_wall.map(|w| w.finish());
-    report.whitewater = samples.whitewater.map(|w| w.finish());
+    let stage_ms = sim.stage_ms();
+    report.whitewater = samples.whitewater.map(|w| w.finish(&stage_ms));
     Ok(report)
 }
 

@@ -12,6 +12,7 @@ use crate::report::DamBreakFigures;
 use crate::scenarios::{Scenario, Setup, G};
 use crate::sim::State;
 use crate::whitewater::WhitewaterSampler;
+use bevy_sph_fluid::prelude::SphWhitewaterCounts;
 use sph_core::diagnostics::DiagnosticsInput;
 use sph_core::front::surge_front;
 use sph_core::Diagnostics;
@@ -56,7 +57,7 @@ impl Samples {
             thin_wall: (setup.scenario == Scenario::ThinWall).then(ThinWallSampler::default),
             whitewater: setup
                 .whitewater
-                .map(|settings| WhitewaterSampler::new(setup, settings)),
+                .map(|settings| WhitewaterSampler::new(setup, settings, backend == Backend::Gpu)),
             density_error_peak: 0.0,
         }
     }
@@ -80,9 +81,21 @@ impl Samples {
         }
     }
 
-    pub(super) fn record(&mut self, setup: &Setup, time: f64, state: &State) -> Result<(), String> {
+    /// Records the samplers at `time` over `state`; `whitewater` is the simulation's own
+    /// whitewater counts when it runs it (the GPU's stages), else the sampler steps its own.
+    pub(super) fn record(
+        &mut self,
+        setup: &Setup,
+        time: f64,
+        state: &State,
+        whitewater: Option<SphWhitewaterCounts>,
+    ) -> Result<(), String> {
         if let Some(w) = &mut self.whitewater {
-            w.record(setup, time, state)?;
+            if !w.on_the_device() {
+                w.record(setup, time, state)?;
+            } else if let Some(counts) = whitewater {
+                w.record_counts(time, counts);
+            }
         }
         let d = diagnostics(setup, state);
         self.density_error_peak = self.density_error_peak.max(d.density_error_mean_pct);

@@ -70,6 +70,13 @@ impl AppSimulation {
             },
         );
         app.insert_resource(SphParams(s.params));
+        if let Some(settings) = setup.whitewater.filter(|_| backend == SphBackend::Gpu) {
+            // On the device, as a game runs it: once a step, after the step's first sort.
+            app.insert_resource(SphWhitewater {
+                settings,
+                capacity: setup.whitewater_capacity() as u32,
+            });
+        }
         let container = app.world_mut().spawn(SphContainer(s.container)).id();
         if setup.scenario == Scenario::Hydrostatic {
             // The tank's walls must carry the water's weight. Only this scenario asks, because the
@@ -313,6 +320,10 @@ impl Simulation for AppSimulation {
 
     fn stage_ms(&self) -> Vec<(String, f64)> {
         self.stats().stage_ms.clone()
+    }
+
+    fn whitewater_counts(&self) -> Option<SphWhitewaterCounts> {
+        self.stats().whitewater
     }
 
     fn dispatches_per_step(&self) -> u32 {

@@ -106,6 +106,11 @@ pub trait Simulation {
     fn flow_counts(&self) -> (u64, u64);
     /// The scene file's probe readings so far (empty without probes).
     fn probe_log(&self) -> ProbeLog;
+    /// The whitewater's counts, when the simulation runs it itself (the plugin's GPU stages);
+    /// `None` when the run steps it over the read-back state instead.
+    fn whitewater_counts(&self) -> Option<bevy_sph_fluid::prelude::SphWhitewaterCounts> {
+        None
+    }
     /// Each of the setup's colliders as it stands now: where its script puts it at the current
     /// time, or where avian moved it.
     fn colliders_now(&self, colliders: &[ScenarioCollider]) -> Vec<sph_core::Collider> {
