@@ -184,6 +184,8 @@ pub struct GpuWhitewaterFrame {
     pub settings: sph_core::whitewater::settings::WhitewaterSettings,
     /// The diffuse pool's slots.
     pub capacity: u32,
+    /// The water's particle slots the potentials' buffer was made for.
+    pub fluid_capacity: u32,
     /// Bumped when the pool starts again empty (new settings or capacity).
     pub generation: u64,
     /// The main world's copy of the slots' (position, class) for drawing, capacity long.

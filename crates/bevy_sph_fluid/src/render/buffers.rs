@@ -401,7 +401,7 @@ mod tests {
     use super::*;
     use sph_core::SphParams;
 
-    /// Without whitewater its four buffers are 16-byte placeholders; with it, the pool's and the
+    /// Without whitewater its six buffers are 16-byte placeholders; with it, the pool's and the
     /// fluid's regions grow with their capacities.
     #[test]
     fn whitewater_buffers_exist_only_with_whitewater() {

@@ -78,6 +78,12 @@ pub fn sph_simulate(world: &mut World) {
         });
         return;
     };
+    // Whitewater's stages run only on buffers that hold its regions (a frame whose buffers
+    // could not be reallocated yet runs without).
+    let key = VariantKey {
+        whitewater: key.whitewater && gpu_buffers.key.whitewater,
+        ..key
+    };
     let particle_count = state.particle_count;
     let mut forces_stale = state.forces_stale;
     let bitonic = state.bitonic_bind_group.clone();

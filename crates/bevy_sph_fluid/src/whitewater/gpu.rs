@@ -48,13 +48,11 @@ pub(super) fn apply(
         *refused = None;
         return;
     };
-    let fluid_bytes = 16 * sim.capacity as usize;
     let running = sim.frame.whitewater.as_ref();
     let same = running.is_some_and(|w| {
         w.settings == wanted.settings
             && w.capacity == wanted.capacity
-            && assets.get(&w.potentials).map(|b| b.buffer_description.size)
-                == Some(fluid_bytes.max(16) as u64)
+            && w.fluid_capacity == sim.capacity
     });
     if same || Some(wanted) == *refused {
         return;
@@ -75,10 +73,11 @@ pub(super) fn apply(
     sim.frame.whitewater = Some(GpuWhitewaterFrame {
         settings: wanted.settings,
         capacity: wanted.capacity,
+        fluid_capacity: sim.capacity,
         generation,
         draw: device_buffer(assets, 16 * wanted.capacity as usize),
         counts: device_buffer(assets, counts_bytes),
-        potentials: device_buffer(assets, fluid_bytes),
+        potentials: device_buffer(assets, 16 * sim.capacity as usize),
     });
 }
 

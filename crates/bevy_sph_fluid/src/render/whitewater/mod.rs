@@ -4,10 +4,11 @@
 //! by cell ([`whitewater_bin`], [`whitewater_bin_offsets`], [`whitewater_order`]: the order in
 //! which the advection visits them, so that neighbouring threads search the same cells),
 //! [`whitewater_advect`] (classify, move and retire the diffuse particles) and
-//! [`whitewater_shed`] (the potentials, and the particles they shed). The pool is a fixed set of slots with a free list and atomic counters
-//! (`sph_core::gpu_layout::GpuDiffuseCounts`); nothing is compacted, so a slot keeps its
-//! particle for life and the drawing skips empty slots. Without whitewater none of this is in
-//! the stage list and none of its buffers is allocated (`VariantKey::whitewater`).
+//! [`whitewater_shed`] (the potentials, and the particles they shed). The pool is a fixed set of
+//! slots with a free list and atomic counters (`sph_core::gpu_layout::GpuDiffuseCounts`);
+//! nothing is compacted, so a slot keeps its particle for life and the drawing skips empty
+//! slots. Without whitewater none of this is in the stage list and none of its buffers is
+//! allocated (`VariantKey::whitewater`).
 
 pub mod whitewater_advect;
 pub mod whitewater_bin;
