@@ -1,8 +1,7 @@
 // Whitewater's advection (Ihmsen et al. 2012, §4.3 and §5), one thread per live slot, in cell
-// order (whitewater_order): each
-// diffuse particle is classified by its fluid neighbours within h and moved over the last
-// step's dt: spray falls under gravity, foam takes the water's W̃-weighted mean velocity ṽ and
-// ages, bubbles rise (-k_b g) and are dragged towards ṽ (k_d). Foam at the end of its lifetime
+// order (whitewater_order): each diffuse particle is classified by its fluid neighbours within h
+// and moved over the last step's dt: spray falls under gravity, foam takes the water's
+// W̃-weighted mean velocity ṽ and ages, bubbles rise (-k_b g) and are dragged towards ṽ (k_d). Foam at the end of its lifetime
 // and any particle outside the container dies: its slot is emptied and pushed on the free list.
 // Rust twin: sph_core::whitewater::ihmsen2012::Whitewater::step (advect, then the deaths).
 #import sph::bindings::{params, particle_state, position_at, particle_scratch, diffuse_state_at, grid, diffuse_free_at, diffuse_order_at, cell_counts, diffuse_counts_at, diffuse_bins_at, shared_state}
