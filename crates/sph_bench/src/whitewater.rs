@@ -137,13 +137,14 @@ fn extent(points: &[sph_core::glam::Vec3]) -> Option<[[f32; 3]; 2]> {
 mod tests {
     use crate::args::{Backend, Duration, RunArgs};
     use crate::progress::Bars;
+    use crate::report::WhitewaterFigures;
     use crate::run::{configured_setup, run_setup};
     use crate::scenarios::Scenario;
 
-    /// A small dam break sheds whitewater where it hits the far wall, and every diffuse particle
-    /// is accounted for: born = alive + expired, the refusals counted apart.
-    #[test]
-    fn a_dam_break_sheds_whitewater_and_counts_every_diffuse_particle() {
+    /// A 1,000-particle dam break with `--whitewater on`, run for 0.4 s on `backend`: its
+    /// arguments and its whitewater figures, after checking that it shed some and that every
+    /// diffuse particle is accounted for (born = alive + expired, the refusals counted apart).
+    fn dam_break_whitewater(backend: Backend) -> (RunArgs, WhitewaterFigures) {
         let args = RunArgs {
             scenario: Scenario::DamBreak,
             particles: 1_000,
@@ -151,18 +152,21 @@ mod tests {
             ..Default::default()
         };
         let setup = configured_setup(&args);
-        let report = run_setup(
-            &setup,
-            Backend::Cpu,
-            1,
-            Duration::Time(0.4),
-            &Bars::new(true),
-        )
-        .unwrap();
+        let report = run_setup(&setup, backend, 1, Duration::Time(0.4), &Bars::new(true)).unwrap();
         let w = report.whitewater.expect("whitewater figures");
         let alive = w.spray + w.foam + w.bubbles;
         assert!(w.born > 0, "{w:?}");
         assert_eq!(w.born, alive as u64 + w.expired, "{w:?}");
+        assert_eq!(w.capacity, setup.whitewater_capacity());
+        (args, w)
+    }
+
+    /// A small dam break sheds whitewater where it hits the far wall, and every diffuse particle
+    /// is accounted for: born = alive + expired, the refusals counted apart.
+    #[test]
+    fn a_dam_break_sheds_whitewater_and_counts_every_diffuse_particle() {
+        let (args, w) = dam_break_whitewater(Backend::Cpu);
+        let alive = w.spray + w.foam + w.bubbles;
         assert!(alive <= w.capacity);
         assert_eq!(w.counts.len() as u64, w.steps);
         // Without the flag nothing is measured.
@@ -177,26 +181,7 @@ mod tests {
     /// counts, every diffuse particle is accounted for, and the stages' GPU time is the cost.
     #[test]
     fn on_the_gpu_the_plugins_stages_run_it_and_each_sample_reads_their_counts() {
-        let args = RunArgs {
-            scenario: Scenario::DamBreak,
-            particles: 1_000,
-            whitewater: true,
-            ..Default::default()
-        };
-        let setup = configured_setup(&args);
-        let report = run_setup(
-            &setup,
-            Backend::Gpu,
-            1,
-            Duration::Time(0.4),
-            &Bars::new(true),
-        )
-        .unwrap();
-        let w = report.whitewater.expect("whitewater figures");
-        let alive = w.spray + w.foam + w.bubbles;
-        assert!(w.born > 0, "{w:?}");
-        assert_eq!(w.born, alive as u64 + w.expired, "{w:?}");
-        assert_eq!(w.capacity, setup.whitewater_capacity());
+        let (_, w) = dam_break_whitewater(Backend::Gpu);
         assert!(w.steps >= 30 && w.counts.len() as u64 == w.steps, "{w:?}");
         assert!(w.ms_per_step > 0.0, "the stages' GPU time: {w:?}");
         assert!(

@@ -6,6 +6,13 @@
 
 var<workgroup> partial: array<u32, #{WORKGROUP_SIZE}>;
 
+// Thread t's chunk of n items, [begin, end): the items split evenly over the workgroup.
+fn scan_chunk(t: u32, n: u32) -> vec2<u32> {
+    let chunk = (n + #{WORKGROUP_SIZE}u - 1u) / #{WORKGROUP_SIZE}u;
+    let begin = min(t * chunk, n);
+    return vec2<u32>(begin, min(begin + chunk, n));
+}
+
 fn workgroup_exclusive_scan(t: u32, sum: u32) -> u32 {
     partial[t] = sum;
     workgroupBarrier();

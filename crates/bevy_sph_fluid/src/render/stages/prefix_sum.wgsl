@@ -3,7 +3,7 @@
 // and their count goes to the clock), in one workgroup: serial chunk sums, a scan of the chunk
 // sums in workgroup memory (sph::scan), then each chunk writes its offsets.
 #import sph::bindings::{params, cell_counts, cell_counts_at, grid, cell_start_at, shared_state}
-#import sph::scan::{workgroup_exclusive_scan, scan_total}
+#import sph::scan::{scan_chunk, workgroup_exclusive_scan, scan_total}
 
 const THREADS: u32 = #{WORKGROUP_SIZE}u;
 
@@ -11,15 +11,13 @@ const THREADS: u32 = #{WORKGROUP_SIZE}u;
 fn main(@builtin(local_invocation_id) lid: vec3<u32>) {
     let t = lid.x;
     let n = params.cell_count;
-    let chunk = (n + THREADS - 1u) / THREADS;
-    let begin = min(t * chunk, n);
-    let end = min(begin + chunk, n);
+    let chunk = scan_chunk(t, n);
     var sum = 0u;
-    for (var c = begin; c < end; c++) {
+    for (var c = chunk.x; c < chunk.y; c++) {
         sum += atomicLoad(&cell_counts[cell_counts_at(c)]);
     }
     var running = workgroup_exclusive_scan(t, sum);
-    for (var c = begin; c < end; c++) {
+    for (var c = chunk.x; c < chunk.y; c++) {
         grid[cell_start_at(c)] = running;
         running += atomicLoad(&cell_counts[cell_counts_at(c)]);
     }
