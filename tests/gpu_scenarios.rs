@@ -129,6 +129,65 @@ fn emitter_spawns_exactly_the_requested_count_and_overflow_is_refused() {
     assert_eq!(snapshot(&mut app).ids.len(), 500);
 }
 
+/// The GPU takes no step while its shaders compile, and picks its own dt: an emitter that
+/// emitted for the frames' plans stacked a disc on the last one every frame of the start-up, and
+/// the water burst out of the jet at 10-25 m/s (the sandbox's scene files, PBF at 8 ms steps).
+/// Emitting by the device's clock, every particle keeps its distance from the others.
+#[test]
+fn an_emitter_emits_for_the_steps_the_device_took_so_no_particles_stack() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let mut params = sph_core::SphParams::water();
+    params.use_solver(sph_core::Solver::Pbf);
+    let spacing = params.spacing();
+    let mut app = headless_app(3_000, SphBackend::Gpu);
+    app.insert_resource(SphParams(params));
+    app.world_mut()
+        .spawn(SphContainer(BoxContainer::from_min_max(
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.6, 0.4),
+        )));
+    let pipe = PipeEmitter::new(Vec3::new(0.05, 0.4, 0.2), Vec3::X, 0.03, 1.5, spacing);
+    app.world_mut().spawn(SphEmitter(pipe));
+    app.insert_resource(SphControl {
+        running: true,
+        substeps: 2,
+        ..default()
+    });
+    for _ in 0..400 {
+        app.update();
+        if app.world().resource::<SphStats>().particle_count >= 100 {
+            break;
+        }
+    }
+    app.world_mut().resource_mut::<SphControl>().running = false;
+    let s = snapshot(&mut app);
+    let stats = app.world().resource::<SphStats>().clone();
+    assert!(s.positions.len() >= 100, "{stats:?}");
+    let mut nearest = f32::MAX;
+    for (i, a) in s.positions.iter().enumerate() {
+        for b in &s.positions[i + 1..] {
+            nearest = nearest.min(a.distance(*b));
+        }
+    }
+    println!(
+        "{} particles after {} steps (t = {:.4} s): nearest pair {:.4} m, spacing {spacing} m",
+        s.positions.len(),
+        stats.step_count,
+        stats.sim_time,
+        nearest
+    );
+    assert!(
+        nearest >= 0.5 * spacing,
+        "two particles {nearest} m apart at a spacing of {spacing} m"
+    );
+    // Nothing outruns a ballistic particle of the jet: 1.5 m/s plus g t (3.7 m/s at 0.12 s
+    // without the fix, against 2.6 allowed).
+    let fastest = s.velocities.iter().map(|v| v.length()).fold(0.0, f32::max);
+    let ballistic = 1.5 + 9.81 * stats.sim_time as f32 + 0.3;
+    println!("fastest {fastest:.2} m/s, ballistic bound {ballistic:.2} m/s");
+    assert!(fastest <= ballistic, "{fastest} m/s, above {ballistic} m/s");
+}
+
 /// A GPU app with `params` and one particle moving at `velocity` in a 1 m box, after its first
 /// step.
 fn one_particle_app(params: sph_core::SphParams, velocity: Vec3) -> App {

@@ -179,6 +179,7 @@ fn reset_particles(
     sim.frame.spawn_offset = 0;
     sim.frame.spawn_positions.clear();
     sim.frame.spawn_velocities.clear();
+    sim.emission_clock = None;
     if let Some(solver) = &mut sim.cpu {
         solver.clear();
     }
@@ -262,10 +263,17 @@ fn sph_emit(
     mut sim: ResMut<SphSimulation>,
     mut stats: ResMut<SphStats>,
 ) {
-    if sim.container.is_none() || sim.plan.steps == 0 {
+    if sim.container.is_none() {
         return;
     }
-    let duration = sim.plan.duration;
+    let duration = match sim.backend {
+        SphBackend::Cpu if sim.plan.steps == 0 => 0.0,
+        SphBackend::Cpu => sim.plan.duration,
+        SphBackend::Gpu => gpu_emission_time(&mut sim.emission_clock, stats.sim_time),
+    };
+    if duration <= 0.0 {
+        return;
+    }
     for mut emitter in &mut emitters {
         if let Err(e) = emitter.0.validate() {
             stats.error = Some(e.to_string());
@@ -274,6 +282,25 @@ fn sph_emit(
         let emission = emitter.0.emit(duration);
         sim.emitted += sim.spawn(emission.positions, emission.velocity);
     }
+}
+
+/// The simulated time the GPU backend's emitters emit for this frame [s]: the time the device's
+/// clock has advanced since they last emitted, as read back (`now`).
+///
+/// An emitter places a frame's discs ahead of its mouth by the time each has been due, on the
+/// assumption that the water emitted before has moved on by then. The device picks its own dt and
+/// takes no step at all while its shaders compile, so the frame's plan is no measure of that:
+/// discs emitted for steps that were never taken land on top of each other, and PBF throws
+/// them apart. Following the clock, emission lags the device by the readback's frames, and every
+/// disc is placed the same lag short of its ideal place, so the spacing between discs holds.
+/// A clock that went back (a reset, a rollback, a stale reading) restarts the count from it.
+fn gpu_emission_time(emission_clock: &mut Option<f64>, now: f64) -> f32 {
+    let elapsed = match *emission_clock {
+        Some(last) if now >= last => now - last,
+        _ => 0.0,
+    };
+    *emission_clock = Some(now);
+    elapsed as f32
 }
 
 /// This frame's plan: its steps and the simulated time they cover, from [`SphControl`], the
@@ -618,5 +645,24 @@ fn sph_update_stats(
     }
     if let Some(factor) = window.update(real.elapsed_secs_f64(), stats.sim_time) {
         stats.real_time_factor = factor;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gpu_emission_time;
+
+    #[test]
+    fn gpu_emitters_emit_for_the_clocks_advance_and_restart_when_it_goes_back() {
+        let mut clock = None;
+        // The first reading only starts the count: the time before it was the device's own.
+        assert_eq!(gpu_emission_time(&mut clock, 0.0), 0.0);
+        // No step taken (shaders compiling): nothing to emit for.
+        assert_eq!(gpu_emission_time(&mut clock, 0.0), 0.0);
+        assert!((gpu_emission_time(&mut clock, 0.02) - 0.02).abs() < 1e-9);
+        assert!((gpu_emission_time(&mut clock, 0.05) - 0.03).abs() < 1e-9);
+        // A reset or a rollback: the count restarts from the earlier time.
+        assert_eq!(gpu_emission_time(&mut clock, 0.01), 0.0);
+        assert!((gpu_emission_time(&mut clock, 0.015) - 0.005).abs() < 1e-7);
     }
 }
