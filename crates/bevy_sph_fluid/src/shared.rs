@@ -262,9 +262,9 @@ pub struct SphSimulation {
     pub dfsph_budget: crate::dfsph_budget::DfsphIterationBudget,
     /// This frame's plan, made first thing in the `Prepare` set.
     pub plan: FramePlan,
-    /// The GPU backend's emitters: the device's simulated time [s] up to which they have
-    /// emitted, from the clock as read back; `None` after a reset until the clock is read again.
-    pub emission_clock: Option<f64>,
+    /// The GPU backend's emitters: the device's step count as last seen by them (`None` after
+    /// a reset); they emit only in frames after it advanced.
+    pub emission_steps_seen: Option<u64>,
 }
 
 /// DFSPH's iteration sums of one clock reading (`GpuClock`).
@@ -301,7 +301,7 @@ impl SphSimulation {
             boundary_epoch: 0,
             wall_slip: sph_core::Slip::Free,
             rule_dt: None,
-            emission_clock: None,
+            emission_steps_seen: None,
             frame_number: 0,
             frames_held_in_a_row: 0,
             gpu_drains: GpuDrainSync::default(),

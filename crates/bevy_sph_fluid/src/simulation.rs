@@ -179,7 +179,7 @@ fn reset_particles(
     sim.frame.spawn_offset = 0;
     sim.frame.spawn_positions.clear();
     sim.frame.spawn_velocities.clear();
-    sim.emission_clock = None;
+    sim.emission_steps_seen = None;
     if let Some(solver) = &mut sim.cpu {
         solver.clear();
     }
@@ -266,10 +266,18 @@ fn sph_emit(
     if sim.container.is_none() {
         return;
     }
-    let duration = match sim.backend {
-        SphBackend::Cpu if sim.plan.steps == 0 => 0.0,
-        SphBackend::Cpu => sim.plan.duration,
-        SphBackend::Gpu => gpu_emission_time(&mut sim.emission_clock, stats.sim_time),
+    let steps_taken = match sim.backend {
+        SphBackend::Cpu => true,
+        SphBackend::Gpu => device_is_stepping(
+            &mut sim.emission_steps_seen,
+            stats.step_count,
+            stats.gpu_warming_up(),
+        ),
+    };
+    let duration = if sim.plan.steps > 0 && steps_taken {
+        sim.plan.duration
+    } else {
+        0.0
     };
     if duration <= 0.0 {
         return;
@@ -284,23 +292,19 @@ fn sph_emit(
     }
 }
 
-/// The simulated time the GPU backend's emitters emit for this frame [s]: the time the device's
-/// clock has advanced since they last emitted, as read back (`now`).
+/// Whether the GPU backend's emitters may emit for this frame's plan: the device has been seen
+/// stepping (its step count, as read back, `step_count`, advanced since the last frame's look,
+/// `seen`) and is not compiling shaders or preparing buffers (`warming_up`).
 ///
-/// An emitter places a frame's discs ahead of its mouth by the time each has been due, on the
-/// assumption that the water emitted before has moved on by then. The device picks its own dt and
-/// takes no step at all while its shaders compile, so the frame's plan is no measure of that:
-/// discs emitted for steps that were never taken land on top of each other, and PBF throws
-/// them apart. Following the clock, emission lags the device by the readback's frames, and every
-/// disc is placed the same lag short of its ideal place, so the spacing between discs holds.
-/// A clock that went back (a reset, a rollback, a stale reading) restarts the count from it.
-fn gpu_emission_time(emission_clock: &mut Option<f64>, now: f64) -> f32 {
-    let elapsed = match *emission_clock {
-        Some(last) if now >= last => now - last,
-        _ => 0.0,
-    };
-    *emission_clock = Some(now);
-    elapsed as f32
+/// An emitter places a frame's discs ahead of its mouth on the assumption that the frame's steps
+/// move the water emitted before on. The device takes no step while its shaders compile, for
+/// more than ten frames at a start on a software driver: discs emitted for those frames landed
+/// on top of each other, and PBF threw them apart at 10-25 m/s. The readback is a frame or two
+/// late, so a settings change that compiles new shaders mid-run may still stack that many.
+fn device_is_stepping(seen: &mut Option<u64>, step_count: u64, warming_up: bool) -> bool {
+    let advanced = seen.is_some_and(|last| step_count > last);
+    *seen = Some(step_count);
+    advanced && !warming_up
 }
 
 /// This frame's plan: its steps and the simulated time they cover, from [`SphControl`], the
@@ -650,19 +654,22 @@ fn sph_update_stats(
 
 #[cfg(test)]
 mod tests {
-    use super::gpu_emission_time;
+    use super::device_is_stepping;
 
     #[test]
-    fn gpu_emitters_emit_for_the_clocks_advance_and_restart_when_it_goes_back() {
-        let mut clock = None;
-        // The first reading only starts the count: the time before it was the device's own.
-        assert_eq!(gpu_emission_time(&mut clock, 0.0), 0.0);
-        // No step taken (shaders compiling): nothing to emit for.
-        assert_eq!(gpu_emission_time(&mut clock, 0.0), 0.0);
-        assert!((gpu_emission_time(&mut clock, 0.02) - 0.02).abs() < 1e-9);
-        assert!((gpu_emission_time(&mut clock, 0.05) - 0.03).abs() < 1e-9);
-        // A reset or a rollback: the count restarts from the earlier time.
-        assert_eq!(gpu_emission_time(&mut clock, 0.01), 0.0);
-        assert!((gpu_emission_time(&mut clock, 0.015) - 0.005).abs() < 1e-7);
+    fn gpu_emitters_emit_once_the_device_is_seen_stepping() {
+        let mut seen = None;
+        // A start: nothing seen yet, then shaders compiling.
+        assert!(!device_is_stepping(&mut seen, 0, false));
+        assert!(!device_is_stepping(&mut seen, 0, true));
+        // The first steps are read back, but the status still says compiling.
+        assert!(!device_is_stepping(&mut seen, 2, true));
+        assert!(device_is_stepping(&mut seen, 4, false));
+        // Paused, or the steps skipped: the count stands still.
+        assert!(!device_is_stepping(&mut seen, 4, false));
+        assert!(device_is_stepping(&mut seen, 6, false));
+        // A reset: the count starts again, and must advance from there.
+        assert!(!device_is_stepping(&mut seen, 0, false));
+        assert!(device_is_stepping(&mut seen, 2, false));
     }
 }
