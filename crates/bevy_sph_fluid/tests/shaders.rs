@@ -375,7 +375,8 @@ fn every_uniform_field_sits_where_the_rust_layout_puts_it() {
         whitewater_kinetic_min, whitewater_kinetic_max, whitewater_trapped_air_rate,
         whitewater_wave_crest_rate, whitewater_spray_below, whitewater_bubble_above,
         whitewater_lifetime_min, whitewater_lifetime_max, whitewater_buoyancy, whitewater_drag,
-        whitewater_capacity, whitewater_seed, buffer_at,
+        whitewater_capacity, whitewater_seed, whitewater_steps, whitewater_unused_y,
+        whitewater_unused_z, whitewater_unused_w, buffer_at,
     );
 
     assert_eq!(wgsl_members("sph_density", "SphUniforms"), rust);

@@ -161,7 +161,7 @@ pub struct WhitewaterFigures {
     pub steps: u64,
     /// The cost of a whitewater step [ms]: on the CPU the wall clock of the post-process, the
     /// water's view and its neighbour sort included (mean); on the GPU the GPU time of its
-    /// stages in a timed step.
+    /// stages in a timed frame (they run once a frame) over the frame's steps.
     pub ms_per_step: f64,
     /// [[t, spray, foam, bubbles]] after each step (CPU) or sample (GPU).
     pub counts: Vec<[f64; 4]>,

@@ -92,15 +92,20 @@ impl WhitewaterSampler {
         Ok(())
     }
 
-    /// The figures of the run; `stage_ms` are the simulation's per-stage times of a step (the
-    /// GPU's whitewater stages among them when it ran its own).
-    pub(crate) fn finish(mut self, stage_ms: &[(String, f64)]) -> WhitewaterFigures {
+    /// The figures of the run; `stage_ms` are the simulation's per-stage times of a pass (the
+    /// GPU's whitewater stages among them when it ran its own, once a frame of `frame_steps`).
+    pub(crate) fn finish(
+        mut self,
+        stage_ms: &[(String, f64)],
+        frame_steps: u32,
+    ) -> WhitewaterFigures {
         if self.on_the_device {
-            self.figures.ms_per_step = stage_ms
+            let per_frame: f64 = stage_ms
                 .iter()
                 .filter(|(name, _)| name.contains("whitewater"))
                 .map(|(_, ms)| ms)
                 .sum();
+            self.figures.ms_per_step = per_frame / frame_steps.max(1) as f64;
             return self.figures;
         }
         let pool = &self.whitewater.pool;
@@ -177,7 +182,7 @@ mod tests {
         assert!(plain.whitewater.is_none());
     }
 
-    /// On the GPU the plugin's stages run the whitewater every step: each sample reads their
+    /// On the GPU the plugin's stages run the whitewater once a frame: each sample reads their
     /// counts, every diffuse particle is accounted for, and the stages' GPU time is the cost.
     #[test]
     fn on_the_gpu_the_plugins_stages_run_it_and_each_sample_reads_their_counts() {

@@ -162,8 +162,9 @@ pub struct EvaluationPlan {
     pub pbf: PbfPhase,
     /// The DFSPH phase of this pass over the list (`None` with WCSPH and PBF).
     pub dfsph: DfsphPhase,
-    /// The step's first pass that sorts: whitewater's stages run after its sort, where the
-    /// grid and the state agree.
+    /// The first pass that sorts of the frame's last step: whitewater's stages run after its
+    /// sort, where the grid and the state agree, once a frame
+    /// ([`super::solvers::frame_step_plans`]).
     pub step_first_sort: bool,
 }
 

@@ -116,7 +116,12 @@ pub(crate) fn prepare_sph_buffers(
     .with_wall_force(frame.wall_force)
     .with_drains(frame.number, pumps.sink_count);
     if let Some(white) = white {
-        uniforms = uniforms.with_whitewater(&white.settings, white.capacity, WHITEWATER_SEED);
+        uniforms = uniforms.with_whitewater(
+            &white.settings,
+            white.capacity,
+            WHITEWATER_SEED,
+            frame.steps,
+        );
     }
     if let Some((duration, number)) = frame.budget {
         uniforms = uniforms.with_frame_budget(duration, frame.steps, number);

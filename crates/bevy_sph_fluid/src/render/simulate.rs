@@ -9,8 +9,8 @@ use super::extract::ExtractedSphFrame;
 use super::pipelines::{pipelines_not_ready, SphPipelines};
 use super::plan::{EvaluationPlan, VariantKey};
 use super::solvers::dfsph::phase::DfsphPhase;
+use super::solvers::frame_step_plans;
 use super::solvers::pbf::phase::PbfPhase;
-use super::solvers::step_plans;
 use super::stage::{encode_stage, StageRun};
 use crate::api::{STATUS_COMPILING_SHADERS, STATUS_PREPARING_BUFFERS};
 use crate::sets::SphStep;
@@ -110,15 +110,11 @@ pub fn sph_simulate(world: &mut World) {
     let mut last_step_dispatches = 0;
     for step in 0..steps {
         let before = world.resource::<StageRun>().dispatches;
-        let plans = step_plans(&params, forces_stale, dfsph_iterations);
-        let first_sort = plans.iter().position(EvaluationPlan::sorts);
+        let plans = frame_step_plans(&params, forces_stale, dfsph_iterations, step + 1 == steps);
         for (k, plan) in plans.into_iter().enumerate() {
             {
                 let mut run = world.resource_mut::<StageRun>();
-                run.plan = EvaluationPlan {
-                    step_first_sort: Some(k) == first_sort,
-                    ..plan
-                };
+                run.plan = plan;
                 // The first step's first evaluation, or every phase of a PBF or DFSPH step (each
                 // of its stages runs in some phases; the iterations' passes are timed in the
                 // last).

@@ -84,8 +84,8 @@ impl GpuStage {
         plan.sorts().then_some(0)
     }
 
-    /// A stage that runs once a step, after the step's first sort, where the grid and the state
-    /// agree (whitewater's stages).
+    /// A stage that runs once a frame, after the first sort of the frame's last step, where the
+    /// grid and the state agree (whitewater's stages).
     pub fn after_the_steps_first_sort(plan: &EvaluationPlan) -> Option<usize> {
         (plan.step_first_sort && plan.sorts()).then_some(0)
     }

@@ -227,6 +227,15 @@ pub struct GpuSphParams {
     pub whitewater_capacity: u32,
     /// The seed of the shedding's random numbers.
     pub whitewater_seed: u32,
+    /// The steps of the frame the whitewater stages cover: they run once a frame, in its last
+    /// step, for this many steps' dt ([`Self::with_whitewater`]).
+    pub whitewater_steps: u32,
+    /// Unused: the row's remaining words.
+    pub whitewater_unused_y: u32,
+    /// Unused.
+    pub whitewater_unused_z: u32,
+    /// Unused.
+    pub whitewater_unused_w: u32,
     /// Where each packed storage buffer starts in its arena, in elements, at index `Buf as
     /// usize` (`bevy_sph_fluid::render::arenas`): four to a 16-byte row, so the uniform layout
     /// has no padding. WGSL reads it through `sph::bindings`'s `*_at` functions.
@@ -365,18 +374,23 @@ impl GpuSphParams {
             whitewater_drag: 0.0,
             whitewater_capacity: 0,
             whitewater_seed: 0,
+            whitewater_steps: 0,
+            whitewater_unused_y: 0,
+            whitewater_unused_z: 0,
+            whitewater_unused_w: 0,
             // Set by the plugin from its arenas' layout.
             buffer_at: [[0; 4]; BUFFER_AT_ROWS],
         }
     }
 
-    /// The same block with whitewater on: `settings`, a pool of `capacity` diffuse particles and
-    /// the shedding's `seed`.
+    /// The same block with whitewater on: `settings`, a pool of `capacity` diffuse particles,
+    /// the shedding's `seed`, and the frame's `steps` (the stages run once, for all of them).
     pub fn with_whitewater(
         mut self,
         settings: &crate::whitewater::settings::WhitewaterSettings,
         capacity: u32,
         seed: u32,
+        steps: u32,
     ) -> Self {
         let s = settings;
         self.whitewater_trapped_air_min = s.trapped_air.min;
@@ -395,6 +409,7 @@ impl GpuSphParams {
         self.whitewater_drag = s.drag;
         self.whitewater_capacity = capacity;
         self.whitewater_seed = seed;
+        self.whitewater_steps = steps.max(1);
         self
     }
 

@@ -30,3 +30,21 @@ pub fn step_plans(
         Solver::Wcsph => wcsph::plans(params.integrator, forces_stale),
     }
 }
+
+/// [`step_plans`] for a frame's step, with whitewater's pass marked
+/// ([`EvaluationPlan::step_first_sort`]): the first pass that sorts of the frame's last step
+/// (`last_of_frame`), so that whitewater runs once a frame.
+pub fn frame_step_plans(
+    params: &SphParams,
+    forces_stale: bool,
+    dfsph_iterations: [u32; 2],
+    last_of_frame: bool,
+) -> Vec<EvaluationPlan> {
+    let mut plans = step_plans(params, forces_stale, dfsph_iterations);
+    if last_of_frame {
+        if let Some(first_sort) = plans.iter_mut().find(|plan| plan.sorts()) {
+            first_sort.step_first_sort = true;
+        }
+    }
+    plans
+}

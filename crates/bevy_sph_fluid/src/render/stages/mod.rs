@@ -63,7 +63,6 @@ pub fn all_stages() -> Vec<&'static GpuStage> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::plan::EvaluationPlan;
     use sph_core::solver::dfsph::step_stages as dfsph_step_stages;
     use sph_core::solver::pbf::step_stages as pbf_step_stages;
     use sph_core::solver::wcsph::step_stages as evaluation_stages;
@@ -256,12 +255,12 @@ mod tests {
         }
     }
 
-    /// With whitewater, its six stages follow the scatter and run once a step, after the
-    /// step's first sort, in every solver's plans (DFSPH's without a stale neighbourhood sorts
-    /// first in its move); without it, none is in the list.
+    /// With whitewater, its six stages follow the scatter and run once a frame, after the first
+    /// sort of the frame's last step, in every solver's plans (DFSPH's without a stale
+    /// neighbourhood sorts first in its move); without it, none is in the list.
     #[test]
-    fn whitewater_runs_once_a_step_after_the_first_sort_in_every_solver() {
-        use crate::render::solvers::step_plans;
+    fn whitewater_runs_once_a_frame_after_its_last_steps_first_sort_in_every_solver() {
+        use crate::render::solvers::frame_step_plans;
         let whitewater_stages = |list: &[&GpuStage]| {
             list.iter()
                 .filter(|s| s.name.starts_with("sph_whitewater"))
@@ -300,23 +299,20 @@ mod tests {
                             "sph_whitewater_shed"
                         ]
                     );
-                    // As `sph_simulate` marks the plans.
-                    let plans = step_plans(&params, stale, [3, 3]);
-                    let first_sort = plans.iter().position(EvaluationPlan::sorts);
-                    let mut runs = 0;
-                    for (k, plan) in plans.into_iter().enumerate() {
-                        let plan = EvaluationPlan {
-                            step_first_sort: Some(k) == first_sort,
-                            ..plan
-                        };
-                        for stage in &list[scatter + 1..scatter + 7] {
-                            if (stage.role)(&plan).is_some() {
-                                assert!(plan.sorts());
-                                runs += 1;
+                    // A frame of three steps, planned as `sph_simulate` plans them.
+                    let mut runs = [0; 3];
+                    for (step, runs) in runs.iter_mut().enumerate() {
+                        let plans = frame_step_plans(&params, stale, [3, 3], step == 2);
+                        for plan in plans {
+                            for stage in &list[scatter + 1..scatter + 7] {
+                                if (stage.role)(&plan).is_some() {
+                                    assert!(plan.sorts());
+                                    *runs += 1;
+                                }
                             }
                         }
                     }
-                    assert_eq!(runs, 6, "{solver:?} {integrator:?} stale {stale}");
+                    assert_eq!(runs, [0, 0, 6], "{solver:?} {integrator:?} stale {stale}");
                 }
             }
         }

@@ -36,6 +36,14 @@ fn fluid_velocity(j: u32) -> vec3<f32> {
 #endif
 }
 
+// The time the stages advance the pool by: they run once a frame, in its last step, for all of
+// the frame's steps (their dt is the last step's). The diffuse particles are a picture of the
+// water and do not act on it, so a frame's step is accurate enough, and the pool's neighbour
+// loops, the frame's largest cost with whitewater on, run once instead of once a step.
+fn whitewater_dt() -> f32 {
+    return shared_state.clock.dt * f32(params.whitewater_steps);
+}
+
 // W̃(r) = 1 - r/h within h, else 0 (eq. 2).
 fn scaled_weight(r: f32) -> f32 {
     if r < params.h {

@@ -6,7 +6,7 @@
 // Rust twin: sph_core::whitewater::ihmsen2012::Whitewater::step (advect, then the deaths).
 #import sph::bindings::{params, particle_state, position_at, particle_scratch, diffuse_state_at, grid, diffuse_free_at, diffuse_order_at, cell_counts, diffuse_counts_at, diffuse_bins_at, shared_state}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
-#import sph::whitewater::{scaled_weight, classify, fluid_velocity, EMPTY_SLOT, DIFFUSE_FREE, DIFFUSE_EXPIRED, DIFFUSE_SPRAY}
+#import sph::whitewater::{scaled_weight, classify, fluid_velocity, whitewater_dt, EMPTY_SLOT, DIFFUSE_FREE, DIFFUSE_EXPIRED, DIFFUSE_SPRAY}
 
 // The fluid around a point: neighbours within h, and their W̃-weighted mean velocity (zero
 // without neighbours).
@@ -54,7 +54,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let motion = particle_scratch[diffuse_state_at(capacity + k)];
-    let dt = shared_state.clock.dt;
+    let dt = whitewater_dt();
     let water = fluid_around(state.xyz);
     let kind = classify(water.count);
     var v = motion.xyz;
@@ -68,8 +68,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             lifetime -= dt;
         }
         default: {
-            v += -params.whitewater_buoyancy * params.gravity * dt
-                + params.whitewater_drag * (water.velocity - v);
+            // k_d is the share of the difference taken in a step: over the frame's steps,
+            // 1 - (1 - k_d)^steps.
+            let drag = 1.0 - pow(1.0 - params.whitewater_drag, f32(params.whitewater_steps));
+            v += -params.whitewater_buoyancy * params.gravity * dt + drag * (water.velocity - v);
         }
     }
     let x = state.xyz + v * dt;

@@ -14,12 +14,12 @@
 // Rust twin: sph_core::whitewater::ihmsen2012 (FluidView::potentials, shed_count, Whitewater).
 #import sph::bindings::{params, particle_state, position_at, particle_scratch, whitewater_fluid_at, diffuse_state_at, grid, diffuse_free_at, cell_counts, diffuse_counts_at, shared_state}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts}
-#import sph::whitewater::{scaled_weight, clamp_potential, random, fluid_velocity, DIFFUSE_FREE, DIFFUSE_BORN, DIFFUSE_DROPPED, DIFFUSE_SPRAY, DIFFUSE_HIGH_WATER}
+#import sph::whitewater::{scaled_weight, clamp_potential, random, fluid_velocity, whitewater_dt, DIFFUSE_FREE, DIFFUSE_BORN, DIFFUSE_DROPPED, DIFFUSE_SPRAY, DIFFUSE_HIGH_WATER}
 
-// The most diffuse particles one fluid particle sheds in a step; the rest are counted as dropped
-// (a bound on the loop for settings and steps far beyond the defaults: 10,000/s at the largest
-// rate and a 1 ms step shed 10).
-const MAX_SHED_PER_STEP: u32 = 256u;
+// The most diffuse particles one fluid particle sheds in a run (once a frame); the rest are
+// counted as dropped (a bound on the loop for settings and frames far beyond the defaults:
+// 10,000/s at the largest rate over a 1 ms step shed 10).
+const MAX_SHED_PER_RUN: u32 = 256u;
 
 // Two unit vectors that make an orthonormal basis with the unit vector n (Duff et al. 2017,
 // as glam's any_orthonormal_pair).
@@ -120,16 +120,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             * clamp_potential(wave_crest, params.whitewater_wave_crest_min, params.whitewater_wave_crest_max));
     particle_scratch[whitewater_fluid_at(params.capacity + i)] =
         vec4<f32>(trapped_air, wave_crest, kinetic_energy, rate);
-    let dt = shared_state.clock.dt;
+    let dt = whitewater_dt();
     let expected = rate * dt;
     let whole = floor(expected);
     var count = u32(whole);
     if random(i, 0u) < expected - whole {
         count += 1u;
     }
-    if count > MAX_SHED_PER_STEP {
-        atomicAdd(&cell_counts[diffuse_counts_at(DIFFUSE_DROPPED)], count - MAX_SHED_PER_STEP);
-        count = MAX_SHED_PER_STEP;
+    if count > MAX_SHED_PER_RUN {
+        atomicAdd(&cell_counts[diffuse_counts_at(DIFFUSE_DROPPED)], count - MAX_SHED_PER_RUN);
+        count = MAX_SHED_PER_RUN;
     }
     for (var s = 0u; s < count; s++) {
         shed(i, s, x_i, v_i, dt);
