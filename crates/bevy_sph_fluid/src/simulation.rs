@@ -274,14 +274,10 @@ fn sph_emit(
             stats.gpu_warming_up(),
         ),
     };
-    let duration = if sim.plan.steps > 0 && steps_taken {
-        sim.plan.duration
-    } else {
-        0.0
-    };
-    if duration <= 0.0 {
+    if sim.plan.steps == 0 || !steps_taken {
         return;
     }
+    let duration = sim.plan.duration;
     for mut emitter in &mut emitters {
         if let Err(e) = emitter.0.validate() {
             stats.error = Some(e.to_string());
