@@ -43,7 +43,7 @@ fn size(u: &GpuSurfaceUniform) -> UVec2 {
 }
 
 /// The ray through the centre of `pixel`: origin and unit direction, view space (the GPU's
-/// fragment ray runs through the same point of its quad).
+/// fragment ray runs through the same point of its billboard).
 fn pixel_ray(u: &GpuSurfaceUniform, pixel: UVec2) -> (Vec3, Vec3) {
     let ndc = pixel_ndc(pixel.as_vec2() + 0.5, u.target_size);
     let on_ray = unproject(u, ndc, 0.5);

@@ -150,7 +150,7 @@ pub(crate) fn sph_surface_passes(
         let span = diagnostics.pass_span(&mut pass, DEPTH);
         pass.set_pipeline(pipelines.depth);
         pass.set_bind_group(0, &impostors, &offset);
-        pass.draw(0..6, 0..count);
+        pass.draw(0..billboard_vertices(count), 0..1);
         span.end(&mut pass);
     }
     // Thickness: every sphere's chord, summed.
@@ -165,7 +165,7 @@ pub(crate) fn sph_surface_passes(
         let span = diagnostics.pass_span(&mut pass, THICKNESS);
         pass.set_pipeline(pipelines.thickness);
         pass.set_bind_group(0, &impostors, &offset);
-        pass.draw(0..6, 0..count);
+        pass.draw(0..billboard_vertices(count), 0..1);
         span.end(&mut pass);
     }
     // Whitewater: every diffuse particle's disc, added by class (the target only cleared until
@@ -191,7 +191,7 @@ pub(crate) fn sph_surface_passes(
             let span = diagnostics.pass_span(&mut pass, WHITEWATER);
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &offset);
-            pass.draw(0..6, 0..particles.diffuse_count);
+            pass.draw(0..billboard_vertices(particles.diffuse_count), 0..1);
             span.end(&mut pass);
         }
     }
@@ -310,4 +310,10 @@ fn clear_attachment(view: &TextureView) -> RenderPassColorAttachment<'_> {
             store: StoreOp::Store,
         },
     }
+}
+
+/// The vertices an impostor pass draws for `slots` particle slots: one triangle each, in one
+/// instance (`surface_impostor.wgsl`).
+fn billboard_vertices(slots: u32) -> u32 {
+    slots.saturating_mul(3)
 }

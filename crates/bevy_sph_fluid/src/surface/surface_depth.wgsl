@@ -4,8 +4,8 @@
 #import bevy_sph_fluid::surface_impostor::{impostor_vertex, eye_ray, hit_sphere, surface, ImpostorVarying}
 
 @vertex
-fn vertex(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u32) -> ImpostorVarying {
-    return impostor_vertex(vertex, slot);
+fn vertex(@builtin(vertex_index) vertex: u32) -> ImpostorVarying {
+    return impostor_vertex(vertex);
 }
 
 struct DepthOutput {
@@ -15,7 +15,7 @@ struct DepthOutput {
 
 @fragment
 fn fragment(in: ImpostorVarying) -> DepthOutput {
-    let ray = eye_ray(in.on_quad);
+    let ray = eye_ray(in.on_billboard);
     let hit = hit_sphere(ray, in.center);
     if hit.chord < 0.0 {
         discard;

@@ -4,13 +4,13 @@
 #import bevy_sph_fluid::surface_impostor::{impostor_vertex, eye_ray, hit_sphere, surface, ImpostorVarying}
 
 @vertex
-fn vertex(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u32) -> ImpostorVarying {
-    return impostor_vertex(vertex, slot);
+fn vertex(@builtin(vertex_index) vertex: u32) -> ImpostorVarying {
+    return impostor_vertex(vertex);
 }
 
 @fragment
 fn fragment(in: ImpostorVarying) -> @location(0) f32 {
-    let hit = hit_sphere(eye_ray(in.on_quad), in.center);
+    let hit = hit_sphere(eye_ray(in.on_billboard), in.center);
     if hit.chord < 0.0 {
         discard;
     }
