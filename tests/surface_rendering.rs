@@ -617,3 +617,137 @@ fn the_whitewater_pass_matches_its_cpu_twin() {
     );
     assert!(share >= 0.98, "{share}");
 }
+
+/// Near-white pixels of `rgba`: the sun's highlight (the water's own colour is blue, and its
+/// Fresnel reflection of the sky at normal incidence is 2 %).
+fn highlighted(rgba: &[u8]) -> usize {
+    (0..HEIGHT)
+        .flat_map(|y| (0..WIDTH).map(move |x| (x, y)))
+        .filter(|&(x, y)| pixel(rgba, x, y).iter().all(|&c| c >= 230))
+        .count()
+}
+
+/// The highlight pixels of a paused block of water whose front face lies at `front` [m] in the
+/// 1 m box, seen face on from in front of the box's front wall (z = 1) with the sun behind the
+/// eye, so the face's normal is the half-way vector: a free face catches the sun over its whole
+/// area.
+fn front_face_highlight(front: f32) -> usize {
+    let mut app = paused_block(Vec3::new(0.2, 0.0, 0.2), Vec3::new(0.8, 0.4, front));
+    let world = app.world_mut();
+    let mut image = Image::new_target_texture(WIDTH, HEIGHT, TextureFormat::Rgba8UnormSrgb, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    let target = world.resource_mut::<Assets<Image>>().add(image);
+    world.spawn((
+        Camera3d::default(),
+        Camera {
+            clear_color: ClearColorConfig::Custom(CLEAR),
+            ..default()
+        },
+        RenderTarget::Image(target.clone().into()),
+        Tonemapping::None,
+        Transform::from_xyz(0.5, 0.2, 2.2).looking_at(Vec3::new(0.5, 0.2, 0.5), Vec3::Y),
+        SphSurface {
+            sun_direction: Vec3::Z,
+            ..default()
+        },
+    ));
+    world.init_resource::<Captured>();
+    for _ in 0..5 {
+        app.update();
+    }
+    let rgba = capture(&mut app, &target);
+    let saved = save(&rgba, &format!("front_face_{front}"));
+    let water = drawn(&rgba).len();
+    assert!(
+        water > (WIDTH * HEIGHT / 20) as usize,
+        "the front face covers {water} pixels ({})",
+        saved.display()
+    );
+    highlighted(&rgba)
+}
+
+/// The water's face against a container wall, seen through the wall, meets no air and catches
+/// no sun: the default dam break's front face drew a bright dashed line along its particle layer.
+/// The same face in open air, in the same light, does catch it.
+#[test]
+fn the_waters_face_against_a_container_wall_catches_no_sun() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let open_air = front_face_highlight(0.8);
+    let against_the_wall = front_face_highlight(1.0);
+    assert!(
+        open_air > 500,
+        "a free face toward the sun shows a highlight: {open_air} pixels"
+    );
+    assert!(
+        against_the_wall * 50 < open_air,
+        "the face against the wall shows {against_the_wall} highlight pixels, the free face \
+         {open_air}"
+    );
+}
+
+/// Whether the pixel shows the unlit red cube, directly or refracted (through the water's
+/// blue-green tint it comes out dark red, about (110, 60, 60); the water alone has r < g).
+fn red(rgba: &[u8], x: u32, y: u32) -> bool {
+    let [r, g, b] = pixel(rgba, x, y).map(|c| c as u32);
+    r >= g + 30 && r >= b + 30
+}
+
+/// Refraction bends the light from behind the water only: where the moved sample lands on
+/// geometry in front of the water (a red cube), the water draws the scene straight behind it, so
+/// no red shows outside the cube's own outline however strong the refraction. Thick water beside
+/// the island drew the island's wall into the channel in vertical bands.
+#[test]
+fn refraction_does_not_draw_geometry_in_front_of_the_water() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let (mut app, target) = water_in_view(false);
+    let world = app.world_mut();
+    let mesh = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Cuboid::from_length(0.15));
+    let material = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: Color::srgb(1.0, 0.0, 0.0),
+            unlit: true,
+            ..default()
+        });
+    world.spawn((
+        Mesh3d(mesh),
+        MeshMaterial3d(material),
+        Transform::from_translation(EYE.lerp(LOOK_AT, 0.4)),
+    ));
+    let mut set_refraction = |app: &mut App, strength: f32| {
+        let world = app.world_mut();
+        let mut cameras = world.query::<&mut SphSurface>();
+        for mut surface in cameras.iter_mut(world) {
+            surface.refraction_strength = strength;
+        }
+    };
+    set_refraction(&mut app, 0.0);
+    let straight = capture(&mut app, &target);
+    set_refraction(&mut app, 1.0);
+    let bent = capture(&mut app, &target);
+    let saved = save(&bent, "refraction_beside_a_cube");
+    // The cube's outline, one pixel wider.
+    let near_the_cube = |x: u32, y: u32| {
+        (x.saturating_sub(1)..=(x + 1).min(WIDTH - 1))
+            .any(|u| (y.saturating_sub(1)..=(y + 1).min(HEIGHT - 1)).any(|v| red(&straight, u, v)))
+    };
+    let cube = drawn(&straight)
+        .iter()
+        .filter(|&&(x, y)| red(&straight, x, y))
+        .count();
+    let leaks: Vec<_> = drawn(&bent)
+        .into_iter()
+        .filter(|&(x, y)| red(&bent, x, y) && !near_the_cube(x, y))
+        .collect();
+    assert!(cube > 200, "the cube covers {cube} pixels");
+    assert!(
+        leaks.len() * 100 < cube,
+        "{} water pixels outside the cube's outline show it (first {:?}; the cube covers {cube}; \
+         {})",
+        leaks.len(),
+        leaks.first(),
+        saved.display()
+    );
+}

@@ -102,6 +102,23 @@ fn fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(color, behind_water.a);
 }
 
+// Refraction: the scene behind the water at the view pixel `pixel` (`in_view` within the view),
+// moved along the normal's screen direction by the thickness `water`. Where the moved sample
+// lands on opaque geometry nearer than the water's surface (`nearest`), it is not behind the
+// water (thick water seen at a grazing angle beside the island drew it in vertical bands): the
+// scene straight behind is taken instead.
+fn refracted_scene(pixel: vec2<f32>, in_view: vec2<f32>, normal: vec3<f32>, water: f32, nearest: f32) -> vec3<f32> {
+    let offset = vec2<f32>(normal.x, -normal.y) * surface.refraction_strength * water * surface.view_size;
+    let moved = clamp(in_view - offset, vec2<f32>(0.5), surface.view_size - vec2<f32>(0.5));
+    var source = surface.view_origin + moved;
+    if opaque_depth_at(source, pixel_ndc(moved, surface.view_size)) < nearest {
+        source = pixel;
+    }
+    // The view's texture spans the whole target; the view may be a viewport of it.
+    let size = vec2<f32>(textureDimensions(scene_color));
+    return textureSampleLevel(scene_color, linear_sampler, source / size, 0.0).rgb;
+}
+
 // The lit water at the view pixel `pixel` (`in_view` within the view, `uv` its share), over
 // `behind` (the scene's colour there), with `bubbles` of summed bubble weight clouding the light
 // it lets through; `behind` where no water is drawn.
@@ -177,9 +194,7 @@ fn water(pixel: vec2<f32>, in_view: vec2<f32>, uv: vec2<f32>, behind: vec3<f32>,
     let normal = normalize(sum_normal);
     let to_eye = toward_eye(ndc);
     let water = sum_water / front;
-    // Refraction: the scene behind, moved along the normal's screen direction by the thickness.
-    let offset = vec2<f32>(normal.x, -normal.y) * surface.refraction_strength * water;
-    let refracted = textureSampleLevel(scene_color, linear_sampler, clamp(uv - offset, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
+    let refracted = refracted_scene(pixel, in_view, normal, water, nearest);
     let transmittance = exp(-surface.absorption.rgb * water);
     var transmitted = refracted * transmittance + surface.deep_color.rgb * (1.0 - transmittance);
     transmitted = mix(transmitted, whitewater_color(to_eye), 1.0 - exp(-WHITEWATER_OPACITY * bubbles));
