@@ -103,8 +103,9 @@ pub fn run(args: &TradeArgs, bars: &Bars) -> Result<String, String> {
          ## What the optional stages cost\n\n\
          At {largest} particles (ms per step; change against the baseline). A scene without surface \
          tension compiles no normals pass and no cohesion code; without viscosity, no viscosity term. \
-         Whitewater (docs/whitewater.md) is stepped on the CPU on every state sample (0.01 s of \
-         simulated time): its column is the wall clock it adds per simulated second.\n\n{}\n\
+         Whitewater (docs/whitewater.md) is stepped on the CPU backend on every state sample (0.01 s \
+         of simulated time) and by the GPU backend's stages once a frame: its column is the wall \
+         clock it adds per simulated second.\n\n{}\n\
          ## The peers on dambreak32k\n\n\
          Measured on an earlier 2-core machine (issue 5): SPlisHSPlasH 2.16 DFSPH 36.8 ms per step at \
          dt 1e-3 (18 s for 0.5 s: 36 s per simulated second); salva 0.11 DFSPH 192.6 ms per step (97 s: \

@@ -182,18 +182,16 @@ pub(super) fn plan(args: &TradeArgs) -> Vec<Planned> {
                 ..at_largest.clone()
             },
         ));
-        if backend == Backend::Cpu {
-            // Whitewater is stepped on the CPU over the state samples of either backend; its
-            // cost is the CPU's.
-            plan.push(Planned::new(
-                WHITEWATER_GROUP,
-                "whitewater on".into(),
-                RunArgs {
-                    whitewater: true,
-                    ..at_largest.clone()
-                },
-            ));
-        }
+        // Whitewater on each backend: the CPU steps it over the state samples, the GPU's
+        // stages run it once a frame.
+        plan.push(Planned::new(
+            WHITEWATER_GROUP,
+            "whitewater on".into(),
+            RunArgs {
+                whitewater: true,
+                ..at_largest.clone()
+            },
+        ));
         plan.push(Planned::new(
             "hydrostatic",
             "tank at rest, 1 s".into(),
@@ -361,17 +359,22 @@ mod tests {
         };
         let plan = plan(&args);
         // 12 integrator × dt, 4 DFSPH and 5 PBF variants; per backend 2 counts, search, surface
-        // tension, viscosity, tank, 2 dambreak32k; the CPU adds 2 α, 2 DFSPH counts, a DFSPH
-        // tank, a whitewater run and 3 DFSPH and 1 PBF dambreak32k runs; the GPU 2 PBF counts,
-        // 2 DFSPH counts and 1 PBF and 1 DFSPH dambreak32k run.
+        // tension, viscosity, whitewater, tank, 2 dambreak32k; the CPU adds 2 α, 2 DFSPH counts,
+        // a DFSPH tank and 3 DFSPH and 1 PBF dambreak32k runs; the GPU 2 PBF counts, 2 DFSPH
+        // counts and 1 PBF and 1 DFSPH dambreak32k run.
         assert_eq!(
             plan.len(),
-            12 + 9 + 2 * (2 + 4 + 2) + 2 + 2 + 1 + 1 + 4 + 2 + 2 + 1 + 1
+            12 + 9 + 2 * (2 + 5 + 2) + 2 + 2 + 1 + 4 + 2 + 2 + 1 + 1
         );
+        let whitewater: Vec<_> = plan
+            .iter()
+            .filter(|p| p.args.whitewater)
+            .map(|p| p.args.backend)
+            .collect();
         assert_eq!(
-            plan.iter().filter(|p| p.args.whitewater).count(),
-            1,
-            "one run with whitewater, on the CPU"
+            whitewater,
+            [Backend::Cpu, Backend::Gpu],
+            "one run with whitewater on each backend"
         );
         let on_the_gpu = |solver: Solver| {
             plan.iter()
