@@ -23,9 +23,8 @@ struct ImpostorVarying {
 // The billboard of `slot`'s sphere: an equilateral triangle, perpendicular to the line of sight
 // to the centre and moved toward the eye by one radius, whose inscribed circle of radius r covers
 // the sphere's outline in that plane (of radius r (d - r) / sqrt(d^2 - r^2) < r). One triangle,
-// not a quad's two: the passes draw tiny billboards by the ten thousand, so their cost is per
-// triangle (a software rasteriser's setup and binning), not per fragment; the triangle's extra
-// area (3 sqrt(3) r^2 against 4 r^2) is discarded by the fragments. Slots past the live count
+// not a quad's two: half the vertices and triangles to set up, for a larger area (3 sqrt(3) r^2
+// against 4 r^2) whose fragments outside the outline are discarded. Slots past the live count
 // are culled.
 fn impostor_vertex(vertex: u32) -> ImpostorVarying {
     return billboard_vertex(vertex, surface.particle_count, surface.sphere_radius);
