@@ -716,7 +716,7 @@ fn refraction_does_not_draw_geometry_in_front_of_the_water() {
         MeshMaterial3d(material),
         Transform::from_translation(EYE.lerp(LOOK_AT, 0.4)),
     ));
-    let mut set_refraction = |app: &mut App, strength: f32| {
+    let set_refraction = |app: &mut App, strength: f32| {
         let world = app.world_mut();
         let mut cameras = world.query::<&mut SphSurface>();
         for mut surface in cameras.iter_mut(world) {
@@ -749,5 +749,61 @@ fn refraction_does_not_draw_geometry_in_front_of_the_water() {
         leaks.len(),
         leaks.first(),
         saved.display()
+    );
+}
+
+/// The share of the view's pixels in which a bright green floor shows, directly or refracted
+/// through the water, for the camera of [`water_in_viewport`] drawing into `viewport`.
+fn green_share(viewport: Option<Viewport>) -> f64 {
+    let (mut app, target) = water_in_viewport(false, viewport.clone());
+    let world = app.world_mut();
+    let mesh = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Plane3d::default().mesh().size(1.0, 1.0));
+    let material = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: Color::srgb(0.0, 1.0, 0.0),
+            unlit: true,
+            ..default()
+        });
+    world.spawn((
+        Mesh3d(mesh),
+        MeshMaterial3d(material),
+        Transform::from_xyz(0.5, -0.002, 0.5),
+    ));
+    let picture = capture(&mut app, &target);
+    let saved = save(&picture, &format!("green_floor_{}", viewport.is_some()));
+    let (origin, size) = viewport.map_or((UVec2::ZERO, UVec2::new(WIDTH, HEIGHT)), |v| {
+        (v.physical_position, v.physical_size)
+    });
+    let green = (origin.y..origin.y + size.y)
+        .flat_map(|y| (origin.x..origin.x + size.x).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let [r, g, b] = pixel(&picture, x, y).map(|c| c as u32);
+            g >= r + 40 && g >= b + 20
+        })
+        .count();
+    let share = green as f64 / (size.x * size.y) as f64;
+    eprintln!("green share {share:.3} ({})", saved.display());
+    share
+}
+
+/// Refraction reads the scene behind from the camera's own viewport: a quarter-size viewport of
+/// the same aspect sees the green floor through the water in the same share of its pixels as the
+/// whole image does (it read the whole target as if it were the viewport).
+#[test]
+fn refraction_in_a_viewport_reads_the_viewports_own_pixels() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let whole = green_share(None);
+    let quarter = green_share(Some(Viewport {
+        physical_position: UVec2::new(WIDTH / 2, HEIGHT / 2),
+        physical_size: UVec2::new(WIDTH / 2, HEIGHT / 2),
+        ..default()
+    }));
+    assert!(whole > 0.1, "the floor shows in {whole:.3} of the image");
+    assert!(
+        (quarter - whole).abs() < 0.1 * whole,
+        "the floor shows in {quarter:.3} of the viewport against {whole:.3} of the whole image"
     );
 }
