@@ -129,6 +129,30 @@ fn drawn(rgba: &[u8]) -> Vec<(u32, u32)> {
         .collect()
 }
 
+/// An unlit `mesh` of `color` at `transform`.
+fn spawn_unlit(world: &mut World, mesh: Mesh, color: Color, transform: Transform) {
+    let mesh = world.resource_mut::<Assets<Mesh>>().add(mesh);
+    let material = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: color,
+            unlit: true,
+            ..default()
+        });
+    world.spawn((Mesh3d(mesh), MeshMaterial3d(material), transform));
+}
+
+/// An unlit red cube, 0.15 m, on the line of sight from [`EYE`] to [`LOOK_AT`], in front of
+/// the water.
+fn spawn_red_cube(world: &mut World) {
+    spawn_unlit(
+        world,
+        Cuboid::from_length(0.15).into(),
+        Color::srgb(1.0, 0.0, 0.0),
+        Transform::from_translation(EYE.lerp(LOOK_AT, 0.4)),
+    );
+}
+
 #[test]
 fn the_surface_is_drawn_and_an_opaque_box_in_front_hides_it() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
@@ -194,22 +218,7 @@ fn surface_drawn_and_hidden_by_a_box(hdr: bool) {
         pixel(&before, cx, cy)
     );
     // An unlit red cube on the line of sight to the image centre, in front of the water.
-    let world = app.world_mut();
-    let mesh = world
-        .resource_mut::<Assets<Mesh>>()
-        .add(Cuboid::from_length(0.15));
-    let material = world
-        .resource_mut::<Assets<StandardMaterial>>()
-        .add(StandardMaterial {
-            base_color: Color::srgb(1.0, 0.0, 0.0),
-            unlit: true,
-            ..default()
-        });
-    world.spawn((
-        Mesh3d(mesh),
-        MeshMaterial3d(material),
-        Transform::from_translation(EYE.lerp(LOOK_AT, 0.4)),
-    ));
+    spawn_red_cube(app.world_mut());
     let after = capture(&mut app, &target);
     let saved = save(&after, &format!("box_hdr_{hdr}"));
     for y in cy - 3..=cy + 3 {
@@ -700,22 +709,7 @@ fn red(rgba: &[u8], x: u32, y: u32) -> bool {
 fn refraction_does_not_draw_geometry_in_front_of_the_water() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
     let (mut app, target) = water_in_view(false);
-    let world = app.world_mut();
-    let mesh = world
-        .resource_mut::<Assets<Mesh>>()
-        .add(Cuboid::from_length(0.15));
-    let material = world
-        .resource_mut::<Assets<StandardMaterial>>()
-        .add(StandardMaterial {
-            base_color: Color::srgb(1.0, 0.0, 0.0),
-            unlit: true,
-            ..default()
-        });
-    world.spawn((
-        Mesh3d(mesh),
-        MeshMaterial3d(material),
-        Transform::from_translation(EYE.lerp(LOOK_AT, 0.4)),
-    ));
+    spawn_red_cube(app.world_mut());
     let set_refraction = |app: &mut App, strength: f32| {
         let world = app.world_mut();
         let mut cameras = world.query::<&mut SphSurface>();
@@ -756,22 +750,12 @@ fn refraction_does_not_draw_geometry_in_front_of_the_water() {
 /// through the water, for the camera of [`water_in_viewport`] drawing into `viewport`.
 fn green_share(viewport: Option<Viewport>) -> f64 {
     let (mut app, target) = water_in_viewport(false, viewport.clone());
-    let world = app.world_mut();
-    let mesh = world
-        .resource_mut::<Assets<Mesh>>()
-        .add(Plane3d::default().mesh().size(1.0, 1.0));
-    let material = world
-        .resource_mut::<Assets<StandardMaterial>>()
-        .add(StandardMaterial {
-            base_color: Color::srgb(0.0, 1.0, 0.0),
-            unlit: true,
-            ..default()
-        });
-    world.spawn((
-        Mesh3d(mesh),
-        MeshMaterial3d(material),
+    spawn_unlit(
+        app.world_mut(),
+        Plane3d::default().mesh().size(1.0, 1.0).into(),
+        Color::srgb(0.0, 1.0, 0.0),
         Transform::from_xyz(0.5, -0.002, 0.5),
-    ));
+    );
     let picture = capture(&mut app, &target);
     let saved = save(&picture, &format!("green_floor_{}", viewport.is_some()));
     let (origin, size) = viewport.map_or((UVec2::ZERO, UVec2::new(WIDTH, HEIGHT)), |v| {
