@@ -163,6 +163,9 @@ pub struct WhitewaterFigures {
     /// water's view and its neighbour sort included (mean); on the GPU the GPU time of its
     /// stages in a timed frame (they run once a frame) over the frame's steps.
     pub ms_per_step: f64,
+    /// What whitewater cost over the whole run [ms]: on the CPU every post-process step's wall
+    /// clock, on the GPU [`Self::ms_per_step`] times the run's simulation steps.
+    pub ms_total: f64,
     /// [[t, spray, foam, bubbles]] after each step (CPU) or sample (GPU).
     pub counts: Vec<[f64; 4]>,
     /// Where the foam lies at the end: the 5th and the 95th percentile of its positions along

@@ -92,12 +92,14 @@ impl WhitewaterSampler {
         Ok(())
     }
 
-    /// The figures of the run; `stage_ms` are the simulation's per-stage times of a pass (the
-    /// GPU's whitewater stages among them when it ran its own, once a frame of `frame_steps`).
+    /// The figures of a run of `run_steps` simulation steps; `stage_ms` are the simulation's
+    /// per-stage times of a pass (the GPU's whitewater stages among them when it ran its own,
+    /// once a frame of `frame_steps`).
     pub(crate) fn finish(
         mut self,
         stage_ms: &[(String, f64)],
         frame_steps: u32,
+        run_steps: u64,
     ) -> WhitewaterFigures {
         if self.on_the_device {
             let per_frame: f64 = stage_ms
@@ -106,6 +108,7 @@ impl WhitewaterSampler {
                 .map(|(_, ms)| ms)
                 .sum();
             self.figures.ms_per_step = per_frame / frame_steps.max(1) as f64;
+            self.figures.ms_total = self.figures.ms_per_step * run_steps as f64;
             return self.figures;
         }
         let pool = &self.whitewater.pool;
@@ -113,6 +116,7 @@ impl WhitewaterSampler {
         let f = &mut self.figures;
         (f.spray, f.foam, f.bubbles) = (spray, foam, bubbles);
         f.ms_per_step = self.ms_sum / f.steps.max(1) as f64;
+        f.ms_total = self.ms_sum;
         let foam: Vec<_> = (0..pool.len())
             .filter(|&i| pool.kind[i] == DiffuseKind::Foam)
             .map(|i| pool.position[i])

@@ -262,7 +262,9 @@ pub fn run_setup(
     report.orifice = samples.orifice.map(|o| o.finish(g));
     report.thin_wall = samples.thin_wall.map(|w| w.finish());
     let stage_ms = sim.stage_ms();
-    report.whitewater = samples.whitewater.map(|w| w.finish(&stage_ms, substeps));
+    report.whitewater = samples
+        .whitewater
+        .map(|w| w.finish(&stage_ms, substeps, report.steps));
     Ok(report)
 }
 

@@ -114,17 +114,10 @@ fn ms_of(rows: &[Row], pred: impl Fn(&Row) -> bool) -> Option<f64> {
 }
 
 /// What whitewater adds to a simulated second of the row's water, in seconds of wall clock and
-/// against the water's own cost: on the CPU its post-process steps' mean ms times their count,
-/// on the GPU its stages' ms per simulation step times the run's steps, over the run's simulated
-/// time.
+/// against the water's own cost: its cost over the run over the run's simulated time.
 fn whitewater_cost(row: &Row) -> Option<String> {
     let (r, w) = (&row.report, row.report.whitewater.as_ref()?);
-    let steps = if r.backend == Backend::Gpu.name() {
-        r.steps
-    } else {
-        w.steps
-    };
-    let added = w.ms_per_step * steps as f64 / 1e3 / r.sim_time.max(1e-9);
+    let added = w.ms_total / 1e3 / r.sim_time.max(1e-9);
     Some(format!(
         "+{added:.2} s per sim s ({:+.0} %), {} diffuse at the end",
         added / r.cost_per_sim_second_s * 100.0,
