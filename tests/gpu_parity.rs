@@ -266,7 +266,9 @@ fn pbf_steps_on_the_gpu_match_the_cpu_solver() {
             assert!(moved > 1e-3, "{what}: the water moves");
             assert!(dx <= 1e-6, "{what}: positions differ by {dx} m");
             assert!(dv <= 1e-4 * v_max, "{what}: velocities differ by {dv} m/s");
-            assert!(drho <= 2e-5, "{what}: densities differ by {drho}");
+            // f32 sums in another order, over three steps of six iterations each (measured
+            // at most 2.0e-5).
+            assert!(drho <= 4e-5, "{what}: densities differ by {drho}");
             // The pressure the step's λ stand for (Λ summed over the iterations).
             assert!(p_max > 10.0, "{what}: the block is compressed ({p_max} Pa)");
             assert!(

@@ -262,6 +262,8 @@ fn water_settings(ui: &mut egui::Ui, params: &mut SphParams) {
         ui.add(slider(&mut p.pbf.vorticity_epsilon, 0.0..=1.0, epsilon));
         let omega = "PBF over-relaxation ω";
         ui.add(slider(&mut p.pbf.over_relaxation, 1.0..=1.9, omega));
+        let weight = "PBF Jacobi weight w";
+        ui.add(slider(&mut p.pbf.jacobi_weight, 0.05..=1.0, weight));
     }
     ui.add(slider(
         &mut p.gravity.y,

@@ -368,7 +368,7 @@ fn every_uniform_field_sits_where_the_rust_layout_puts_it() {
         dfsph_warm_start, dfsph_min_density_iterations, dfsph_max_density_iterations,
         dfsph_min_divergence_iterations, dfsph_max_divergence_iterations, spacing,
         dfsph_density_warm_start, dfsph_divergence_warm_start, dfsph_max_correction, drain_frame,
-        open_drains, drains_unused_z, drains_unused_w, dfsph_divergence_over_relaxation,
+        open_drains, pbf_jacobi_weight, drains_unused_w, dfsph_divergence_over_relaxation,
         dfsph_density_over_relaxation, boundary_friction, unmirrored_samples, contact_radius,
         contact_modulus, max_surface_pressure, surface_margin, whitewater_trapped_air_min,
         whitewater_trapped_air_max, whitewater_wave_crest_min, whitewater_wave_crest_max,

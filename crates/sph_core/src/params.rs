@@ -549,6 +549,14 @@ impl PbfSettings {
             true,
             1.9,
             "[1, 1.9] (1: plain Jacobi)",
+        )?;
+        check_range(
+            "pbf.jacobi_weight",
+            self.jacobi_weight,
+            0.0,
+            false,
+            1.0,
+            "(0, 1] (1: plain Jacobi)",
         )
     }
 }

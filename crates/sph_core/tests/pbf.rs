@@ -181,6 +181,27 @@ fn bad_settings_name_the_field() {
             },
             "pbf.over_relaxation",
         ),
+        (
+            PbfSettings {
+                jacobi_weight: 0.0,
+                ..d
+            },
+            "pbf.jacobi_weight",
+        ),
+        (
+            PbfSettings {
+                jacobi_weight: 1.01,
+                ..d
+            },
+            "pbf.jacobi_weight",
+        ),
+        (
+            PbfSettings {
+                jacobi_weight: f32::NAN,
+                ..d
+            },
+            "pbf.jacobi_weight",
+        ),
     ] {
         let mut p = pbf_params();
         p.pbf = settings;
@@ -346,5 +367,46 @@ fn ten_thousand_frame_steps_of_a_dam_break_and_a_pipe_keep_every_particle() {
         (d.particle_count, d.non_finite_count, d.outside_count),
         (2_000, 0, 0),
         "pipe"
+    );
+}
+
+/// A column of water 20 layers deep at rest: the weighted Jacobi iterations
+/// (`PbfSettings::jacobi_weight`) leave it still, where plain Jacobi boils it, and the contact
+/// with the solids inside the step (`sph_core::solver::pbf::solid_contact`) leaves the guard
+/// nothing to correct.
+#[test]
+fn a_deep_column_at_rest_holds_still_without_the_guard() {
+    let run = |jacobi_weight: f32| {
+        let mut params = pbf_params();
+        params.pbf.jacobi_weight = jacobi_weight;
+        let dx = params.spacing();
+        let size = Vec3::new(6.0 * dx, 20.0 * dx, 6.0 * dx);
+        let container = BoxContainer::from_min_max(Vec3::ZERO, size + Vec3::Y * 0.05);
+        let positions = BlockSpawn::new(Vec3::ZERO, size, dx).positions();
+        let mut solver = CpuSolver::new(params, container, positions.len()).unwrap();
+        solver.spawn(&positions, Vec3::ZERO);
+        while solver.time() < 3.0 {
+            solver.step();
+        }
+        let speeds: Vec<f32> = solver
+            .particles()
+            .velocity
+            .iter()
+            .map(|v| v.length())
+            .collect();
+        let mean = speeds.iter().sum::<f32>() / speeds.len() as f32;
+        let max = speeds.iter().copied().fold(0.0, f32::max);
+        (mean, max, solver.corrections().total())
+    };
+    let (mean, max, corrected) = run(PbfSettings::default().jacobi_weight);
+    let (plain_mean, plain_max, _) = run(1.0);
+    println!(
+        "weighted: {mean} / {max} m/s, {corrected} corrections; plain: {plain_mean} / {plain_max}"
+    );
+    assert!(mean < 0.01 && max < 0.05, "mean {mean} m/s, max {max} m/s");
+    assert_eq!(corrected, 0, "the guard corrected {corrected} particles");
+    assert!(
+        plain_mean > 3.0 * mean,
+        "plain Jacobi: mean {plain_mean} m/s"
     );
 }

@@ -1,9 +1,9 @@
 //! Options of `sph-bench run` and how long a run lasts.
 
 use super::values::{
-    cfl, column_width, dfsph_max_iterations, dt, integrator, on_off, over_relaxation, particles,
-    pbf_iterations, percent, percent_per_second, search, sim_time, solver, steps, substeps,
-    viscosity_alpha, vorticity, wall_friction, Backend,
+    cfl, column_width, dfsph_max_iterations, dt, integrator, jacobi_weight, on_off,
+    over_relaxation, particles, pbf_iterations, percent, percent_per_second, search, sim_time,
+    solver, steps, substeps, viscosity_alpha, vorticity, wall_friction, Backend,
 };
 use crate::scenarios::{Bodies, Scenario};
 use clap::{ArgAction, Args};
@@ -55,7 +55,7 @@ pub struct RunArgs {
     /// [default: 100].
     #[arg(long, value_name = "N", value_parser = dfsph_max_iterations)]
     pub max_iterations: Option<u32>,
-    /// PBF: Jacobi iterations of the density constraint per step [default: 4].
+    /// PBF: Jacobi iterations of the density constraint per step [default: 6].
     #[arg(long, value_name = "N", value_parser = pbf_iterations)]
     pub pbf_iterations: Option<u32>,
     /// PBF: vorticity confinement ε [m/s] (0 skips the stage) [default: 0].
@@ -73,6 +73,9 @@ pub struct RunArgs {
     /// [default: 1.4].
     #[arg(long, value_name = "OMEGA", value_parser = over_relaxation)]
     pub pbf_over_relaxation: Option<f32>,
+    /// PBF: the weight of each Jacobi iteration's λ (1: plain Jacobi) [default: 2/3].
+    #[arg(long, value_name = "W", value_parser = jacobi_weight)]
+    pub pbf_jacobi_weight: Option<f32>,
     /// DFSPH: warm-start each solve from the previous step's stiffness.
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "on")]
     pub warm_start: bool,
@@ -152,6 +155,7 @@ impl Default for RunArgs {
             pbf_iterations: None,
             pbf_vorticity: None,
             pbf_over_relaxation: None,
+            pbf_jacobi_weight: None,
             divergence_over_relaxation: None,
             density_over_relaxation: None,
             particles: 8_192,

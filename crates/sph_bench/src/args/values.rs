@@ -132,6 +132,10 @@ pub(super) fn over_relaxation(text: &str) -> Result<f32, String> {
     number(text, |v: f32| (1.0..=1.9).contains(&v), "[1, 1.9]")
 }
 
+pub(super) fn jacobi_weight(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| v > 0.0 && v <= 1.0, "(0, 1]")
+}
+
 pub(super) fn vorticity(text: &str) -> Result<f32, String> {
     number(text, |v: f32| (0.0..=1.0).contains(&v), "[0, 1] m/s")
 }

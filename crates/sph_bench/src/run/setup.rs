@@ -65,6 +65,9 @@ pub fn configured_setup(args: &RunArgs) -> Setup {
             if let Some(epsilon) = args.pbf_vorticity {
                 p.pbf.vorticity_epsilon = epsilon;
             }
+            if let Some(w) = args.pbf_jacobi_weight {
+                p.pbf.jacobi_weight = w;
+            }
             if let Some(omega) = args.pbf_over_relaxation {
                 p.pbf.over_relaxation = omega;
             }

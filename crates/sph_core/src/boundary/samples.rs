@@ -503,6 +503,20 @@ impl Boundary {
         true
     }
 
+    /// Body `body`'s pose origin (the torque's reference point) as the colliders stand now:
+    /// [`Boundary::origin`] is placed with the samples at the sort, and a pass before it (PBF's
+    /// prediction) reads the pose from here.
+    pub fn body_origin(&self, body: u32) -> Vec3 {
+        match body.checked_sub(1) {
+            Some(k) => self
+                .slots
+                .get(k as usize)
+                .and_then(|s| s.as_ref())
+                .map_or(Vec3::ZERO, |b| b.collider.pose.translation),
+            None => Vec3::ZERO,
+        }
+    }
+
     /// Number of bodies (walls + collider slots), the length of a per-body force table.
     pub fn body_count(&self) -> usize {
         1 + self.slots.len()

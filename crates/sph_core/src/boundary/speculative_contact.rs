@@ -129,7 +129,7 @@ pub fn stop_before_drift(
             |mut sums, (v, &x)| {
                 let a_s =
                     speculative_contact_at(boundary, x, *v, Vec3::ZERO, drift, mass, |b, f, at| {
-                        sums[b as usize].add(f, at, boundary.origin[b as usize])
+                        sums[b as usize].add(f, at, boundary.body_origin(b))
                     });
                 *v += a_s * dt;
                 sums

@@ -166,8 +166,8 @@ pub struct GpuSphParams {
     pub drain_frame: u32,
     /// Drains: the open drains in [`GpuPumps`](crate::gpu_layout::GpuPumps) (0 = none).
     pub open_drains: u32,
-    /// Unused (keeps the block in 16-byte rows).
-    pub drains_unused_z: u32,
+    /// PBF: the weight of each Jacobi iteration's λ ([`crate::PbfSettings::jacobi_weight`]).
+    pub pbf_jacobi_weight: f32,
     /// Unused (keeps the block in 16-byte rows).
     pub drains_unused_w: u32,
     /// DFSPH: the divergence-free solve's over-relaxation ω
@@ -348,7 +348,7 @@ impl GpuSphParams {
             dfsph_max_correction: crate::solver::dfsph::bender2017::MAX_CORRECTION,
             drain_frame: 0,
             open_drains: 0,
-            drains_unused_z: 0,
+            pbf_jacobi_weight: pbf.jacobi_weight,
             drains_unused_w: 0,
             dfsph_divergence_over_relaxation: d.divergence_over_relaxation,
             dfsph_density_over_relaxation: d.density_over_relaxation,

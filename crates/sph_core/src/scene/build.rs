@@ -132,6 +132,7 @@ impl SceneFile {
                 xsph_c,
                 vorticity_epsilon,
                 over_relaxation,
+                jacobi_weight,
             } => {
                 let base = PbfSettings::default();
                 params.pbf = PbfSettings {
@@ -139,6 +140,7 @@ impl SceneFile {
                     xsph_c: xsph_c.unwrap_or(base.xsph_c),
                     vorticity_epsilon: vorticity_epsilon.unwrap_or(base.vorticity_epsilon),
                     over_relaxation: over_relaxation.unwrap_or(base.over_relaxation),
+                    jacobi_weight: jacobi_weight.unwrap_or(base.jacobi_weight),
                     ..base
                 };
             }

@@ -74,6 +74,8 @@ pub enum SolverSpec {
         vorticity_epsilon: Option<f32>,
         /// Over-relaxation ω of the iterations after the first (1: plain Jacobi).
         over_relaxation: Option<f32>,
+        /// The weight of each iteration's λ, (0, 1] (1: plain Jacobi).
+        jacobi_weight: Option<f32>,
     },
 }
 

@@ -72,3 +72,42 @@ fn speculative_contact(x: vec3<f32>, v_c: vec3<f32>, a: vec3<f32>, dt: f32, kick
     }
     return extra;
 }
+
+// PBF's contact inside its iterations (Rust twin: sph_core::solver::pbf::solid_contact): a
+// particle at x nearer than the margin to a surface of the box or a collider is projected back
+// onto the margin, x += n (margin - φ), surface after surface; each projection δ gives its
+// body `reaction` δ at the particle (the caller's -m c / dt², c the projection's share of the
+// step's moves) when `react`.
+fn contact_projection(x_in: vec3<f32>, reaction: f32, react: bool) -> vec3<f32> {
+    let margin = params.surface_margin;
+    var x = x_in;
+    let normals = array<vec3<f32>, 6>(
+        vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(-1.0, 0.0, 0.0),
+        vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, -1.0, 0.0),
+        vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0, 0.0, -1.0),
+    );
+    for (var f = 0u; f < 6u; f++) {
+        let lo = x - params.box_min;
+        let hi = params.box_max - x;
+        let phis = array<f32, 6>(lo.x, hi.x, lo.y, hi.y, lo.z, hi.z);
+        if phis[f] < margin {
+            let delta = normals[f] * (margin - phis[f]);
+            x += delta;
+            if react {
+                add_reaction(0u, delta * reaction, x);
+            }
+        }
+    }
+    for (var k = 0u; k < params.guard_colliders; k++) {
+        let surface = collider_surface(k, x, margin);
+        if surface.w >= margin {
+            continue;
+        }
+        let delta = surface.xyz * (margin - surface.w);
+        x += delta;
+        if react {
+            add_reaction(bitcast<u32>(colliders[k].linear_velocity.w), delta * reaction, x);
+        }
+    }
+    return x;
+}

@@ -147,8 +147,8 @@ struct SphUniforms {
     drain_frame: u32,
     // Drains: the open drains in GpuPumps (0 = none).
     open_drains: u32,
-    // Unused (keeps the block in 16-byte rows).
-    drains_unused_z: u32,
+    // PBF: the weight of each Jacobi iteration's λ (sph_core::PbfSettings::jacobi_weight).
+    pbf_jacobi_weight: f32,
     // Unused (keeps the block in 16-byte rows).
     drains_unused_w: u32,
     // DFSPH: the divergence-free solve's over-relaxation ω

@@ -34,6 +34,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::SortValues,
         Buf::Clock,
         Buf::Checkpoint,
+        Buf::BodyForces,
         Buf::Colliders,
         Buf::Meshes,
         Buf::Pumps,

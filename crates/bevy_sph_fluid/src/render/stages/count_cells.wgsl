@@ -1,9 +1,11 @@
 // Pass 1 of the neighbour sort, fused with the integrator's pre-evaluation phase:
 // PRE_KDK   v½ = v + a dt/2; x += v½ dt; collide; v* = v½ + a dt/2   (sph_core::integrate::kick_drift)
 // PRE_LEAPFROG  x += v dt + a0 dt²/2; v* = v + a0 dt; collide(x, v*)  (design eqs. 18-19)
-// PRE_PBF       x_prev = x; v += g dt; x* = x + v dt; collide      (Macklin & Müller 2013,
-//               Algorithm 1, lines 2-3; x_prev is kept in acceleration_start, which the sort
-//               carries along)
+// PRE_PBF       x_prev = x; v += g dt; the solids' speculative contact bounds v so that the
+//               prediction ends a tenth of a spacing from every surface, its reaction to the
+//               body (shaders/speculative_contact.wgsl); x* = x + v dt; collide
+//               (Macklin & Müller 2013, Algorithm 1, lines 2-3; x_prev is kept in
+//               acceleration_start, which the sort carries along)
 // PRE_DFSPH     x += v dt; collide, unless a state is being restored (Bender & Koschier 2017,
 //               Algorithm 1, line 8: the move after the constant-density solve)
 // (skipped while the clock is frozen), after the rollback checkpoint is saved or restored
@@ -15,13 +17,32 @@
 #import sph::clock::{step_dt, frozen}
 #import sph::checkpoint::{apply_checkpoint, restoring}
 #import sph::neighbors::{grid_cell, grid_index, hash_cell, hash_key}
+#ifdef PRE_PBF
+#import sph::speculative_contact::speculative_contact
+#import sph::body_reactions::{begin_reactions, end_reactions, flush_reaction}
+#endif
 
 // Hash mode: the key of a drained particle, after every bucket and before the padding.
 const MARKED_KEY: u32 = 0xfffffffeu;
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+#ifdef PRE_PBF
+    // The contact's reactions are summed by the workgroup (uniform control flow around `slot`).
+    begin_reactions(local, #{WORKGROUP_SIZE}u);
+    slot(id.x);
+    flush_reaction();
+    end_reactions(local, #{WORKGROUP_SIZE}u);
+#else
+    slot(id.x);
+#endif
+}
+
+// The integrator's phase and the sort key of slot i.
+fn slot(i: u32) {
 #ifdef SEARCH_HASH
     if i >= params.sort_length {
         return;
@@ -78,7 +99,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef PRE_PBF
     if integrating {
     particle_state[acceleration_start_at(i)] = vec4<f32>(x, 0.0);
-    let v = particle_state[velocity_at(i)].xyz + params.gravity * dt;
+    let v_g = particle_state[velocity_at(i)].xyz + params.gravity * dt;
+    let v = v_g + speculative_contact(x, v_g, vec3<f32>(0.0), dt, 1.0, true) * dt;
     let moved = guard(x + v * dt, v);
     x = moved.x;
     particle_state[velocity_at(i)] = vec4<f32>(moved.v, 0.0);

@@ -46,6 +46,8 @@ pub struct PbfContext {
     pub max_correction: f32,
     /// The over-relaxation ω of the iterations after the first ([`over_relax`]).
     pub over_relaxation: f32,
+    /// The weight w of each iteration's λ ([`crate::PbfSettings::jacobi_weight`]).
+    pub jacobi_weight: f32,
 }
 
 /// The longest position correction of one iteration, as a fraction of h, unless gravity moves
@@ -94,6 +96,7 @@ impl PbfContext {
             vorticity_epsilon: settings.vorticity_epsilon,
             max_correction: MAX_CORRECTION * h,
             over_relaxation: settings.over_relaxation,
+            jacobi_weight: settings.jacobi_weight,
         }
     }
 }
@@ -131,17 +134,26 @@ pub fn over_relax(ctx: &PbfContext, k: u32, delta: Vec3, previous: Vec3) -> Vec3
 /// c_0 = Σ_{m < K} (ω - 1)^m and c_k = ω Σ_{m < K - k} (ω - 1)^m. The bodies' reactions are
 /// weighted by it, so that they match the moves the boundary caused (1 for every k at ω = 1).
 pub fn correction_weight(ctx: &PbfContext, k: u32, iterations: u32) -> f32 {
+    let carried = carried_weight(ctx, k, iterations);
+    if k == 0 {
+        carried
+    } else {
+        ctx.over_relaxation * carried
+    }
+}
+
+/// The share of a move made at the end of iteration `k` (after its over-relaxed correction: the
+/// contact's projection, [`crate::solver::pbf::solid_contact`]) in the moves of a step of
+/// `iterations` iterations: each later u carries (ω - 1) of the one before, so
+/// Σ_{m < K - k} (ω - 1)^m.
+pub fn carried_weight(ctx: &PbfContext, k: u32, iterations: u32) -> f32 {
     let omega = ctx.over_relaxation;
     let (mut sum, mut power) = (0.0, 1.0);
     for _ in k..iterations {
         sum += power;
         power *= omega - 1.0;
     }
-    if k == 0 {
-        sum
-    } else {
-        omega * sum
-    }
+    sum
 }
 
 /// A particle's constraint state after the λ pass.
@@ -153,10 +165,11 @@ pub struct Constraint {
     pub density: f32,
 }
 
-/// λ_i = -C_i / (Σ_k |∇_k C_i|² + ε) with C_i = max(ρ_i/ρ0 - 1, 0) (only compression is a
+/// λ_i = -w C_i / (Σ_k |∇_k C_i|² + ε) with C_i = max(ρ_i/ρ0 - 1, 0) (only compression is a
 /// violation: a free surface is not pulled together), ρ_i at the predicted `positions`
 /// (fluid and boundary), ∇_i C_i = Σ_j (m/ρ0) ∇W_ij + Σ_b V_b ∇W_ib and ∇_j C_i = -(m/ρ0) ∇W_ij
-/// (Macklin & Müller 2013, the constraint and its λ).
+/// (Macklin & Müller 2013, the constraint and its λ), with the weight w of weighted Jacobi
+/// ([`crate::PbfSettings::jacobi_weight`]).
 pub fn compute_lambdas(
     ctx: &PbfContext,
     lists: &IndexLists,
@@ -184,7 +197,7 @@ pub fn compute_lambdas(
         let rho = ctx.mass * (self_weight + sums.weight) + ctx.rest_density * solid;
         let c = (rho / ctx.rest_density - 1.0).max(0.0);
         *o = Constraint {
-            lambda: -c / (grad_i.length_squared() + sums.squares + ctx.epsilon),
+            lambda: -ctx.jacobi_weight * c / (grad_i.length_squared() + sums.squares + ctx.epsilon),
             density: rho,
         };
     });

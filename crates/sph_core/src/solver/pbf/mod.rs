@@ -1,9 +1,12 @@
 //! `CpuSolver`'s PBF step (`PbfStep`), the simulation loop of Macklin & Müller 2013
 //! (Algorithm 1) over the passes of [`crate::solver::pbf::macklin2013`]:
 //!
-//! 1. v += dt g; predicted positions x* = x + dt v; the guard;
+//! 1. v += dt g; the solids' speculative contact bounds v so that the prediction ends a tenth
+//!    of a spacing from every surface ([`stop_before_drift`]); predicted positions
+//!    x* = x + dt v; the guard;
 //! 2. neighbour sort and lists on the predicted positions;
-//! 3. `iterations` times: λ_i, then the corrections Δp_i, x* += Δp (over-relaxed after the first);
+//! 3. `iterations` times: λ_i, then the corrections Δp_i, x* += Δp (over-relaxed after the first),
+//!    then the contact with the solids ([`solid_contact`]);
 //! 4. v = (x* - x) / dt, the guard, XSPH viscosity; x = x*; the pressure equivalent to the
 //!    step's λ ([`macklin2013::equivalent_pressure`]);
 //! 5. optionally, vorticity confinement.
@@ -13,19 +16,22 @@
 
 pub mod macklin2013;
 pub mod settings;
+pub mod solid_contact;
 pub mod stages;
 pub mod xsph_vorticity;
 
 use super::state::{timed, ParticleData, SolverParts};
 use crate::boundary::guard::{Corrections, Guard};
 use crate::boundary::samples::{BodyForceSum, Boundary};
+use crate::boundary::speculative_contact::{stop_before_drift, SURFACE_MARGIN};
 use crate::frame_budget::StepDt;
 use crate::neighbor::lists::IndexLists;
 use crate::params::SphParams;
 use crate::solver::pbf::macklin2013::{
-    apply_corrections, compute_corrections, compute_lambdas, constraint_violation,
+    apply_corrections, carried_weight, compute_corrections, compute_lambdas, constraint_violation,
     correction_weight, equivalent_pressure, Constraint, Correction, CorrectionStep, PbfContext,
 };
+use crate::solver::pbf::solid_contact::{project_positions, Projection};
 use crate::solver::pbf::stages::PbfStage;
 use crate::solver::pbf::xsph_vorticity::{confine_vorticity, vorticity, xsph_and_densities};
 use crate::solvers::SolverStats;
@@ -124,18 +130,26 @@ impl PbfStep<'_> {
             &mut *self.parts.timings,
             &mut *self.scratch,
         );
-        // 1. Gravity and the predicted positions.
-        let mut corrections: Corrections = timed(&mut t.integrate, || {
+        let boundary = &*self.parts.boundary;
+        let margin = SURFACE_MARGIN * params.spacing();
+        // 1. Gravity, the contact and the predicted positions.
+        let (mut corrections, mut forces) = timed(&mut t.integrate, || {
             p.position_previous.clone_from(&p.position);
-            p.position
+            p.velocity
+                .par_iter_mut()
+                .for_each(|v| *v += params.gravity * dt);
+            let (x, v) = (&p.position, &mut p.velocity);
+            let forces = stop_before_drift(boundary, x, v, dt, margin, params.particle_mass);
+            let corrections: Corrections = p
+                .position
                 .par_iter_mut()
                 .zip(p.velocity.par_iter_mut())
                 .map(|(x, v)| {
-                    *v += params.gravity * dt;
                     *x += *v * dt;
                     guard.apply(x, v)
                 })
-                .sum()
+                .sum();
+            (corrections, forces)
         });
         // 2. Neighbours of the predicted positions.
         self.parts.sort_by_cell();
@@ -155,7 +169,6 @@ impl PbfStep<'_> {
         // 3. The constraint's Jacobi iterations.
         let iterations = params.pbf.iterations;
         let mut error = 0.0;
-        let mut forces = vec![BodyForceSum::default(); boundary.body_count()];
         s.moved.clear();
         s.moved.resize(n, Vec3::ZERO);
         timed(&mut t.pressure_solve, || {
@@ -193,10 +206,18 @@ impl PbfStep<'_> {
                 };
                 let reactions =
                     apply_corrections(&ctx, &s.lists, step, &mut p.position, &mut s.moved);
-                forces
-                    .iter_mut()
-                    .zip(&reactions)
-                    .for_each(|(f, r)| f.merge(r));
+                let projection = Projection {
+                    margin,
+                    dt,
+                    mass: params.particle_mass,
+                    carried: carried_weight(&ctx, k, iterations),
+                };
+                let contacts =
+                    project_positions(boundary, &mut p.position, &mut s.moved, projection);
+                for (f, (r, c)) in forces.iter_mut().zip(reactions.iter().zip(&contacts)) {
+                    f.merge(r);
+                    f.merge(c);
+                }
             }
             // The last λ pass's violation (before its correction).
             error = constraint_violation(&ctx, &s.constraint) / n.max(1) as f64;

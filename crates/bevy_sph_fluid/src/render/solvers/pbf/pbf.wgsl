@@ -70,17 +70,24 @@ fn relaxed_position(i: u32, corrected: vec3<f32>) -> vec3<f32> {
 // reactions are weighted by it). Rust twin: sph_core::solver::pbf::macklin2013::correction_weight.
 fn correction_weight() -> f32 {
     let k = shared_state.clock.pbf_iteration;
+    if k == 0u {
+        return carried_weight();
+    }
+    return over_relaxation() * carried_weight();
+}
+
+// The share of a move made at the end of the iteration under way (the contact's projection) in
+// the step's moves: each later iteration carries (ω - 1) of the one before, Σ_{m < K - k} (ω - 1)^m.
+// Rust twin: sph_core::solver::pbf::macklin2013::carried_weight.
+fn carried_weight() -> f32 {
     let omega = over_relaxation();
     var sum = 0.0;
     var power = 1.0;
-    for (var m = k; m < params.pbf_iterations; m++) {
+    for (var m = shared_state.clock.pbf_iteration; m < params.pbf_iterations; m++) {
         sum += power;
         power *= omega - 1.0;
     }
-    if k == 0u {
-        return sum;
-    }
-    return omega * sum;
+    return sum;
 }
 
 // Adds particle i's λ of the iteration under way, weighted by its share of the step's moves,

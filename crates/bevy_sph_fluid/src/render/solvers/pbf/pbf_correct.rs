@@ -29,6 +29,8 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BoundaryBody,
         Buf::BodyForces,
         Buf::Clock,
+        Buf::Colliders,
+        Buf::Meshes,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: PBF_SOURCE_ROLES,

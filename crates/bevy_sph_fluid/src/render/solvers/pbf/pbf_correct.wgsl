@@ -9,12 +9,17 @@
 // the iteration's share of the step's moves (correction_weight), summed by
 // shaders/body_reactions.wgsl over the step's iterations.
 // The iteration's λ_i joins the step's sum Λ_i (normal.w, pbf.wgsl's sum_lambda).
-// Rust twins: sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections}.
+// Then the contact with the solids: a particle nearer than the margin to a surface is projected
+// back onto it, its body feeling -m δ c / dt² with c the projection's share of the step's moves
+// (carried_weight; shaders/speculative_contact.wgsl's contact_projection).
+// Rust twins: sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections},
+// sph_core::solver::pbf::solid_contact::project_positions.
 #import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, normal_at, boundary_samples, boundary_position_at, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen}
-#import sph::pbf::{current_position, write_next_position, mass, rest_density, relaxed_position, correction_weight, sum_lambda}
+#import sph::pbf::{current_position, write_next_position, mass, rest_density, relaxed_position, correction_weight, carried_weight, sum_lambda}
+#import sph::speculative_contact::contact_projection
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
 
@@ -60,6 +65,7 @@ fn particle(i: u32) {
     }
     let dt = step_dt();
     let reaction = -m * correction_weight() / (dt * dt);
+    let kept = !drained(particle_state[position_at(i)].w);
     let cell = grid_cell(sorted);
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(cell, q);
@@ -73,7 +79,7 @@ fn particle(i: u32) {
             let r2 = dot(r, r);
             let moved = cubic_grad(r, sqrt(r2)) * (sample.w * l_i);
             sum += moved;
-            if l_i != 0.0 && !drained(particle_state[position_at(i)].w) {
+            if l_i != 0.0 && kept {
                 add_reaction(boundary_body[b], moved * reaction, sample.xyz);
             }
         }
@@ -84,5 +90,7 @@ fn particle(i: u32) {
     if length_sum > cap {
         sum *= cap / length_sum;
     }
-    write_next_position(i, relaxed_position(i, x_i + sum));
+    let relaxed = relaxed_position(i, x_i + sum);
+    let projection = -m * carried_weight() / (dt * dt);
+    write_next_position(i, contact_projection(relaxed, projection, kept));
 }

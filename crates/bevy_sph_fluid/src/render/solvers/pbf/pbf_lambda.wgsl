@@ -2,7 +2,7 @@
 // ρ_i = m Σ_j W_ij (self included) + ρ0 Σ_b V_b W_ib (Akinci 2012's boundary samples),
 // C_i = max(ρ_i/ρ0 - 1, 0) (only compression is a violation),
 // ∇_i C_i = Σ_j (m/ρ0) ∇W_ij + Σ_b V_b ∇W_ib, ∇_j C_i = -(m/ρ0) ∇W_ij,
-// λ_i = -C_i / (Σ_k |∇_k C_i|² + ε)  ->  normal[i] = (λ_i, ρ_i, C_i, Λ_i), the step's weighted
+// λ_i = -w C_i / (Σ_k |∇_k C_i|² + ε) (w the weight of weighted Jacobi)  ->  normal[i] = (λ_i, ρ_i, C_i, Λ_i), the step's weighted
 // sum Λ_i of the λ kept (pbf.wgsl, sum_lambda).
 // W is the cubic spline. The pairs are those within h at the sorted predicted positions (see
 // pbf.wgsl); nothing moves while the clock is frozen.
@@ -56,6 +56,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     let constraint = max(rho / rho0 - 1.0, 0.0);
-    let lambda = -constraint / (dot(grad_i, grad_i) + squares + params.pbf_relaxation);
+    // Weighted Jacobi (sph_core::PbfSettings::jacobi_weight).
+    let lambda = -params.pbf_jacobi_weight * constraint / (dot(grad_i, grad_i) + squares + params.pbf_relaxation);
     particle_state[normal_at(i)] = vec4<f32>(lambda, rho, constraint, particle_state[normal_at(i)].w);
 }

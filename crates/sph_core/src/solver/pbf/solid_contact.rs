@@ -1,0 +1,108 @@
+//! PBF's contact with the solids inside its position iterations (Macklin et al. 2014, "Unified
+//! particle physics for real-time applications", §5 and §6: particle-shape contacts are
+//! constraints projected with the fluid's, not an afterthought). The boundary samples push
+//! through the kernel, so a particle aimed between them, or squeezed against a wall by its
+//! neighbours' corrections, could still end inside a solid and be caught by the last-resort guard.
+//! Here every Jacobi iteration ends by projecting each particle that came closer than the
+//! speculative contact's margin to the exact surface of a collider or of the box's sampled walls
+//! back onto that margin: φ(x) ≥ margin, x += n (margin - φ). The surfaces are taken one after
+//! another, as in [`crate::boundary::speculative_contact`]. The projection joins the iteration's
+//! move u_k, so the later iterations' over-relaxation carries it on as it carries the
+//! corrections, and in all it moves the particle by c δ with c = [`carried_weight`]. A move of
+//! the step changes the particle's momentum by m c δ / dt: the surface's body feels
+//! -m c δ / dt² at the particle (Akinci 2012's two-way coupling). Together with the speculative contact before the
+//! prediction ([`crate::boundary::speculative_contact::stop_before_drift`]), which keeps the
+//! prediction itself out of the solids, no particle reaches the guard (docs/pbf.md).
+//! WGSL twin: `contact_projection` in shaders/speculative_contact.wgsl, called by pbf_correct.wgsl.
+
+use crate::boundary::samples::{BodyForceSum, Boundary, WALLS_BODY};
+#[cfg(doc)]
+use crate::solver::pbf::macklin2013::carried_weight;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Projects a particle at `x` out of every surface nearer than `margin`, and gives each
+/// projection's move to `moved(body, δ, x after it)`.
+#[inline]
+pub fn project_out_of_solids(
+    boundary: &Boundary,
+    x: &mut Vec3,
+    margin: f32,
+    mut moved: impl FnMut(u32, Vec3, Vec3),
+) {
+    let mut push = |x: &mut Vec3, phi: f32, n: Vec3, body: u32| {
+        if phi < margin {
+            let delta = n * (margin - phi);
+            *x += delta;
+            moved(body, delta, *x);
+        }
+    };
+    if let Some(walls) = boundary.sampled_walls() {
+        let (lo, hi) = (walls.min(), walls.max());
+        for axis in 0..3 {
+            let n = Vec3::AXES[axis];
+            let below = x[axis] - lo[axis];
+            push(x, below, n, WALLS_BODY);
+            let above = hi[axis] - x[axis];
+            push(x, above, -n, WALLS_BODY);
+        }
+    }
+    for (id, c) in boundary.colliders() {
+        if let Some((phi, n)) = c.surface_within(*x, margin) {
+            push(x, phi, n, id.0 + 1);
+        }
+    }
+}
+
+/// What [`project_positions`] needs besides the positions.
+#[derive(Clone, Copy, Debug)]
+pub struct Projection {
+    /// The distance kept from every surface [m].
+    pub margin: f32,
+    /// The step's dt [s].
+    pub dt: f32,
+    /// The particle mass m [kg].
+    pub mass: f32,
+    /// The projection's share c of the step's moves ([`carried_weight`]).
+    pub carried: f32,
+}
+
+/// [`project_out_of_solids`] over every particle of `positions` at the end of an iteration,
+/// each projection added to the particle's move of the iteration in `moved`, and the bodies'
+/// reactions -m c δ / dt² (indexed like [`Boundary::friction`]).
+pub fn project_positions(
+    boundary: &Boundary,
+    positions: &mut [Vec3],
+    moved: &mut [Vec3],
+    projection: Projection,
+) -> Vec<BodyForceSum> {
+    let bodies = boundary.body_count();
+    let Projection {
+        margin,
+        dt,
+        mass,
+        carried,
+    } = projection;
+    let scale = -mass * carried / (dt * dt);
+    positions
+        .par_iter_mut()
+        .zip(moved.par_iter_mut())
+        .fold(
+            || vec![BodyForceSum::default(); bodies],
+            |mut sums, (x, u)| {
+                project_out_of_solids(boundary, x, margin, |body, delta, at| {
+                    *u += delta;
+                    let origin = boundary.body_origin(body);
+                    sums[body as usize].add(delta * scale, at, origin);
+                });
+                sums
+            },
+        )
+        .reduce(
+            || vec![BodyForceSum::default(); bodies],
+            |mut a, b| {
+                a.iter_mut().zip(&b).for_each(|(a, b)| a.merge(b));
+                a
+            },
+        )
+}
