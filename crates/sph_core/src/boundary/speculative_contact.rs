@@ -21,7 +21,8 @@
 //! speculative contact of rigid-body engines (Catto, Box2D) applied to the particles; the guard
 //! ([`crate::boundary::guard`]) still counts any particle that ends up inside. WCSPH applies it at the end
 //! of each force evaluation ([`crate::forces::compute_accelerations`]), DFSPH to the velocity
-//! its move takes ([`stop_before_drift`]); PBF does not use it.
+//! its move takes ([`stop_before_drift`]), PBF to the velocity its prediction takes (the same
+//! function, before the neighbour sort: [`Boundary::body_origin`] gives the torques' origins).
 
 use crate::boundary::samples::{BodyForceSum, Boundary, WALLS_BODY};
 use glam::Vec3;

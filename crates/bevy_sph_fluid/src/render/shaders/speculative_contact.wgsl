@@ -74,29 +74,16 @@ fn speculative_contact(x: vec3<f32>, v_c: vec3<f32>, a: vec3<f32>, dt: f32, kick
 }
 
 // PBF's contact inside its iterations (Rust twin: sph_core::solver::pbf::solid_contact): a
-// particle at x nearer than the margin to a surface of the box or a collider is projected back
-// onto the margin, x += n (margin - φ), surface after surface; each projection δ gives its
-// body `reaction` δ at the particle (the caller's -m c / dt², c the projection's share of the
-// step's moves) when `react`.
+// particle at x nearer than the margin to a face of the box is clamped back to the margin (all
+// faces at once: their projections are independent for a box wider than two margins), then one
+// nearer to a collider's surface is projected back onto it, x += n (margin - φ), collider after
+// collider; each projection δ gives its body `reaction` δ at the particle (the caller's
+// -m c / dt², c the projection's share of the step's moves) when `react`.
 fn contact_projection(x_in: vec3<f32>, reaction: f32, react: bool) -> vec3<f32> {
     let margin = params.surface_margin;
-    var x = x_in;
-    let normals = array<vec3<f32>, 6>(
-        vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(-1.0, 0.0, 0.0),
-        vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, -1.0, 0.0),
-        vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0, 0.0, -1.0),
-    );
-    for (var f = 0u; f < 6u; f++) {
-        let lo = x - params.box_min;
-        let hi = params.box_max - x;
-        let phis = array<f32, 6>(lo.x, hi.x, lo.y, hi.y, lo.z, hi.z);
-        if phis[f] < margin {
-            let delta = normals[f] * (margin - phis[f]);
-            x += delta;
-            if react {
-                add_reaction(0u, delta * reaction, x);
-            }
-        }
+    var x = clamp(x_in, params.box_min + vec3<f32>(margin), params.box_max - vec3<f32>(margin));
+    if react && any(x != x_in) {
+        add_reaction(0u, (x - x_in) * reaction, x);
     }
     for (var k = 0u; k < params.guard_colliders; k++) {
         let surface = collider_surface(k, x, margin);

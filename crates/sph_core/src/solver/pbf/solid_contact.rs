@@ -5,8 +5,8 @@
 //! neighbours' corrections, could still end inside a solid and be caught by the last-resort guard.
 //! Here every Jacobi iteration ends by projecting each particle that came closer than the
 //! speculative contact's margin to the exact surface of a collider or of the box's sampled walls
-//! back onto that margin: φ(x) ≥ margin, x += n (margin - φ). The surfaces are taken one after
-//! another, as in [`crate::boundary::speculative_contact`]. The projection joins the iteration's
+//! back onto that margin: φ(x) ≥ margin, x += n (margin - φ); the box's faces all at once (a
+//! clamp), then the colliders one after another. The projection joins the iteration's
 //! move u_k, so the later iterations' over-relaxation carries it on as it carries the
 //! corrections, and in all it moves the particle by c δ with c = [`carried_weight`]. A move of
 //! the step changes the particle's momentum by m c δ / dt: the surface's body feels
@@ -30,26 +30,23 @@ pub fn project_out_of_solids(
     margin: f32,
     mut moved: impl FnMut(u32, Vec3, Vec3),
 ) {
-    let mut push = |x: &mut Vec3, phi: f32, n: Vec3, body: u32| {
-        if phi < margin {
-            let delta = n * (margin - phi);
-            *x += delta;
-            moved(body, delta, *x);
-        }
-    };
     if let Some(walls) = boundary.sampled_walls() {
-        let (lo, hi) = (walls.min(), walls.max());
-        for axis in 0..3 {
-            let n = Vec3::AXES[axis];
-            let below = x[axis] - lo[axis];
-            push(x, below, n, WALLS_BODY);
-            let above = hi[axis] - x[axis];
-            push(x, above, -n, WALLS_BODY);
+        // All six faces at once: their projections are independent for a box wider than two
+        // margins.
+        let inside = x.clamp(walls.min() + margin, walls.max() - margin);
+        if inside != *x {
+            let delta = inside - *x;
+            *x = inside;
+            moved(WALLS_BODY, delta, *x);
         }
     }
     for (id, c) in boundary.colliders() {
         if let Some((phi, n)) = c.surface_within(*x, margin) {
-            push(x, phi, n, id.0 + 1);
+            if phi < margin {
+                let delta = n * (margin - phi);
+                *x += delta;
+                moved(id.0 + 1, delta, *x);
+            }
         }
     }
 }
