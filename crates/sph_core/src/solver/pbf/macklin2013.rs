@@ -41,7 +41,8 @@ pub struct PbfContext {
     pub xsph_c: f32,
     /// Vorticity confinement ε [m/s] (0: the stage is skipped).
     pub vorticity_epsilon: f32,
-    /// The longest correction of one iteration [m]: [`MAX_CORRECTION`] h, or what gravity moves
+    /// The longest correction of one iteration [m]: [`MAX_CORRECTION`] h (at most
+    /// [`MAX_STEP_CORRECTION`] h over the step's iterations), or what gravity moves
     /// a particle in the step when that is longer ([`PbfContext::for_step`]).
     pub max_correction: f32,
     /// The over-relaxation ω of the iterations after the first ([`over_relax`]).
@@ -55,6 +56,14 @@ pub struct PbfContext {
 /// start (64 particles spawned into one cell, 8 ρ0) throws. Measured (docs/pbf.md): 0.5 h put
 /// the Martin & Moyce front at RMS Z 1.13 against 0.22 at 0.1 h.
 pub const MAX_CORRECTION: f32 = 0.1;
+
+/// The longest sum of a step's capped corrections, as a fraction of h: past
+/// 4 × [`MAX_CORRECTION`] the cap of one iteration shrinks to this over the iteration count.
+/// The time-step rule lets a particle move λ h = 0.5 h in a step; with s_corr's Δq at 0.9 h
+/// (s_corr's largest, pushing every pair apart at the cap) six iterations of 0.1 h drove the
+/// step down from step to step until the state overflowed, four never did
+/// (`tests/stability_extremes.rs`).
+pub const MAX_STEP_CORRECTION: f32 = 0.4;
 
 impl PbfContext {
     /// The constants of `params` (its PBF settings, h, spacing, m and ρ0).
@@ -94,7 +103,9 @@ impl PbfContext {
             inverse_w_dq: if w_dq > 0.0 { 1.0 / w_dq } else { 0.0 },
             xsph_c: settings.xsph_c,
             vorticity_epsilon: settings.vorticity_epsilon,
-            max_correction: MAX_CORRECTION * h,
+            max_correction: MAX_CORRECTION
+                .min(MAX_STEP_CORRECTION / settings.iterations.max(1) as f32)
+                * h,
             over_relaxation: settings.over_relaxation,
             jacobi_weight: settings.jacobi_weight,
         }

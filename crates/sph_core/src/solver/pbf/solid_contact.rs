@@ -10,9 +10,10 @@
 //! move u_k, so the later iterations' over-relaxation carries it on as it carries the
 //! corrections, and in all it moves the particle by c δ with c = [`carried_weight`]. A move of
 //! the step changes the particle's momentum by m c δ / dt: the surface's body feels
-//! -m c δ / dt² at the particle (Akinci 2012's two-way coupling). Together with the speculative contact before the
-//! prediction ([`crate::boundary::speculative_contact::stop_before_drift`]), which keeps the
-//! prediction itself out of the solids, no particle reaches the guard (docs/pbf.md).
+//! -m c δ / dt² at the particle (Akinci 2012's two-way coupling). Together with the speculative
+//! contact before the prediction ([`crate::boundary::speculative_contact::stop_before_drift`]),
+//! which keeps the prediction itself out of the solids, no particle reaches the guard
+//! (docs/pbf.md).
 //! WGSL twin: `contact_projection` in shaders/speculative_contact.wgsl, called by pbf_correct.wgsl.
 
 use crate::boundary::samples::{BodyForceSum, Boundary, WALLS_BODY};
