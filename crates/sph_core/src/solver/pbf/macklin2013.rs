@@ -16,6 +16,7 @@ use crate::neighbor::lists::IndexLists;
 use crate::neighbor::pair_lanes::{lane_sum, wide_lanes, Lanes, LANES};
 use crate::params::SphParams;
 use crate::solver::pbf::settings::PbfSettings;
+use crate::solver::pbf::solid_contact::project_out_of_solids;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -540,6 +541,9 @@ pub struct CorrectionStep<'a> {
     pub constraint: &'a [Constraint],
     /// The iteration's corrections ([`compute_corrections`]).
     pub corrections: &'a [Correction],
+    /// The distance the contact with the solids keeps from their surfaces after the move
+    /// ([`crate::solver::pbf::solid_contact`]); `None` leaves it out.
+    pub contact_margin: Option<f32>,
 }
 
 /// The pressure equivalent to a particle's λ over a step of `dt`, p_i = -ρ0 Λ_i / dt² with
@@ -568,7 +572,9 @@ pub fn equivalent_pressure(ctx: &PbfContext, lambda_sum: f32, dt: f32) -> f32 {
 /// body's origin, weighted by the iteration's [`correction_weight`]. Summed per particle by
 /// [`compute_corrections`], pair by pair for a particle whose samples belong to several
 /// bodies. Indexed like [`Boundary::friction`]. The [`MAX_CORRECTION`] cap, which acts only far
-/// from rest, is not applied to the reactions. One pass.
+/// from rest, is not applied to the reactions. With a `contact_margin`, each particle is then
+/// projected out of the solids ([`crate::solver::pbf::solid_contact`]): the projection δ joins
+/// u_k and its body feels -m c δ / dt², c = [`carried_weight`]. One pass.
 pub fn apply_corrections(
     ctx: &PbfContext,
     lists: &IndexLists,
@@ -583,10 +589,12 @@ pub fn apply_corrections(
         boundary,
         constraint,
         corrections,
+        contact_margin,
     } = step;
     let k = &ctx.kernel;
     let bodies = boundary.body_count();
     let scale = -ctx.mass * correction_weight(ctx, iteration, iterations) / (dt * dt);
+    let contact_scale = -ctx.mass * carried_weight(ctx, iteration, iterations) / (dt * dt);
     lists.update_fold(
         positions,
         moved,
@@ -613,6 +621,13 @@ pub fn apply_corrections(
             }
             *u = over_relax(ctx, iteration, c.delta, *u);
             *x += *u;
+            if let Some(margin) = contact_margin {
+                project_out_of_solids(boundary, x, margin, |body, delta, at| {
+                    *u += delta;
+                    let origin = boundary.body_origin(body);
+                    sums[body as usize].add(delta * contact_scale, at, origin);
+                });
+            }
             sums
         },
         |mut a, b| {
@@ -835,6 +850,7 @@ mod tests {
             boundary: &boundary,
             constraint: &constraint,
             corrections: &corrections,
+            contact_margin: None,
         };
         let mut moved = vec![Vec3::ZERO; n];
         let got = apply_corrections(&ctx, &lists, step, &mut positions, &mut moved);

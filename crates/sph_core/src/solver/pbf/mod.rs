@@ -28,10 +28,9 @@ use crate::frame_budget::StepDt;
 use crate::neighbor::lists::IndexLists;
 use crate::params::SphParams;
 use crate::solver::pbf::macklin2013::{
-    apply_corrections, carried_weight, compute_corrections, compute_lambdas, constraint_violation,
+    apply_corrections, compute_corrections, compute_lambdas, constraint_violation,
     correction_weight, equivalent_pressure, Constraint, Correction, CorrectionStep, PbfContext,
 };
-use crate::solver::pbf::solid_contact::{project_positions, Projection};
 use crate::solver::pbf::stages::PbfStage;
 use crate::solver::pbf::xsph_vorticity::{confine_vorticity, vorticity, xsph_and_densities};
 use crate::solvers::SolverStats;
@@ -203,20 +202,12 @@ impl PbfStep<'_> {
                     boundary,
                     constraint: &s.constraint,
                     corrections: &s.corrections,
+                    contact_margin: Some(margin),
                 };
                 let reactions =
                     apply_corrections(&ctx, &s.lists, step, &mut p.position, &mut s.moved);
-                let projection = Projection {
-                    margin,
-                    dt,
-                    mass: params.particle_mass,
-                    carried: carried_weight(&ctx, k, iterations),
-                };
-                let contacts =
-                    project_positions(boundary, &mut p.position, &mut s.moved, projection);
-                for (f, (r, c)) in forces.iter_mut().zip(reactions.iter().zip(&contacts)) {
+                for (f, r) in forces.iter_mut().zip(&reactions) {
                     f.merge(r);
-                    f.merge(c);
                 }
             }
             // The last λ pass's violation (before its correction).

@@ -8,19 +8,18 @@
 //! back onto that margin: φ(x) ≥ margin, x += n (margin - φ); the box's faces all at once (a
 //! clamp), then the colliders one after another. The projection joins the iteration's
 //! move u_k, so the later iterations' over-relaxation carries it on as it carries the
-//! corrections, and in all it moves the particle by c δ with c = [`carried_weight`]. A move of
+//! corrections, and in all it moves the particle by c δ with c = `carried_weight` (in `macklin2013`). A move of
 //! the step changes the particle's momentum by m c δ / dt: the surface's body feels
 //! -m c δ / dt² at the particle (Akinci 2012's two-way coupling). Together with the speculative
 //! contact before the prediction ([`crate::boundary::speculative_contact::stop_before_drift`]),
 //! which keeps the prediction itself out of the solids, no particle reaches the guard
 //! (docs/pbf.md).
+//! `macklin2013::apply_corrections` projects each particle right after its move, in the same
+//! pass.
 //! WGSL twin: `contact_projection` in shaders/speculative_contact.wgsl, called by pbf_correct.wgsl.
 
-use crate::boundary::samples::{BodyForceSum, Boundary, WALLS_BODY};
-#[cfg(doc)]
-use crate::solver::pbf::macklin2013::carried_weight;
+use crate::boundary::samples::{Boundary, WALLS_BODY};
 use glam::Vec3;
-use rayon::prelude::*;
 
 /// Projects a particle at `x` out of every surface nearer than `margin`, and gives each
 /// projection's move to `moved(body, δ, x after it)`.
@@ -50,57 +49,4 @@ pub fn project_out_of_solids(
             }
         }
     }
-}
-
-/// What [`project_positions`] needs besides the positions.
-#[derive(Clone, Copy, Debug)]
-pub struct Projection {
-    /// The distance kept from every surface [m].
-    pub margin: f32,
-    /// The step's dt [s].
-    pub dt: f32,
-    /// The particle mass m [kg].
-    pub mass: f32,
-    /// The projection's share c of the step's moves ([`carried_weight`]).
-    pub carried: f32,
-}
-
-/// [`project_out_of_solids`] over every particle of `positions` at the end of an iteration,
-/// each projection added to the particle's move of the iteration in `moved`, and the bodies'
-/// reactions -m c δ / dt² (indexed like [`Boundary::friction`]).
-pub fn project_positions(
-    boundary: &Boundary,
-    positions: &mut [Vec3],
-    moved: &mut [Vec3],
-    projection: Projection,
-) -> Vec<BodyForceSum> {
-    let bodies = boundary.body_count();
-    let Projection {
-        margin,
-        dt,
-        mass,
-        carried,
-    } = projection;
-    let scale = -mass * carried / (dt * dt);
-    positions
-        .par_iter_mut()
-        .zip(moved.par_iter_mut())
-        .fold(
-            || vec![BodyForceSum::default(); bodies],
-            |mut sums, (x, u)| {
-                project_out_of_solids(boundary, x, margin, |body, delta, at| {
-                    *u += delta;
-                    let origin = boundary.body_origin(body);
-                    sums[body as usize].add(delta * scale, at, origin);
-                });
-                sums
-            },
-        )
-        .reduce(
-            || vec![BodyForceSum::default(); bodies],
-            |mut a, b| {
-                a.iter_mut().zip(&b).for_each(|(a, b)| a.merge(b));
-                a
-            },
-        )
 }

@@ -13,7 +13,7 @@
 // back onto it, its body feeling -m δ c / dt² with c the projection's share of the step's moves
 // (carried_weight; shaders/speculative_contact.wgsl's contact_projection).
 // Rust twins: sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections},
-// sph_core::solver::pbf::solid_contact::project_positions.
+// sph_core::solver::pbf::solid_contact::project_out_of_solids.
 #import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, normal_at, boundary_samples, boundary_position_at, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
