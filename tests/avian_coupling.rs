@@ -4,7 +4,10 @@
 //! `ConstantForce`; avian moves them; the water sees their new pose. DFSPH, on the CPU backend
 //! and on the GPU (its force summed on the device and read back a frame or two late). A
 //! paddle wheel (one closed mesh of six boxes) on an avian revolute joint turns when a jet hits
-//! its lower paddles, and not without it (WCSPH, CPU). In the shipped scenes, with avian on the
+//! its lower paddles, and not without it (WCSPH, CPU). On the GPU with avian on the water's
+//! clock the device moves the bodies with the water at every step (`SphRigidBody`,
+//! `bevy_sph_fluid::moved_bodies`): frames cover their full time of water and never wait for a
+//! readback. In the shipped scenes, with avian on the
 //! water's clock, on both backends: aquaplay.ron's pump carries its boat along the channel and
 //! turns its water wheel (a scene file's `PaddleWheel` on a `Hinged` axle) with the current,
 //! and lock.ron's boat, towed by the game, passes the lifted gate.
@@ -20,57 +23,38 @@ mod common;
 
 const FRAME: f32 = 1.0 / 60.0;
 
-// The GPU tests of this file run one at a time (`common::GPU`). A body's force comes back from
-// the device a frame or two late, and more frames late when another lavapipe app shares the 2
-// cores: with the floating-box test running beside it, the late force threw aquaplay's boat
-// out of the channel (y up to 0.39 m); run alone, 3 of 3 runs kept it within 0.050–0.087 m.
-// The plugin holds the water for a frame while the newest force
-// read back is more than `MAX_BODY_FORCE_LAG` frames old (`assert_short_frames_on_the_gpu`
-// checks it; docs/scenes.md).
+// The GPU tests of this file run one at a time (`common::GPU`): lavapipe's readback comes more
+// frames late when another app shares the 2 cores.
 const SIDE: f32 = 0.12;
 const DEPTH: f32 = 0.2;
-/// Water steps per frame on the GPU backend in the tank (DFSPH, dt about 2.7 ms). The water's
-/// force on a body is read back a frame or two late, so it lags by two to four steps here.
-/// Measured with 4 steps a frame: the box of 1,500 kg/m³ overshot into the last layer of water
-/// on the floor, the squeezed layer's pressure kicked it out (129 kN) and the water went
-/// unstable at t = 1.3 s; with 2 it rests at 0.070 m, as on the CPU.
-const GPU_SUBSTEPS: u32 = 2;
+/// Water steps per frame on the GPU backend in the tank (DFSPH, dt about 2.7 ms: 10.8 ms of
+/// water a frame). Before the device moved the bodies, the force read back a frame or two late
+/// held this at 2: with 4 the box of 1,500 kg/m³ overshot into the last layer of water on the
+/// floor, the squeezed layer's pressure kicked it out (129 kN) and the water went unstable.
+const GPU_SUBSTEPS: u32 = 4;
 
-/// Water steps per frame asked for in the shipped scenes (PBF, dt up to 1/120 s). On the GPU,
-/// where the force lags about three frames, `SphControl::max_body_frame_time` (6 ms by default)
-/// cuts a frame to 6 ms of water (one step, shortened) while the boat floats. Measured in
-/// aquaplay.ron on the GPU with 2 steps a frame, before that limit (a lag of up to 50 ms): the
-/// boat's heave grew every bob (the late force does work on it) until it left the channel at
-/// 1.4 s; with one full step of 1/120 s (25 ms late) it floated in most runs but was thrown to
-/// y = 0.58 m in one CI run; at 6 ms it floats with the forces two frames later still.
+/// Water steps per frame in the shipped scenes (PBF, dt up to 1/120 s: up to a 60 FPS frame's
+/// 1/60 s of water). Before the device moved the bodies a frame was cut to 6 ms of water while a
+/// boat floated on the GPU (`SphControl::max_body_frame_time`): with 2 steps its heave grew
+/// every bob until it left the channel.
 const SCENE_SUBSTEPS: u32 = 2;
 
-/// On the GPU with a body in the water, a frame plans at most `max_body_frame_time` of water
-/// (6 ms: one PBF step of 1/120 s shortened to it, two when the flow shortens the step below
-/// 3 ms), whatever it asked for, and takes steps only while the newest body forces read back
-/// are at most `MAX_BODY_FORCE_LAG` frames old.
-fn assert_short_frames_on_the_gpu(app: &App, backend: SphBackend) {
-    use bevy_sph_fluid::shared::{
-        body_force_lag, BodyForceReadback, SphSimulation, MAX_BODY_FORCE_LAG,
-    };
-    let sim = app.world().resource::<SphSimulation>();
-    let plan = sim.plan;
-    let most = SphControl::default().max_body_frame_time.unwrap();
+/// On the GPU the device moves every dynamic body (`SphMovedBodies`), so a frame takes all the
+/// steps it asked for and none waits for the body forces' readback; on both backends no frame
+/// is held.
+fn assert_full_frames(app: &App, backend: SphBackend, substeps: u32) {
+    use bevy_sph_fluid::moved_bodies::SphMovedBodies;
+    use bevy_sph_fluid::shared::SphSimulation;
+    let plan = app.world().resource::<SphSimulation>().plan;
+    assert_eq!(plan.steps, substeps, "{plan:?}");
+    assert_eq!(
+        app.world()
+            .resource::<SphStats>()
+            .frames_held_for_body_forces,
+        0
+    );
     if backend == SphBackend::Gpu {
-        assert!(
-            plan.duration <= most * 1.001,
-            "{} steps covering {} s a frame",
-            plan.steps,
-            plan.duration
-        );
-        let newest = app.world().resource::<BodyForceReadback>().newest_frame;
-        let lag = body_force_lag(sim.frame_number, newest);
-        assert!(
-            plan.steps == 0 || lag <= MAX_BODY_FORCE_LAG,
-            "frame {} took {} steps with forces {lag} frames old",
-            sim.frame_number,
-            plan.steps
-        );
+        assert!(app.world().resource::<SphMovedBodies>().active());
     }
 }
 
@@ -183,13 +167,25 @@ fn collect(mut reader: MessageReader<SphProbeReading>, mut levels: ResMut<Levels
         .extend(reader.read().filter_map(|r| r.reading.value));
 }
 
+/// How far the box rose above its lowest centre so far once it came within 2 cm of resting on
+/// the floor [m] (`settle`; 0 when it never did): a kick off the floor.
+#[derive(Resource, Default)]
+struct Rise(f32);
+
 /// Runs `seconds` of the water's simulated time; returns the box's mean height and the mean
 /// water level over the last half second.
 fn settle(app: &mut App, body: Entity, seconds: f32) -> (f32, f32) {
     app.init_resource::<Levels>().add_systems(Last, collect);
     let (mut heights, mut tail) = (Vec::new(), false);
+    let (mut lowest, mut rise): (Option<f32>, f32) = (None, 0.0);
     for frame in 0.. {
         app.update();
+        let y = app.world().get::<Transform>(body).unwrap().translation.y;
+        if lowest.is_some() || y <= 0.5 * SIDE + 0.02 {
+            let low = lowest.map_or(y, |l| l.min(y));
+            rise = rise.max(y - low);
+            lowest = Some(low);
+        }
         let stats = app.world().resource::<SphStats>();
         assert!(
             !stats.health.is_unstable(),
@@ -209,6 +205,7 @@ fn settle(app: &mut App, body: Entity, seconds: f32) -> (f32, f32) {
             heights.push(app.world().get::<Transform>(body).unwrap().translation.y);
         }
     }
+    app.insert_resource(Rise(rise));
     let levels = &app.world().resource::<Levels>().0;
     let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len().max(1) as f32;
     (mean(&heights), mean(levels))
@@ -261,9 +258,9 @@ fn a_box_of_one_and_a_half_times_the_waters_density_sinks_to_the_floor() {
     assert!((y - 0.5 * SIDE).abs() <= 0.02, "box centre {y}");
 }
 
-/// The GPU backend, avian on the water's clock: the box of 500 kg/m³ floats half submerged and
-/// the box of 1,500 kg/m³ rests on the floor. The water's force on each is summed on the device
-/// and read back a frame or two late.
+/// The GPU backend, avian on the water's clock, four DFSPH steps a frame: the box of 500 kg/m³
+/// floats half submerged and the box of 1,500 kg/m³ rests on the floor, without a kick. The
+/// device moves each box with the water at every step; avian's floor reaches it once a frame.
 #[test]
 fn boxes_float_and_sink_by_their_density_on_the_gpu() {
     let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
@@ -287,10 +284,15 @@ fn boxes_float_and_sink_by_their_density_on_the_gpu() {
         "submerged fraction {submerged}"
     );
     assert_eq!(stats.particle_balance(), 0);
+    assert_full_frames(&app, SphBackend::Gpu, GPU_SUBSTEPS);
     let (mut app, body, _) = tank_with_box_on(1500.0, clock, SphBackend::Gpu);
     let (y, _) = settle(&mut app, body, 2.0);
-    println!("GPU, 1500 kg/m³: box centre {y:.4} m");
+    // No kick: near the floor the box never rose 5 mm above its lowest point.
+    let rise = app.world().resource::<Rise>().0;
+    println!("GPU, 1500 kg/m³: box centre {y:.4} m, rose {rise:.4} m near the floor");
     assert!((y - 0.5 * SIDE).abs() <= 0.02, "box centre {y}");
+    assert!(rise < 0.005, "kicked up by {rise} m");
+    assert_full_frames(&app, SphBackend::Gpu, GPU_SUBSTEPS);
 }
 
 /// A headless app on `backend` with `physics` added and the scene file `path` (under
@@ -507,8 +509,7 @@ fn the_pump_carries_aquaplays_boat_and_turns_its_wheel() {
     pump_carries_boat_and_turns_wheel(SphBackend::Cpu);
 }
 
-/// The same on the GPU backend: the bodies' forces summed on the device and read back a frame
-/// or two late.
+/// The same on the GPU backend: the device moves the boat and the wheel with the water.
 #[test]
 fn the_pump_carries_aquaplays_boat_and_turns_its_wheel_on_the_gpu() {
     let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
@@ -537,7 +538,7 @@ fn pump_carries_boat_and_turns_wheel(backend: SphBackend) {
         assert!(!stats.health.is_unstable(), "{:?}", stats.health);
         assert_eq!(stats.particle_balance(), 0);
         let now = stats.sim_time;
-        assert_short_frames_on_the_gpu(&app, backend);
+        assert_full_frames(&app, backend, SCENE_SUBSTEPS);
         let y = app.world().get::<Transform>(boat).unwrap().translation.y;
         lowest = lowest.min(y);
         highest = highest.max(y);
@@ -627,7 +628,7 @@ fn boat_passes_the_open_gate(backend: SphBackend) {
         let stats = app.world().resource::<SphStats>();
         assert!(!stats.health.is_unstable(), "{:?}", stats.health);
         assert_eq!(stats.particle_balance(), 0);
-        assert_short_frames_on_the_gpu(&app, backend);
+        assert_full_frames(&app, backend, SCENE_SUBSTEPS);
         let at = app.world().get::<Transform>(boat).unwrap().translation;
         lowest = lowest.min(at.y);
         highest = highest.max(at.y);

@@ -446,6 +446,42 @@ pub struct SphColliderForce {
 #[reflect(Component)]
 pub struct SphColliderMass(pub f32);
 
+/// A dynamic [`SphCollider`]'s rigid body as the physics engine that moves it sees it, written by
+/// the engine's integration every frame (the `avian` feature writes it for avian bodies run on
+/// the water's clock). On the GPU backend the device then moves the body with the water at every
+/// step (`sph_core::bodies`; docs/scenes.md, "Bodies on the GPU"): the water's force acts on it
+/// at once, not three frames late, and the engine's state (its contacts, joints and a game's
+/// pushes) joins the device's once a frame. The pose is the entity's [`Transform`]. Ignored by
+/// the CPU backend, by static and kinematic colliders, and beyond the first
+/// [`sph_core::gpu_layout::GPU_MOVED_BODIES`] collider slots.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Component)]
+pub struct SphRigidBody {
+    /// Mass M [kg] (> 0 and finite, or the body is not moved).
+    pub mass: f32,
+    /// The centre of mass in the entity's frame [m].
+    pub center_of_mass: Vec3,
+    /// The inverse inertia tensor about the centre of mass, in the entity's frame
+    /// [1/(kg m²)] (zero about a locked rotation).
+    pub inverse_inertia: Mat3,
+    /// 1 on each world axis the body may move along, 0 where it is locked.
+    pub free_translation: Vec3,
+    /// 1 on each world axis the body may turn about, 0 where it is locked.
+    pub free_rotation: Vec3,
+    /// A hinge: the world axis the body turns about, through its origin (a wheel on its axle).
+    pub hinge_axis: Option<Vec3>,
+    /// Gravity on the body [m/s²].
+    pub gravity: Vec3,
+    /// Linear damping [1/s] (v / (1 + dt c) a step, as avian's `LinearDamping`).
+    pub linear_damping: f32,
+    /// Angular damping [1/s].
+    pub angular_damping: f32,
+    /// The centre of mass's velocity [m/s].
+    pub linear_velocity: Vec3,
+    /// The angular velocity [rad/s].
+    pub angular_velocity: Vec3,
+}
+
 /// A collider the simulation refused, with why.
 #[derive(Clone, Debug, PartialEq, Reflect)]
 pub struct SphColliderError {

@@ -59,6 +59,7 @@
 //! ```
 
 use crate::api::*;
+use crate::moved_bodies::SphMovedBodies;
 use crate::scene_asset::{SphDynamicBody, SphHinge, SphSceneMember as SceneMember};
 use crate::sets::SphSystems;
 use avian3d::prelude::*;
@@ -81,9 +82,34 @@ pub const MAX_WATER_TIME_STEP: f64 = 0.25;
 #[derive(Default)]
 struct WaterTimeSeen(Option<f64>);
 
-/// Runs [`SphWaterTime`] (when the app has it) for the simulated time the water gained.
+/// Runs [`SphWaterTime`] (when the app has it) for the simulated time the water gained: with
+/// bodies the device moves (`crate::moved_bodies`), the water time of the frames their records
+/// read back cover ([`SphMovedBodies::window`]), after which the bodies are at those frames' end.
 fn sph_run_physics_on_water_time(world: &mut World, mut seen: Local<WaterTimeSeen>) {
     let now = world.resource::<SphStats>().sim_time;
+    let moved = world
+        .get_resource::<SphMovedBodies>()
+        .filter(|m| m.active());
+    if let Some(moved) = moved {
+        seen.0 = Some(now);
+        let Some(window) = moved.window.clone() else {
+            return;
+        };
+        // Without avian on the water's clock nothing steps the bodies: their engine state
+        // stays at its frame.
+        let avian = world
+            .get_resource::<Schedules>()
+            .is_some_and(|s| s.contains(SphWaterTime));
+        if avian {
+            if window.seconds > 0.0 {
+                run_on_water_time(world, window.seconds.min(MAX_WATER_TIME_STEP));
+            }
+            world
+                .resource_mut::<SphMovedBodies>()
+                .engine_stepped(&window);
+        }
+        return;
+    }
     let Some(last) = seen.0.replace(now) else {
         return;
     };
@@ -92,9 +118,14 @@ fn sph_run_physics_on_water_time(world: &mut World, mut seen: Local<WaterTimeSee
     if gained.is_nan() || gained <= 0.0 {
         return;
     }
+    run_on_water_time(world, gained);
+}
+
+/// Runs [`SphWaterTime`] once with the generic [`Time`] advanced by `seconds`.
+fn run_on_water_time(world: &mut World, seconds: f64) {
     let saved = *world.resource::<Time>();
     let mut clock = Time::<()>::default();
-    clock.advance_by(Duration::from_secs_f64(gained));
+    clock.advance_by(Duration::from_secs_f64(seconds));
     *world.resource_mut::<Time>() = clock;
     // An app that runs avian in another schedule has no `SphWaterTime`: nothing runs.
     let _ = world.try_run_schedule(SphWaterTime);
@@ -112,9 +143,12 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
             sph_avian_body_masses
                 .in_set(SphSystems::Prepare)
                 .before(crate::colliders::sph_sync_colliders),
+            // Before the frame is planned: a body the device moves does not cut the frame.
+            sph_avian_rigid_bodies.before(SphSystems::Prepare),
             sph_drive_avian_bodies
                 .in_set(SphSystems::Writeback)
-                .after(crate::colliders::sph_write_collider_forces),
+                .after(crate::colliders::sph_write_collider_forces)
+                .after(crate::moved_bodies::sph_moved_bodies_window),
             sph_run_physics_on_water_time
                 .in_set(SphSystems::Writeback)
                 .after(sph_drive_avian_bodies),
@@ -300,6 +334,118 @@ fn sph_avian_body_masses(mut commands: Commands, mut bodies: Query<AvianMass, Wi
     }
 }
 
+/// A dynamic collider's avian body, as the device moves it.
+type AvianRigid<'a> = (
+    Entity,
+    &'a SphCollider,
+    (
+        &'a ComputedMass,
+        &'a ComputedCenterOfMass,
+        &'a ComputedAngularInertia,
+    ),
+    (
+        Option<&'a Collider>,
+        Option<&'a ColliderDensity>,
+        Option<&'a Mass>,
+    ),
+    (&'a LinearVelocity, &'a AngularVelocity),
+    (
+        Option<&'a LockedAxes>,
+        Option<&'a SphHinge>,
+        Option<&'a LinearDamping>,
+        Option<&'a AngularDamping>,
+        Option<&'a GravityScale>,
+    ),
+    Option<&'a mut SphRigidBody>,
+);
+
+/// A body's mass [kg], centre of mass and inverse inertia tensor (both in its frame): its own
+/// collider's at its `ColliderDensity` (scaled to its `Mass` when it has one), as avian computes
+/// them, or avian's computed ones for a body without a collider of its own. avian computes its
+/// own only when it steps, and a body the device moves from its first frame on must not move
+/// with the default density's mass until then (a wheel of 900 kg/m³ taken at 1 kg/m³ spun off).
+fn mass_properties(
+    computed: (
+        &ComputedMass,
+        &ComputedCenterOfMass,
+        &ComputedAngularInertia,
+    ),
+    own: (Option<&Collider>, Option<&ColliderDensity>, Option<&Mass>),
+) -> (f32, Vec3, Mat3) {
+    use avian3d::dynamics::rigid_body::mass_properties::bevy_heavy::ComputeMassProperties3d;
+    let (mass, center, inertia) = computed;
+    let (Some(collider), density, given) = own else {
+        return (mass.value(), center.0, inertia.inverse().to_mat3());
+    };
+    let props = collider.mass_properties(density.map_or(1.0, |d| d.0));
+    let scale = match given {
+        Some(m) if props.mass > 0.0 => m.0 / props.mass,
+        _ => 1.0,
+    };
+    let principal = props.principal_angular_inertia * scale;
+    let frame = Mat3::from_quat(props.local_inertial_frame);
+    let inverse = Vec3::select(principal.cmpgt(Vec3::ZERO), principal.recip(), Vec3::ZERO);
+    (
+        props.mass * scale,
+        props.center_of_mass,
+        frame * Mat3::from_diagonal(inverse) * frame.transpose(),
+    )
+}
+
+/// On the GPU backend with avian on the water's clock ([`SphWaterTime`]), every dynamic
+/// collider's avian body carries an [`SphRigidBody`] equal to avian's, so that the device moves
+/// it with the water at every step (`crate::moved_bodies`); otherwise none.
+fn sph_avian_rigid_bodies(
+    mut commands: Commands,
+    mut bodies: Query<AvianRigid, With<RigidBody>>,
+    gravity: Option<Res<Gravity>>,
+    schedules: Res<Schedules>,
+    sim: Res<crate::shared::SphSimulation>,
+) {
+    let device = sim.backend == SphBackend::Gpu && schedules.contains(SphWaterTime);
+    let g = gravity.map_or(Vec3::new(0.0, -9.81, 0.0), |g| g.0);
+    for (entity, collider, mass, own, velocity, extra, current) in &mut bodies {
+        let (mass, center_of_mass, inverse_inertia) = mass_properties(mass, own);
+        let (locked, hinge, linear_damping, angular_damping, scale) = extra;
+        if !device || collider.motion != sph_core::ColliderMotion::Dynamic {
+            if current.is_some() {
+                commands.entity(entity).remove::<SphRigidBody>();
+            }
+            continue;
+        }
+        let free = |locked: bool| if locked { 0.0 } else { 1.0 };
+        let l = locked.copied().unwrap_or_default();
+        let body = SphRigidBody {
+            mass,
+            center_of_mass,
+            inverse_inertia,
+            free_translation: Vec3::new(
+                free(l.is_translation_x_locked()),
+                free(l.is_translation_y_locked()),
+                free(l.is_translation_z_locked()),
+            ),
+            free_rotation: Vec3::new(
+                free(l.is_rotation_x_locked()),
+                free(l.is_rotation_y_locked()),
+                free(l.is_rotation_z_locked()),
+            ),
+            hinge_axis: hinge.map(|h| h.0.axis),
+            gravity: g * scale.map_or(1.0, |s| s.0),
+            linear_damping: linear_damping.map_or(0.0, |d| d.0),
+            angular_damping: angular_damping.map_or(0.0, |d| d.0),
+            linear_velocity: velocity.0 .0,
+            angular_velocity: velocity.1 .0,
+        };
+        match current {
+            Some(mut c) if *c != body => *c = body,
+            Some(_) => {}
+            None => {
+                commands.entity(entity).insert(body);
+            }
+        }
+    }
+}
+
 /// A dynamic collider that avian moves.
 type AvianBody<'a> = (
     Entity,
@@ -311,9 +457,24 @@ type AvianBody<'a> = (
     Option<&'a mut ConstantTorque>,
 );
 
+/// An avian body the device moves, as the engine takes the device's newest record whole.
+type TakenWhole<'a> = (
+    &'a mut Position,
+    &'a mut Rotation,
+    &'a mut LinearVelocity,
+    &'a mut AngularVelocity,
+);
+
 /// The water's force on each dynamic collider becomes its avian body's constant force and
-/// torque (replaced every frame).
-fn sph_drive_avian_bodies(mut commands: Commands, mut bodies: Query<AvianBody, With<RigidBody>>) {
+/// torque (replaced every frame). A body the device moves takes its water impulse over the
+/// engine's window instead ([`SphMovedBodies::window`]), spread over the window's time, or,
+/// when some of its records were lost, the device's newest record whole.
+fn sph_drive_avian_bodies(
+    mut commands: Commands,
+    mut bodies: Query<AvianBody, With<RigidBody>>,
+    mut whole: Query<TakenWhole, With<RigidBody>>,
+    moved: Res<SphMovedBodies>,
+) {
     for (entity, collider, water, transform, com, force, torque) in &mut bodies {
         if collider.motion != sph_core::ColliderMotion::Dynamic {
             continue;
@@ -321,11 +482,38 @@ fn sph_drive_avian_bodies(mut commands: Commands, mut bodies: Query<AvianBody, W
         let origin = transform.translation();
         // The torque about the centre of mass: τ_c = τ_o − (c − o) × f.
         let center = com.map_or(origin, |c| transform.transform_point(c.0));
-        let about_center = water.torque - (center - origin).cross(water.force);
+        let mut water = (
+            water.force,
+            water.torque - (center - origin).cross(water.force),
+        );
+        if let Some(&slot) = moved.slots.get(&entity) {
+            let window = moved.window.as_ref();
+            water = match window.map(|w| (w, w.impulses.get(&slot).copied().flatten())) {
+                Some((w, Some((impulse, angular)))) if w.seconds > 0.0 => {
+                    let per = (1.0 / w.seconds) as f32;
+                    (impulse * per, angular * per)
+                }
+                Some((w, None)) => {
+                    if let (Some(record), Ok(mut body)) =
+                        (w.newest.get(&slot), whole.get_mut(entity))
+                    {
+                        let s = record.state;
+                        let local = com.map_or(Vec3::ZERO, |c| c.0);
+                        body.0 .0 = s.position - s.rotation * local;
+                        body.1 .0 = s.rotation;
+                        body.2 .0 = s.linear_velocity;
+                        body.3 .0 = s.angular_velocity;
+                    }
+                    (Vec3::ZERO, Vec3::ZERO)
+                }
+                _ => (Vec3::ZERO, Vec3::ZERO),
+            };
+        }
+        let (water_force, about_center) = water;
         match force {
-            Some(mut f) => f.0 = water.force,
+            Some(mut f) => f.0 = water_force,
             None => {
-                commands.entity(entity).insert(ConstantForce(water.force));
+                commands.entity(entity).insert(ConstantForce(water_force));
             }
         }
         match torque {

@@ -35,6 +35,7 @@ pub mod dfsph_budget;
 pub mod flow;
 pub mod headless;
 pub mod mesh_collider;
+pub mod moved_bodies;
 mod plugin;
 mod readback;
 pub mod render;

@@ -51,6 +51,7 @@ impl Plugin for SphFluidPlugin {
             .register_type::<SphColliderForce>()
             .register_type::<SphWallForce>()
             .register_type::<SphColliderMass>()
+            .register_type::<SphRigidBody>()
             .init_resource::<crate::colliders::SphColliderMap>()
             .init_resource::<SphParams>()
             .init_resource::<SphControl>()
@@ -70,6 +71,7 @@ impl Plugin for SphFluidPlugin {
         cpu_buffers::add_systems(app, self.schedule);
         scene_asset::add_systems(app, self.schedule);
         crate::flow::add_systems(app, self.schedule);
+        crate::moved_bodies::add_systems(app, self.schedule);
         #[cfg(feature = "avian")]
         crate::avian_coupling::add_systems(app, self.schedule);
         // Spawns consumed by the render world are cleared before the next frame's spawners run.

@@ -175,6 +175,18 @@ pub struct SphFrame {
     pub dfsph_iterations: [u32; 2],
     /// Whitewater's stages run, with these settings and buffers (`crate::whitewater::gpu`).
     pub whitewater: Option<GpuWhitewaterFrame>,
+    /// The bodies the device moves (`crate::moved_bodies`), while there are any.
+    pub bodies: Option<GpuBodiesFrame>,
+}
+
+/// The bodies the device moves, as the render world runs them.
+#[derive(Clone, Debug)]
+pub struct GpuBodiesFrame {
+    /// Every collider slot's input ([`sph_core::gpu_layout::GPU_MOVED_BODIES`] of them; a slot
+    /// the device does not move has mass 0).
+    pub inputs: Vec<sph_core::gpu_layout::GpuBodyInput>,
+    /// The main world's copy of the bodies' states (`GpuBodyStates`), read back every frame.
+    pub states: Handle<bevy::render::storage::ShaderBuffer>,
 }
 
 /// Whitewater on the GPU backend, as the render world runs it.

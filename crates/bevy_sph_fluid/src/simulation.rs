@@ -311,7 +311,7 @@ fn sph_plan_frame(
     control: Res<SphControl>,
     mut stats: ResMut<SphStats>,
     mut sim: ResMut<SphSimulation>,
-    colliders: Query<&SphCollider>,
+    colliders: Query<&SphCollider, Without<SphRigidBody>>,
     forces: Option<Res<BodyForceReadback>>,
 ) {
     let valid = control.real_time.is_none_or(|r| r.validate().is_ok())
@@ -319,7 +319,7 @@ fn sph_plan_frame(
     sim.plan = if valid {
         let plan = sim.plan(&control, &params, &stats, time.delta_secs());
         // The GPU's body forces arrive a frame or two late: a frame covers little water time
-        // while a body floats.
+        // while a body the device does not move floats (`crate::moved_bodies`).
         let bodies = colliders
             .iter()
             .any(|c| c.motion == sph_core::ColliderMotion::Dynamic);

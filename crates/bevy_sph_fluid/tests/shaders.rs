@@ -10,7 +10,7 @@ use std::collections::HashMap;
 
 mod translate;
 
-const LIBRARY: [(&str, &str); 15] = [
+const LIBRARY: [(&str, &str); 16] = [
     (
         "types.wgsl",
         include_str!("../src/render/shaders/types.wgsl"),
@@ -68,11 +68,15 @@ const LIBRARY: [(&str, &str); 15] = [
         "whitewater.wgsl",
         include_str!("../src/render/whitewater/whitewater.wgsl"),
     ),
+    (
+        "bodies.wgsl",
+        include_str!("../src/render/bodies/bodies.wgsl"),
+    ),
 ];
 
 /// The WGSL of a registered stage: `sph_<stem>` lives in `stages/<stem>.wgsl` (the shared
 /// stages), in its solver's folder, `solvers/<solver>/<stem>.wgsl`, or in its feature's
-/// (`whitewater/<stem>.wgsl`).
+/// (`whitewater/<stem>.wgsl`, `bodies/<stem>.wgsl`).
 fn stage_source(stage: &GpuStage) -> (String, String) {
     let stem = stage
         .name
@@ -85,6 +89,7 @@ fn stage_source(stage: &GpuStage) -> (String, String) {
         "solvers/dfsph",
         "solvers/pbf",
         "whitewater",
+        "bodies",
     ]
     .iter()
     .find_map(|folder| std::fs::read_to_string(format!("{render}/{folder}/{stem}.wgsl")).ok())
@@ -375,7 +380,7 @@ fn every_uniform_field_sits_where_the_rust_layout_puts_it() {
         whitewater_kinetic_min, whitewater_kinetic_max, whitewater_trapped_air_rate,
         whitewater_wave_crest_rate, whitewater_spray_below, whitewater_bubble_above,
         whitewater_lifetime_min, whitewater_lifetime_max, whitewater_buoyancy, whitewater_drag,
-        whitewater_capacity, whitewater_seed, whitewater_steps, whitewater_unused_y,
+        whitewater_capacity, whitewater_seed, whitewater_steps, boundary_sample_count,
         whitewater_unused_z, whitewater_unused_w, buffer_at,
     );
 

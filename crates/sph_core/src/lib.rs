@@ -20,6 +20,7 @@
 //! assert_eq!(solver.diagnostics().non_finite_count, 0);
 //! ```
 
+pub mod bodies;
 pub mod boundary;
 pub mod container;
 pub mod density;

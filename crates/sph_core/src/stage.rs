@@ -205,6 +205,8 @@ pub enum CpuStage {
     Integrate,
     /// Whitewater's diffuse particles after a step ([`crate::whitewater::ihmsen2012`]).
     Whitewater,
+    /// The bodies the water carries, advanced with it ([`crate::bodies`]).
+    Bodies,
     /// WCSPH's own stages.
     Wcsph(WcsphStage),
     /// DFSPH's own stages.

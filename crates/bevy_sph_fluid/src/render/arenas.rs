@@ -122,10 +122,13 @@ impl Buf {
             | Buf::NeighborLists
             | Buf::BoundaryCellStart
             | Buf::DiffuseFree
-            | Buf::DiffuseOrder => Arena::Grid,
+            | Buf::DiffuseOrder
+            | Buf::BodyWords => Arena::Grid,
             Buf::CellCounts | Buf::DiffuseCounts | Buf::DiffuseBins => Arena::CellCounts,
             Buf::Clock | Buf::BodyForces | Buf::Pumps | Buf::Probes => Arena::Shared,
-            Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::Meshes => Arena::Boundary,
+            Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::Meshes | Buf::BoundaryRest => {
+                Arena::Boundary
+            }
             Buf::BoundaryBody => Arena::BoundaryBody,
             Buf::Colliders => Arena::Colliders,
             Buf::DfsphPairs => Arena::DfsphPairs,

@@ -98,11 +98,17 @@ pub enum Buf {
     DiffuseBins,
     /// Whitewater: the live slots in cell order, then each slot's cell and rank in its cell.
     DiffuseOrder,
+    /// The bodies the device moves: every slot's input, then its state
+    /// (`sph_core::gpu_layout::GpuBodyInput`, `GpuBodyState`), as words (`render::bodies`).
+    BodyWords,
+    /// The boundary samples' positions as uploaded, where the bodies' placement moves a moved
+    /// body's samples from; sized by the samples while there are moved bodies.
+    BoundaryRest,
 }
 
 impl Buf {
     /// Every logical buffer, in the order its arena packs them.
-    pub const ALL: [Buf; 43] = [
+    pub const ALL: [Buf; 45] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -146,5 +152,7 @@ impl Buf {
         Buf::DiffuseCounts,
         Buf::DiffuseBins,
         Buf::DiffuseOrder,
+        Buf::BodyWords,
+        Buf::BoundaryRest,
     ];
 }

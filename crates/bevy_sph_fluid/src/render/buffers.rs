@@ -221,6 +221,8 @@ pub struct SphGpuState {
     pub whitewater_generation: Option<u64>,
     /// The main world's buffers whitewater publishes to.
     pub whitewater_targets: Option<WhitewaterTargets>,
+    /// The main world's copy of the moved bodies' states, while there are any.
+    pub body_target: Option<Buffer>,
 }
 
 /// The main world's copies whitewater's buffers are published to: the slots for drawing, the
@@ -290,7 +292,13 @@ pub fn buffer_sizes(
             Buf::Checkpoint => 3 * 16 * n,
             // Sized by the samples when they are uploaded (`upload_boundary`); an empty boundary
             // has no samples in any cell.
-            Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::BoundaryBody | Buf::Meshes => 16,
+            Buf::BoundaryPosition
+            | Buf::BoundaryVelocity
+            | Buf::BoundaryBody
+            | Buf::Meshes
+            | Buf::BoundaryRest => 16,
+            Buf::BodyWords if key.bodies => sph_core::gpu_layout::GPU_BODY_BYTES as u64,
+            Buf::BodyWords => 16,
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
             Buf::NeighborLists if key.solver == Solver::Pbf || key.solver == Solver::Dfsph => {

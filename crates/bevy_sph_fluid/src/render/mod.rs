@@ -6,6 +6,7 @@
 //! reads it. This module only wires them.
 
 pub mod arenas;
+pub mod bodies;
 pub mod buf;
 pub mod buffers;
 pub mod extract;
@@ -43,6 +44,7 @@ pub(crate) fn build(app: &mut App) {
     load_shader_library!(app, "solvers/pbf/pbf.wgsl");
     load_shader_library!(app, "solvers/dfsph/dfsph.wgsl");
     load_shader_library!(app, "whitewater/whitewater.wgsl");
+    load_shader_library!(app, "bodies/bodies.wgsl");
     let mut embedded = Vec::new();
     for stage in stages::all_stages() {
         if !embedded.contains(&stage.name) {

@@ -25,6 +25,8 @@ pub struct VariantKey {
     pub vorticity: bool,
     /// Whitewater's stages (`render::whitewater`; off: not in the list, no buffers).
     pub whitewater: bool,
+    /// The moved bodies' stages (`render::bodies`; off: not in the list, no buffers).
+    pub bodies: bool,
 }
 
 impl VariantKey {
@@ -46,14 +48,17 @@ impl VariantKey {
                             ]
                             .into_iter()
                             .flat_map(move |(solver, vorticity)| {
-                                flags.into_iter().map(move |whitewater| VariantKey {
-                                    search,
-                                    surface_tension,
-                                    viscosity,
-                                    neighbor_counts,
-                                    solver,
-                                    vorticity,
-                                    whitewater,
+                                flags.into_iter().flat_map(move |whitewater| {
+                                    flags.into_iter().map(move |bodies| VariantKey {
+                                        search,
+                                        surface_tension,
+                                        viscosity,
+                                        neighbor_counts,
+                                        solver,
+                                        vorticity,
+                                        whitewater,
+                                        bodies,
+                                    })
                                 })
                             })
                         })
@@ -74,14 +79,16 @@ impl VariantKey {
             solver: params.solver,
             vorticity: pbf && params.pbf.vorticity_epsilon > 0.0,
             whitewater: false,
+            bodies: false,
         }
     }
 
     /// The variant a frame of the GPU backend runs: its parameters', with whitewater's stages
-    /// while it is on.
+    /// while it is on and the bodies' while the device moves some.
     pub fn of_frame(frame: &crate::shared::SphFrame) -> Self {
         Self {
             whitewater: frame.whitewater.is_some(),
+            bodies: frame.bodies.is_some(),
             ..Self::of(&frame.params, frame.neighbor_counts)
         }
     }
@@ -166,6 +173,12 @@ pub struct EvaluationPlan {
     /// sort, where the grid and the state agree, once a frame
     /// ([`super::solvers::frame_step_plans`]).
     pub step_first_sort: bool,
+    /// The step's first pass: the moved bodies are placed before its other stages
+    /// (`render::bodies`).
+    pub place_bodies: bool,
+    /// The step's last pass: the moved bodies move after its other stages, and record the
+    /// frame's end when `Some(true)` (the frame's last step).
+    pub move_bodies: Option<bool>,
 }
 
 impl EvaluationPlan {

@@ -100,6 +100,7 @@ pub(crate) fn prepare_sph_buffers(
         }
     }
     note_changes(&gpu, &buffers, &mut state, &frame, reallocated);
+    write_body_inputs(&gpu, &buffers, &mut state, &frame, &assets);
     let mut uniforms = GpuSphParams::with_grid(
         &frame.params,
         &frame.container,
@@ -126,6 +127,7 @@ pub(crate) fn prepare_sph_buffers(
     if let Some((duration, number)) = frame.budget {
         uniforms = uniforms.with_frame_budget(duration, frame.steps, number);
     }
+    uniforms.boundary_sample_count = state.boundary_samples;
     // The boundary's upload may have moved its regions.
     let buffers = state.buffers.as_ref().unwrap_or(&buffers);
     uniforms.buffer_at = buffers.layout.buffer_at();
@@ -244,6 +246,7 @@ fn needs_allocation(
             || b.key.search != key.search
             || b.key.surface_tension != key.surface_tension
             || b.key.solver != key.solver
+            || b.key.bodies != key.bodies
             || b.readable
                 .iter()
                 .zip(readable)
@@ -440,6 +443,8 @@ fn upload_boundary(
         // The grid and the samples disagree (a container change in flight): skip this frame.
         return;
     }
+    // The samples as sorted, where the moved bodies' placement moves theirs from.
+    let rest = if buffers.key.bodies { need } else { 16 };
     let grown = buffers.grow(
         device,
         &[
@@ -448,11 +453,15 @@ fn upload_boundary(
             (Buf::Colliders, collider_bytes),
             (Buf::BoundaryBody, body_bytes),
             (Buf::Meshes, mesh_bytes),
+            (Buf::BoundaryRest, rest),
         ],
     );
     if !samples.position.is_empty() {
         let position = bytemuck::cast_slice(&samples.position);
         buffers.write(queue, Buf::BoundaryPosition, 0, position);
+        if buffers.key.bodies {
+            buffers.write(queue, Buf::BoundaryRest, 0, position);
+        }
         let velocity = bytemuck::cast_slice(&samples.velocity);
         buffers.write(queue, Buf::BoundaryVelocity, 0, velocity);
         buffers.write(
@@ -477,4 +486,33 @@ fn upload_boundary(
     if grown {
         state.generation += 1;
     }
+}
+
+/// The moved bodies' inputs, every frame while there are any (`render::bodies`); after a reset
+/// their states start again empty, so each body starts from the engine's next state. Resolves
+/// the main world's copy of the states.
+fn write_body_inputs(
+    gpu: &Gpu,
+    buffers: &GpuBuffers,
+    state: &mut SphGpuState,
+    frame: &ExtractedSphFrame,
+    assets: &RenderAssets<GpuShaderBuffer>,
+) {
+    use sph_core::gpu_layout::{GpuBodyState, GPU_BODY_STATES_OFFSET, GPU_MOVED_BODIES};
+    state.body_target = None;
+    let Some(bodies) = frame.bodies.as_ref().filter(|_| buffers.key.bodies) else {
+        return;
+    };
+    let inputs = &bodies.inputs[..bodies.inputs.len().min(GPU_MOVED_BODIES)];
+    buffers.write(gpu.queue, Buf::BodyWords, 0, bytemuck::cast_slice(inputs));
+    if frame.reset {
+        let empty = vec![GpuBodyState::default(); GPU_MOVED_BODIES];
+        buffers.write(
+            gpu.queue,
+            Buf::BodyWords,
+            GPU_BODY_STATES_OFFSET as u64,
+            bytemuck::cast_slice(&empty),
+        );
+    }
+    state.body_target = assets.get(&bodies.states).map(|b| b.buffer.clone());
 }

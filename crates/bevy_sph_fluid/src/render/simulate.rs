@@ -44,6 +44,14 @@ pub fn sph_publish_state(
     }
     if let Some(buffers) = &state.buffers {
         buffers.publish(ctx.command_encoder(), state.particle_count);
+        if let Some(target) = state.body_target.as_ref().filter(|_| buffers.key.bodies) {
+            let (arena, at) = buffers.at(super::buffers::Buf::BodyWords);
+            let from = at + sph_core::gpu_layout::GPU_BODY_STATES_OFFSET as u64;
+            let bytes = (std::mem::size_of::<sph_core::gpu_layout::GpuBodyStates>() as u64)
+                .min(target.size());
+            ctx.command_encoder()
+                .copy_buffer_to_buffer(arena, from, target, 0, Some(bytes));
+        }
         if let Some(targets) = &state.whitewater_targets {
             super::whitewater::publish(
                 buffers,
@@ -85,6 +93,7 @@ pub fn sph_simulate(world: &mut World) {
         ..key
     };
     let particle_count = state.particle_count;
+    let boundary_samples = state.boundary_samples;
     let mut forces_stale = state.forces_stale;
     let bitonic = state.bitonic_bind_group.clone();
     let bind_groups = state.bind_groups.clone();
@@ -103,6 +112,7 @@ pub fn sph_simulate(world: &mut World) {
         bitonic,
         buffers: gpu_buffers,
         particle_count,
+        boundary_samples,
         plan: EvaluationPlan::default(),
         timed: false,
         dispatches: 0,

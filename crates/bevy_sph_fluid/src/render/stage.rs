@@ -118,6 +118,8 @@ pub struct StageRun {
     pub buffers: GpuBuffers,
     /// Live particles.
     pub particle_count: u32,
+    /// Boundary samples uploaded.
+    pub boundary_samples: u32,
     /// The evaluation being encoded.
     pub plan: EvaluationPlan,
     /// Record GPU timestamps for this evaluation.

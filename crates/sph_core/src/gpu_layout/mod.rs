@@ -3,6 +3,7 @@
 //!
 //! One file per buffer; every item is re-exported here (`sph_core::gpu_layout::GpuSphParams`).
 
+pub mod bodies;
 pub mod body_forces;
 pub mod clock;
 pub mod colliders;
@@ -14,6 +15,7 @@ pub mod pumps;
 pub mod shared;
 pub mod sizes;
 
+pub use bodies::*;
 pub use body_forces::*;
 pub use clock::*;
 pub use colliders::*;

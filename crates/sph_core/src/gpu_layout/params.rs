@@ -230,8 +230,9 @@ pub struct GpuSphParams {
     /// The steps of the frame the whitewater stages cover: they run once a frame, in its last
     /// step, for this many steps' dt ([`Self::with_whitewater`]).
     pub whitewater_steps: u32,
-    /// Unused: the row's remaining words.
-    pub whitewater_unused_y: u32,
+    /// The boundary samples uploaded (the bodies' placement moves those of moved bodies;
+    /// `bevy_sph_fluid::render::bodies`).
+    pub boundary_sample_count: u32,
     /// Unused.
     pub whitewater_unused_z: u32,
     /// Unused.
@@ -242,8 +243,8 @@ pub struct GpuSphParams {
     pub buffer_at: [[u32; 4]; BUFFER_AT_ROWS],
 }
 
-/// The rows of [`GpuSphParams::buffer_at`]: room for 44 storage buffers.
-pub const BUFFER_AT_ROWS: usize = 11;
+/// The rows of [`GpuSphParams::buffer_at`]: room for 48 storage buffers.
+pub const BUFFER_AT_ROWS: usize = 12;
 
 impl GpuSphParams {
     /// The uniform block for `params` in `container`, `capacity` slots and `particle_count` live
@@ -375,7 +376,7 @@ impl GpuSphParams {
             whitewater_capacity: 0,
             whitewater_seed: 0,
             whitewater_steps: 0,
-            whitewater_unused_y: 0,
+            boundary_sample_count: 0,
             whitewater_unused_z: 0,
             whitewater_unused_w: 0,
             // Set by the plugin from its arenas' layout.

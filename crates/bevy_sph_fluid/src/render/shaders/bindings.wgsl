@@ -25,6 +25,7 @@
 // bitonic network's (key, particle) pairs, per-bucket start + 1 and end. Neighbours within h of
 // each particle (NEIGHBOR_COUNT), and PBF's and DFSPH's lists of the step's neighbours
 // (neighbour k of particle i at list_slot(i, k)). The boundary samples' exclusive cell offsets.
+// The moved bodies' inputs and states as words (render/bodies/bodies.wgsl).
 // Whitewater's free list and its slots in cell order.
 @group(0) @binding(4) var<storage, read_write> grid: array<u32>;
 // Grid mode: per-cell counts. Whitewater's counters (render/whitewater/whitewater.wgsl) and its
@@ -36,7 +37,8 @@
 // The Akinci 2012 boundary samples of the walls and colliders, sorted by cell over the dense
 // grid (uploaded by the CPU, sph_core::gpu_layout::GpuBoundarySamples): position (w = volume
 // V_b), velocity (w = the body's friction factor, 0 = free slip); then the mesh colliders'
-// hierarchies and triangles (sph_core::boundary::trimesh::TriMesh::gpu_words), for the guard.
+// hierarchies and triangles (sph_core::boundary::trimesh::TriMesh::gpu_words), for the guard;
+// with moved bodies, the samples' positions as uploaded (render/bodies/body_placement.wgsl).
 @group(0) @binding(7) var<storage, read_write> boundary_samples: array<vec4<f32>>;
 // Each boundary sample's body (0 the walls, k + 1 collider slot k), in the samples' order.
 @group(0) @binding(8) var<storage, read_write> boundary_body: array<u32>;
@@ -84,3 +86,5 @@ fn diffuse_free_at(i: u32) -> u32 { return params.buffer_at[10].x + i; }
 fn diffuse_counts_at(i: u32) -> u32 { return params.buffer_at[10].y + i; }
 fn diffuse_bins_at(i: u32) -> u32 { return params.buffer_at[10].z + i; }
 fn diffuse_order_at(i: u32) -> u32 { return params.buffer_at[10].w + i; }
+fn body_words_at(i: u32) -> u32 { return params.buffer_at[11].x + i; }
+fn boundary_rest_at(i: u32) -> u32 { return params.buffer_at[11].y + i; }

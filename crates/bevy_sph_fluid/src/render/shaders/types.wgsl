@@ -196,12 +196,13 @@ struct SphUniforms {
     whitewater_seed: u32,
     // The frame's steps the whitewater stages cover (they run in its last step).
     whitewater_steps: u32,
-    whitewater_unused_y: u32,
+    // The boundary samples uploaded (render/bodies/body_placement.wgsl).
+    boundary_sample_count: u32,
     whitewater_unused_z: u32,
     whitewater_unused_w: u32,
     // Where each packed storage buffer starts in its arena, in elements, at index `Buf as usize`
     // (bevy_sph_fluid::render::arenas), four to a row; read through sph::bindings's `*_at`.
-    buffer_at: array<vec4<u32>, 11>,
+    buffer_at: array<vec4<u32>, 12>,
 }
 
 // The simulation clock, written only by the GPU (Rust twin: sph_core::gpu_layout::GpuClock).

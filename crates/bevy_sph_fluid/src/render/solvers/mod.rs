@@ -33,7 +33,9 @@ pub fn step_plans(
 
 /// [`step_plans`] for a frame's step, with whitewater's pass marked
 /// ([`EvaluationPlan::step_first_sort`]): the first pass that sorts of the frame's last step
-/// (`last_of_frame`), so that whitewater runs once a frame.
+/// (`last_of_frame`), so that whitewater runs once a frame; and the moved bodies' places: their
+/// placement in the step's first pass, their motion in its last ([`EvaluationPlan::place_bodies`],
+/// [`EvaluationPlan::move_bodies`]).
 pub fn frame_step_plans(
     params: &SphParams,
     forces_stale: bool,
@@ -41,6 +43,12 @@ pub fn frame_step_plans(
     last_of_frame: bool,
 ) -> Vec<EvaluationPlan> {
     let mut plans = step_plans(params, forces_stale, dfsph_iterations);
+    if let Some(first) = plans.first_mut() {
+        first.place_bodies = true;
+    }
+    if let Some(last) = plans.last_mut() {
+        last.move_bodies = Some(last_of_frame);
+    }
     if last_of_frame {
         if let Some(first_sort) = plans.iter_mut().find(|plan| plan.sorts()) {
             first_sort.step_first_sort = true;

@@ -15,6 +15,7 @@ pub mod prefix_sum;
 pub mod scatter;
 pub mod time_step;
 
+use super::bodies;
 use super::plan::VariantKey;
 use super::solvers::{dfsph, pbf, wcsph};
 use super::stage::GpuStage;
@@ -22,12 +23,14 @@ use super::whitewater;
 use sph_core::{NeighborSearch, Solver};
 
 /// The stages of one force evaluation of a scene of `key` (with PBF and DFSPH, of one step), in
-/// order: the time step where a drift comes first, the sort, then the solver's own list. Each
+/// order: the moved bodies' placement, the time step where a drift comes first, the sort, the
+/// solver's own list, then the moved bodies' motion. Each
 /// stage's `role` then picks its pipeline for the plan's integrator phase or solver phase, or
 /// skips it (the time step runs in one of its two places, integrate only for symplectic Euler,
 /// PBF's and DFSPH's stages each in their phase).
 pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
-    let mut list = vec![&time_step::AT_START, &count_cells::STAGE];
+    let mut list = bodies::first_stages(key);
+    list.extend([&time_step::AT_START, &count_cells::STAGE]);
     match key.search {
         NeighborSearch::Grid => list.push(&prefix_sum::STAGE),
         NeighborSearch::Hash => list.extend([&bitonic_sort::STAGE, &hash_offsets::STAGE]),
@@ -40,6 +43,7 @@ pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
         Solver::Dfsph => dfsph::stage_list(key),
         Solver::Pbf => pbf::stage_list(key),
     });
+    list.extend(bodies::last_stages(key));
     list
 }
 
@@ -129,6 +133,7 @@ mod tests {
                     solver: Solver::Pbf,
                     vorticity,
                     whitewater: false,
+                    bodies: false,
                 };
                 let list = stage_list(&key);
                 let mut runs: Vec<(&str, usize)> = Vec::new();
@@ -321,7 +326,7 @@ mod tests {
     #[test]
     fn names_are_unique_except_the_two_places_of_the_time_step() {
         let all = all_stages();
-        assert_eq!(all.len(), 30, "every stage file, the time step twice");
+        assert_eq!(all.len(), 32, "every stage file, the time step twice");
         let mut names: Vec<&str> = all.iter().map(|s| s.name).collect();
         names.sort_unstable();
         names.dedup();

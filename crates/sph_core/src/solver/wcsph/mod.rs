@@ -235,6 +235,7 @@ impl WcsphStep<'_> {
                 CpuStage::TimeStep
                 | CpuStage::Integrate
                 | CpuStage::Whitewater
+                | CpuStage::Bodies
                 | CpuStage::NeighborLists
                 | CpuStage::Dfsph(_)
                 | CpuStage::Pbf(_) => {}

@@ -1,0 +1,143 @@
+// The bodies the device moves, at the end of every step, one thread per collider slot (Rust
+// twin: sph_core::bodies::engine_handoff::DeviceBody):
+// 1. a new frame (the force sums' stamp) starts its impulse sums and its reading of the sums;
+// 2. this step's force and moment: the sums' growth since they were last read, over the force
+//    evaluations it spans (the sums are exact 64-bit fixed point, so the difference is too);
+// 3. the step: impulse J += F dt, angular impulse += τ_c dt, then rigid_step::advance;
+// 4. the engine's state, when newer than the last taken: the first as it is, later ones as
+//    their difference from this device's record of their frame (engine_handoff), also added
+//    to the newer records; a frame no longer recorded is taken whole and counted;
+// 5. FRAME_END (the frame's last step): the frame's record.
+#import sph::bindings::{params, shared_state, grid}
+#import sph::body_reactions::{body_force_unit, body_moment_unit}
+#import sph::clock::{step_dt, frozen}
+#import sph::bodies::{MOVED_BODIES, RECORDS, Rigid, moved, held, load_model, load_state, store_state, load_record, store_record_state, state_word, input_word, record_word, word_f32, word_vec3, word_vec4, set_f32, set_vec3, advance, corrected, after, rotate, ST_HELD, ST_ENGINE_FRAME, ST_HAS_ENGINE_FRAME, ST_RESYNCS, ST_FRAME, ST_EVALUATIONS_SEEN, ST_DURATION, ST_SUMS_SEEN, ST_IMPULSE, ST_ANGULAR_IMPULSE, IN_CENTER_OF_MASS, IN_ENGINE_FRAME, IN_ENGINE_ORIGIN, IN_ENGINE_ROTATION, IN_ENGINE_LINEAR_VELOCITY, IN_ENGINE_ANGULAR_VELOCITY, IN_HAS_ENGINE_STATE, REC_FRAME, REC_TIME_LO, REC_TIME_HI, REC_DURATION, REC_VALID, REC_IMPULSE, REC_ANGULAR_IMPULSE}
+
+// A 64-bit two's-complement difference (low, high words) as f32.
+fn difference(lo: u32, hi: u32, seen_lo: u32, seen_hi: u32) -> f32 {
+    let d_lo = lo - seen_lo;
+    let d_hi = hi - seen_hi - select(0u, 1u, lo < seen_lo);
+    // Small differences of either sign are one 32-bit word: no cancellation.
+    if (d_hi == 0u && d_lo < 0x80000000u) || (d_hi == 0xffffffffu && d_lo >= 0x80000000u) {
+        return f32(bitcast<i32>(d_lo));
+    }
+    return f32(bitcast<i32>(d_hi)) * 4294967296.0 + f32(d_lo);
+}
+
+// Seconds from the time (lo, hi) [ns] to now's clock.
+fn seconds_since(lo: u32, hi: u32) -> f32 {
+    let now_lo = shared_state.clock.time_ns_lo;
+    let now_hi = shared_state.clock.time_ns_hi;
+    let d_lo = now_lo - lo;
+    let d_hi = now_hi - hi - select(0u, 1u, now_lo < lo);
+    return f32(d_hi) * 4.294967296 + f32(d_lo) * 1.0e-9;
+}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let slot = id.x;
+    if slot >= MOVED_BODIES || !moved(slot) {
+        return;
+    }
+    let model = load_model(slot);
+    // 1. The frame being summed.
+    let frame = shared_state.body_forces.frame;
+    if grid[state_word(slot, ST_FRAME)] != frame {
+        grid[state_word(slot, ST_FRAME)] = frame;
+        grid[state_word(slot, ST_EVALUATIONS_SEEN)] = 0u;
+        set_f32(state_word(slot, ST_DURATION), 0.0);
+        set_vec3(state_word(slot, ST_IMPULSE), vec3<f32>(0.0));
+        set_vec3(state_word(slot, ST_ANGULAR_IMPULSE), vec3<f32>(0.0));
+        for (var k = 0u; k < 12u; k += 1u) {
+            grid[state_word(slot, ST_SUMS_SEEN + k)] = 0u;
+        }
+    }
+    // 2. The step's force and moment (the body's sums are at body slot + 1).
+    let evaluations = atomicLoad(&shared_state.body_forces.evaluations);
+    let fresh = evaluations - grid[state_word(slot, ST_EVALUATIONS_SEEN)];
+    var sums: array<f32, 6>;
+    for (var c = 0u; c < 6u; c += 1u) {
+        let k = 2u * ((slot + 1u) * 6u + c);
+        let lo = atomicLoad(&shared_state.body_forces.sums[k]);
+        let hi = atomicLoad(&shared_state.body_forces.sums[k + 1u]);
+        let seen = state_word(slot, ST_SUMS_SEEN + 2u * c);
+        sums[c] = difference(lo, hi, grid[seen], grid[seen + 1u]);
+        grid[seen] = lo;
+        grid[seen + 1u] = hi;
+    }
+    grid[state_word(slot, ST_EVALUATIONS_SEEN)] = evaluations;
+    // 3. The step.
+    if held(slot) && fresh > 0u && !frozen() {
+        let per = 1.0 / f32(fresh);
+        let force = vec3<f32>(sums[0], sums[1], sums[2]) * (body_force_unit() * per);
+        let moment = vec3<f32>(sums[3], sums[4], sums[5]) * (body_moment_unit() * per);
+        let dt = step_dt();
+        let s = load_state(slot);
+        set_vec3(state_word(slot, ST_IMPULSE), word_vec3(state_word(slot, ST_IMPULSE)) + dt * force);
+        set_vec3(state_word(slot, ST_ANGULAR_IMPULSE), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE)) + dt * (moment - cross(s.position, force)));
+        set_f32(state_word(slot, ST_DURATION), word_f32(state_word(slot, ST_DURATION)) + dt);
+        store_state(slot, advance(model, s, force, moment, dt));
+    }
+    // 4. The engine's state.
+    take_engine_state(slot, model.center_of_mass);
+#ifdef FRAME_END
+    // 5. The frame's record.
+    if held(slot) {
+        let r = frame % RECORDS;
+        grid[record_word(slot, r, REC_FRAME)] = frame;
+        grid[record_word(slot, r, REC_TIME_LO)] = shared_state.clock.time_ns_lo;
+        grid[record_word(slot, r, REC_TIME_HI)] = shared_state.clock.time_ns_hi;
+        set_f32(record_word(slot, r, REC_DURATION), word_f32(state_word(slot, ST_DURATION)));
+        grid[record_word(slot, r, REC_VALID)] = 1u;
+        store_record_state(slot, r, load_state(slot));
+        set_vec3(record_word(slot, r, REC_IMPULSE), word_vec3(state_word(slot, ST_IMPULSE)));
+        set_vec3(record_word(slot, r, REC_ANGULAR_IMPULSE), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE)));
+    }
+#endif
+}
+
+fn take_engine_state(slot: u32, center_of_mass: vec3<f32>) {
+    if grid[input_word(slot, IN_HAS_ENGINE_STATE)] == 0u {
+        return;
+    }
+    let engine_frame = grid[input_word(slot, IN_ENGINE_FRAME)];
+    let taken = grid[state_word(slot, ST_HAS_ENGINE_FRAME)] != 0u;
+    if taken && !after(engine_frame, grid[state_word(slot, ST_ENGINE_FRAME)]) {
+        return;
+    }
+    grid[state_word(slot, ST_ENGINE_FRAME)] = engine_frame;
+    grid[state_word(slot, ST_HAS_ENGINE_FRAME)] = 1u;
+    let q = word_vec4(input_word(slot, IN_ENGINE_ROTATION));
+    let arrived = Rigid(
+        word_vec3(input_word(slot, IN_ENGINE_ORIGIN)) + rotate(q, center_of_mass),
+        q,
+        word_vec3(input_word(slot, IN_ENGINE_LINEAR_VELOCITY)),
+        word_vec3(input_word(slot, IN_ENGINE_ANGULAR_VELOCITY)),
+    );
+    if grid[state_word(slot, ST_HELD)] == 0u {
+        store_state(slot, arrived);
+        grid[state_word(slot, ST_HELD)] = 1u;
+        return;
+    }
+    let r = engine_frame % RECORDS;
+    let recorded = grid[record_word(slot, r, REC_VALID)] != 0u && grid[record_word(slot, r, REC_FRAME)] == engine_frame;
+    if !recorded {
+        store_state(slot, arrived);
+        for (var k = 0u; k < RECORDS; k += 1u) {
+            grid[record_word(slot, k, REC_VALID)] = 0u;
+        }
+        grid[state_word(slot, ST_RESYNCS)] += 1u;
+        return;
+    }
+    let record = load_record(slot, r);
+    let lo = grid[record_word(slot, r, REC_TIME_LO)];
+    let hi = grid[record_word(slot, r, REC_TIME_HI)];
+    store_state(slot, corrected(load_state(slot), arrived, record, seconds_since(lo, hi)));
+    for (var k = 0u; k < RECORDS; k += 1u) {
+        if grid[record_word(slot, k, REC_VALID)] != 0u && after(grid[record_word(slot, k, REC_FRAME)], engine_frame) {
+            // The time from the engine's frame to this newer record's end.
+            let since = seconds_since(lo, hi) - seconds_since(grid[record_word(slot, k, REC_TIME_LO)], grid[record_word(slot, k, REC_TIME_HI)]);
+            store_record_state(slot, k, corrected(load_record(slot, k), arrived, record, since));
+        }
+    }
+}

@@ -1,0 +1,51 @@
+// The bodies the device moves, placed at the start of every step (Rust twin:
+// sph_core::bodies::rigid_step, RigidState's origin and point velocity): each such collider
+// takes the device's pose and velocities (for the guard and the contact), and each of its
+// boundary samples moves rigidly from where the CPU sorted it (`boundary_rest`, at the pose
+// the input names) to the body's pose now, with the body's velocity at that point. The samples
+// stay in their sorted cells: the CPU sorts them at the pose it predicts for the frame, so they
+// move a small part of h from it (docs/scenes.md, "Bodies on the GPU").
+#import sph::bindings::{params, boundary_samples, boundary_body, colliders, boundary_position_at, boundary_velocity_at, boundary_rest_at}
+#import sph::bodies::{MOVED_BODIES, held, load_state, input_word, word_vec3, word_vec4, origin, rotate, conjugate, IN_CENTER_OF_MASS, IN_SORTED_ORIGIN, IN_SORTED_ROTATION}
+
+@compute @workgroup_size(#{WORKGROUP_SIZE})
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i < params.guard_colliders {
+        // The colliders are listed without the empty slots; each names its body (slot + 1).
+        let body = bitcast<u32>(colliders[i].linear_velocity.w);
+        if body >= 1u && body <= MOVED_BODIES && held(body - 1u) {
+            let s = load_state(body - 1u);
+            let o = origin(s, word_vec3(input_word(body - 1u, IN_CENTER_OF_MASS)));
+            // Only the components: w holds the shape's kind and the body's index as bits.
+            colliders[i].translation.x = o.x;
+            colliders[i].translation.y = o.y;
+            colliders[i].translation.z = o.z;
+            colliders[i].rotation = s.rotation;
+            let v = s.linear_velocity + cross(s.angular_velocity, o - s.position);
+            colliders[i].linear_velocity.x = v.x;
+            colliders[i].linear_velocity.y = v.y;
+            colliders[i].linear_velocity.z = v.z;
+            colliders[i].angular_velocity = vec4<f32>(s.angular_velocity, 0.0);
+        }
+    }
+    if i >= params.boundary_sample_count {
+        return;
+    }
+    let body = boundary_body[i];
+    if body == 0u || body > MOVED_BODIES || !held(body - 1u) {
+        return;
+    }
+    let slot = body - 1u;
+    let s = load_state(slot);
+    let o = origin(s, word_vec3(input_word(slot, IN_CENTER_OF_MASS)));
+    let sorted_origin = word_vec3(input_word(slot, IN_SORTED_ORIGIN));
+    let sorted_rotation = word_vec4(input_word(slot, IN_SORTED_ROTATION));
+    let local = rotate(conjugate(sorted_rotation), boundary_samples[boundary_rest_at(i)].xyz - sorted_origin);
+    let x = o + rotate(s.rotation, local);
+    let at = boundary_position_at(i);
+    boundary_samples[at] = vec4<f32>(x, boundary_samples[at].w);
+    let v = s.linear_velocity + cross(s.angular_velocity, x - s.position);
+    let v_at = boundary_velocity_at(i);
+    boundary_samples[v_at] = vec4<f32>(v, boundary_samples[v_at].w);
+}
