@@ -60,13 +60,14 @@ pub struct SphControl {
     /// the dt (the default), or frozen at once ([`sph_core::Rollback::off`]). Invalid settings are
     /// refused and named in [`SphStats::error`].
     pub rollback: sph_core::Rollback,
-    /// GPU backend, while a dynamic [`SphCollider`] is in the water: the most simulated time
-    /// one frame covers [s] (`None`: no limit); a frame takes at least one step, shortened to
-    /// this time when the time-step rule's is longer. The water's force on a body is read back
-    /// about three frames late, and a late force does work on a body that bobs: with 8.3 ms of
-    /// water a frame a boat of 400 kg/m³ sometimes, and with 16 ms always, bobbed higher each
-    /// time until it left the water (docs/scenes.md). Default [`DEFAULT_MAX_BODY_FRAME_TIME`];
-    /// allowed (0, 1] s.
+    /// GPU backend, while a dynamic [`SphCollider`] the device does not move is in the water
+    /// (one without an [`SphRigidBody`]: with avian on the water's clock every dynamic body has
+    /// one, and this never applies): the most simulated time one frame covers [s] (`None`: no
+    /// limit); a frame takes at least one step, shortened to this time when the time-step
+    /// rule's is longer. Such a body's force is read back about three frames late, and a late
+    /// force does work on a body that bobs: with 8.3 ms of water a frame a boat of 400 kg/m³
+    /// sometimes, and with 16 ms always, bobbed higher each time until it left the water
+    /// (docs/scenes.md). Default [`DEFAULT_MAX_BODY_FRAME_TIME`]; allowed (0, 1] s.
     pub max_body_frame_time: Option<f32>,
 }
 

@@ -4,12 +4,16 @@
 //! of mass), avian moves it, and the plugin resamples nothing: it moves the collider's boundary
 //! samples with the body's [`GlobalTransform`] and gives them the velocity of that move. The
 //! fluid plugin stays engine-agnostic: it only writes [`SphColliderForce`], and this module turns
-//! that into avian's forces (the split avian's maintainers ask for, avian issue #265). On the
-//! GPU the force is summed on the device and read back a frame or two late, without a stall.
-//! A late force does work on a body that bobs, so on the GPU a frame covers at most
-//! [`SphControl::max_body_frame_time`] of water while a dynamic collider is in it (6 ms; a
-//! longer step is shortened to it). The forces arrive three frames late on lavapipe: at PBF's
-//! 1/120 s a frame a boat of 400 kg/m³ bobbed higher each time until it left the water.
+//! that into avian's forces (the split avian's maintainers ask for, avian issue #265).
+//!
+//! On the GPU with avian on the water's clock ([`SphWaterTime`]) each dynamic body also carries
+//! an [`SphRigidBody`] equal to avian's, and the device moves it with the water at every step
+//! (`crate::moved_bodies`): its force is read back a few frames late, and a late force does work
+//! on a body that bobs. avian then steps over exactly the frames the device's records cover, with
+//! their water impulse, and hands its state back once a frame; the device adds what only avian
+//! saw (contacts, joints, a game's push). Any other dynamic body on the GPU (avian on the game's
+//! clock) keeps the older rule: a frame covers at most [`SphControl::max_body_frame_time`] of
+//! water while it is in the water.
 //!
 //! Mass: a free dynamic body (not on a scene's hinge, no locked translation axis) carries
 //! [`SphColliderMass`], kept equal to avian's mass, so that DFSPH's solves on the CPU let it give
