@@ -124,7 +124,9 @@ impl Buf {
             | Buf::DiffuseFree
             | Buf::DiffuseOrder
             | Buf::BodyWords => Arena::Grid,
-            Buf::CellCounts | Buf::DiffuseCounts | Buf::DiffuseBins => Arena::CellCounts,
+            Buf::CellCounts | Buf::DiffuseCounts | Buf::DiffuseBins | Buf::BodyContacts => {
+                Arena::CellCounts
+            }
             Buf::Clock | Buf::BodyForces | Buf::Pumps | Buf::Probes => Arena::Shared,
             Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::Meshes | Buf::BoundaryRest => {
                 Arena::Boundary

@@ -104,11 +104,14 @@ pub enum Buf {
     /// The boundary samples' positions as uploaded, where the bodies' placement moves a moved
     /// body's samples from; sized by the samples while there are moved bodies.
     BoundaryRest,
+    /// The moved bodies' contacts of the step: per collider slot the largest push along each
+    /// world axis and sign, as f32 bits (`render::bodies`, `sph_core::bodies::solid_contact`).
+    BodyContacts,
 }
 
 impl Buf {
     /// Every logical buffer, in the order its arena packs them.
-    pub const ALL: [Buf; 45] = [
+    pub const ALL: [Buf; 46] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -154,5 +157,6 @@ impl Buf {
         Buf::DiffuseOrder,
         Buf::BodyWords,
         Buf::BoundaryRest,
+        Buf::BodyContacts,
     ];
 }

@@ -299,6 +299,10 @@ pub fn buffer_sizes(
             | Buf::BoundaryRest => 16,
             Buf::BodyWords if key.bodies => sph_core::gpu_layout::GPU_BODY_BYTES as u64,
             Buf::BodyWords => 16,
+            Buf::BodyContacts if key.bodies => {
+                4 * 6 * sph_core::gpu_layout::GPU_MOVED_BODIES as u64
+            }
+            Buf::BodyContacts => 16,
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,
             Buf::BoundaryCellStart => 4 * (cells + 1),
             Buf::NeighborLists if key.solver == Solver::Pbf || key.solver == Solver::Dfsph => {

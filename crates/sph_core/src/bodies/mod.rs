@@ -1,6 +1,8 @@
 //! Rigid bodies the water carries, advanced at the water's own steps on the device: one step of
-//! a body ([`rigid_step`]) and how the device's body and the physics engine's hand each other
-//! what only the other saw ([`engine_handoff`]). WGSL twins: `render/bodies/`.
+//! a body ([`rigid_step`]), its contacts with the solids the device does not move
+//! ([`solid_contact`]), and how the device's body and the physics engine's hand each other what
+//! only the other saw ([`engine_handoff`]). WGSL twins: `render/bodies/`.
 
 pub mod engine_handoff;
 pub mod rigid_step;
+pub mod solid_contact;

@@ -4,7 +4,7 @@
 // arena's `body_words` region: inputs of every slot first, then the states.
 #define_import_path sph::bodies
 
-#import sph::bindings::{grid, body_words_at}
+#import sph::bindings::{grid, cell_counts, body_words_at, body_contacts_at}
 
 const MOVED_BODIES: u32 = 31u;
 const RECORDS: u32 = 8u;
@@ -253,6 +253,46 @@ fn corrected(s: Rigid, engine: Rigid, record: Rigid, since: f32) -> Rigid {
         s.linear_velocity + dv,
         s.angular_velocity + dw,
     );
+}
+
+// The step's contact pushes of slot (solid_contact::AxisPush), f32 bits of non-negative values,
+// so they order as u32: words +x, +y, +z, -x, -y, -z.
+fn contact_word(slot: u32, k: u32) -> u32 {
+    return body_contacts_at(slot * 6u + k);
+}
+
+// Adds a push to slot's step (the largest per axis and sign).
+fn add_push(slot: u32, push: vec3<f32>) {
+    for (var a = 0u; a < 3u; a += 1u) {
+        if push[a] > 0.0 {
+            atomicMax(&cell_counts[contact_word(slot, a)], bitcast<u32>(push[a]));
+        } else if push[a] < 0.0 {
+            atomicMax(&cell_counts[contact_word(slot, a + 3u)], bitcast<u32>(-push[a]));
+        }
+    }
+}
+
+// How far a shape of `kind` and `size` (GpuCollider), turned by q, reaches from its origin along
+// the unit world direction e; -1 for a mesh (solid_contact::support).
+fn support(kind: u32, size: vec3<f32>, q: vec4<f32>, e: vec3<f32>) -> f32 {
+    let d = rotate(conjugate(q), e);
+    switch kind {
+        case 0u: {
+            return dot(abs(d), size);
+        }
+        case 1u: {
+            return size.x;
+        }
+        case 2u: {
+            return abs(d.y) * size.y + size.x;
+        }
+        case 3u: {
+            return abs(d.y) * size.y + size.x * sqrt(max(1.0 - d.y * d.y, 0.0));
+        }
+        default: {
+            return -1.0;
+        }
+    }
 }
 
 // Whether frame a comes after frame b (frame numbers wrap).

@@ -1,6 +1,7 @@
 //! The bodies' motion at the end of every step (`body_motion.wgsl`; CPU twin
 //! `sph_core::bodies::engine_handoff::DeviceBody`): the step's force from the sums, the rigid
-//! step, the engine's state, and at the frame's last step the frame's record.
+//! step, the engine's state, the contacts with the solids the device does not move
+//! (`sph_core::bodies::solid_contact`), and at the frame's last step the frame's record.
 
 use crate::render::buffers::Buf;
 use crate::render::plan::EvaluationPlan;
@@ -15,7 +16,13 @@ pub const STAGE: GpuStage = GpuStage {
     cpu_twin: CpuStage::Bodies,
     embed: |app| embedded_asset!(app, "body_motion.wgsl"),
     shader: |server| load_embedded_asset!(server, "body_motion.wgsl"),
-    bindings: &[Buf::BodyWords, Buf::BodyForces, Buf::Clock],
+    bindings: &[
+        Buf::BodyWords,
+        Buf::BodyForces,
+        Buf::Clock,
+        Buf::Colliders,
+        Buf::BodyContacts,
+    ],
     workgroup_size: 32,
     roles: &[&[], &["FRAME_END"]],
     role: |plan: &EvaluationPlan| plan.move_bodies.map(|frame_end| frame_end as usize),

@@ -7,11 +7,15 @@
 // 4. the engine's state, when newer than the last taken: the first as it is, later ones as
 //    their difference from this device's record of their frame (engine_handoff), also added
 //    to the newer records; a frame no longer recorded is taken whole and counted;
-// 5. FRAME_END (the frame's last step): the frame's record.
-#import sph::bindings::{params, shared_state, grid}
+// 5. the contacts with the solids the device does not move (sph_core::bodies::solid_contact):
+//    the samples' pushes the placement gathered, and the shape's reach past the box's faces;
+//    the largest push per axis and sign moves the body and takes its velocity into the push
+//    (a hinged body's axle holds it); the pushes are cleared for the next step;
+// 6. FRAME_END (the frame's last step): the frame's record.
+#import sph::bindings::{params, shared_state, grid, colliders, cell_counts}
 #import sph::body_reactions::{body_force_unit, body_moment_unit}
 #import sph::clock::{step_dt, frozen}
-#import sph::bodies::{MOVED_BODIES, RECORDS, Rigid, moved, held, load_model, load_state, store_state, load_record, store_record_state, state_word, input_word, record_word, word_f32, word_vec3, word_vec4, set_f32, set_vec3, advance, corrected, after, rotate, ST_HELD, ST_ENGINE_FRAME, ST_HAS_ENGINE_FRAME, ST_RESYNCS, ST_FRAME, ST_EVALUATIONS_SEEN, ST_DURATION, ST_SUMS_SEEN, ST_IMPULSE, ST_ANGULAR_IMPULSE, IN_CENTER_OF_MASS, IN_ENGINE_FRAME, IN_ENGINE_ORIGIN, IN_ENGINE_ROTATION, IN_ENGINE_LINEAR_VELOCITY, IN_ENGINE_ANGULAR_VELOCITY, IN_HAS_ENGINE_STATE, REC_FRAME, REC_TIME_LO, REC_TIME_HI, REC_DURATION, REC_VALID, REC_IMPULSE, REC_ANGULAR_IMPULSE}
+#import sph::bodies::{MOVED_BODIES, RECORDS, Rigid, moved, held, load_model, load_state, store_state, load_record, store_record_state, state_word, input_word, record_word, word_f32, word_vec3, word_vec4, set_f32, set_vec3, advance, corrected, after, rotate, ST_HELD, ST_ENGINE_FRAME, ST_HAS_ENGINE_FRAME, ST_RESYNCS, ST_FRAME, ST_EVALUATIONS_SEEN, ST_DURATION, ST_SUMS_SEEN, ST_IMPULSE, ST_ANGULAR_IMPULSE, IN_CENTER_OF_MASS, IN_ENGINE_FRAME, IN_ENGINE_ORIGIN, IN_ENGINE_ROTATION, IN_ENGINE_LINEAR_VELOCITY, IN_ENGINE_ANGULAR_VELOCITY, IN_HAS_ENGINE_STATE, REC_FRAME, REC_TIME_LO, REC_TIME_HI, REC_DURATION, REC_VALID, REC_IMPULSE, REC_ANGULAR_IMPULSE, IN_HINGED, contact_word, support, origin}
 
 // A 64-bit two's-complement difference (low, high words) as f32.
 fn difference(lo: u32, hi: u32, seen_lo: u32, seen_hi: u32) -> f32 {
@@ -80,8 +84,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     // 4. The engine's state.
     take_engine_state(slot, model.center_of_mass);
+    // 5. The contacts.
+    resolve_contacts(slot, model.center_of_mass);
 #ifdef FRAME_END
-    // 5. The frame's record.
+    // 6. The frame's record.
     if held(slot) {
         let r = frame % RECORDS;
         grid[record_word(slot, r, REC_FRAME)] = frame;
@@ -140,4 +146,49 @@ fn take_engine_state(slot: u32, center_of_mass: vec3<f32>) {
             store_record_state(slot, k, corrected(load_record(slot, k), arrived, record, since));
         }
     }
+}
+
+// The step's contacts of slot: the samples' pushes, the box's faces against the shape's reach
+// from its origin along each axis; cleared for the next step.
+fn resolve_contacts(slot: u32, center_of_mass: vec3<f32>) {
+    var positive = vec3<f32>(0.0);
+    var negative = vec3<f32>(0.0);
+    for (var a = 0u; a < 3u; a += 1u) {
+        positive[a] = bitcast<f32>(atomicExchange(&cell_counts[contact_word(slot, a)], 0u));
+        negative[a] = bitcast<f32>(atomicExchange(&cell_counts[contact_word(slot, a + 3u)], 0u));
+    }
+    if !held(slot) || frozen() || grid[input_word(slot, IN_HINGED)] != 0u {
+        return;
+    }
+    let s = load_state(slot);
+    let o = origin(s, center_of_mass);
+    for (var k = 0u; k < params.guard_colliders; k++) {
+        if bitcast<u32>(colliders[k].linear_velocity.w) != slot + 1u {
+            continue;
+        }
+        let kind = u32(colliders[k].translation.w);
+        let size = colliders[k].size.xyz;
+        for (var a = 0u; a < 3u; a += 1u) {
+            var e = vec3<f32>(0.0);
+            e[a] = 1.0;
+            let reach = support(kind, size, s.rotation, e);
+            if reach < 0.0 {
+                break;
+            }
+            let up = max(params.box_min[a] - (o[a] - reach), 0.0);
+            let down = max((o[a] + reach) - params.box_max[a], 0.0);
+            positive[a] = max(positive[a], up);
+            negative[a] = max(negative[a], down);
+        }
+    }
+    if all(positive == vec3<f32>(0.0)) && all(negative == vec3<f32>(0.0)) {
+        return;
+    }
+    var v = s.linear_velocity;
+    for (var a = 0u; a < 3u; a += 1u) {
+        if (positive[a] > 0.0 && v[a] < 0.0) || (negative[a] > 0.0 && v[a] > 0.0) {
+            v[a] = 0.0;
+        }
+    }
+    store_state(slot, Rigid(s.position + positive - negative, s.rotation, v, s.angular_velocity));
 }

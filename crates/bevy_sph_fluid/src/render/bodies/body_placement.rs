@@ -22,6 +22,8 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::BoundaryRest,
         Buf::BoundaryBody,
         Buf::Colliders,
+        Buf::Meshes,
+        Buf::BodyContacts,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],

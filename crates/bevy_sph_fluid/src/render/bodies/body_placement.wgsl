@@ -4,9 +4,12 @@
 // boundary samples moves rigidly from where the CPU sorted it (`boundary_rest`, at the pose
 // the input names) to the body's pose now, with the body's velocity at that point. The samples
 // stay in their sorted cells: the CPU sorts them at the pose it predicts for the frame, so they
-// move a small part of h from it (docs/scenes.md, "Bodies on the GPU").
-#import sph::bindings::{params, boundary_samples, boundary_body, colliders, boundary_position_at, boundary_velocity_at, boundary_rest_at}
-#import sph::bodies::{MOVED_BODIES, held, load_state, input_word, word_vec3, word_vec4, origin, rotate, conjugate, IN_CENTER_OF_MASS, IN_SORTED_ORIGIN, IN_SORTED_ROTATION}
+// move a small part of h from it (docs/scenes.md, "Bodies on the GPU"). A sample inside a solid
+// the device does not move (sph_core::bodies::solid_contact::sample_push) adds its push out of it
+// to its body's contacts of the step, which the motion pass resolves.
+#import sph::bindings::{params, grid, boundary_samples, boundary_body, colliders, boundary_position_at, boundary_velocity_at, boundary_rest_at}
+#import sph::bodies::{MOVED_BODIES, held, load_state, input_word, word_vec3, word_vec4, origin, rotate, conjugate, add_push, IN_CENTER_OF_MASS, IN_SORTED_ORIGIN, IN_SORTED_ROTATION, IN_HINGED}
+#import sph::guard::collider_surface
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -48,4 +51,23 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let v = s.linear_velocity + cross(s.angular_velocity, x - s.position);
     let v_at = boundary_velocity_at(i);
     boundary_samples[v_at] = vec4<f32>(v, boundary_samples[v_at].w);
+    // A hinged body's axle holds it.
+    if grid[input_word(slot, IN_HINGED)] != 0u {
+        return;
+    }
+    var push = vec3<f32>(0.0);
+    for (var k = 0u; k < params.guard_colliders; k++) {
+        // Not its own collider, nor another moved body's (the engine's).
+        let other = bitcast<u32>(colliders[k].linear_velocity.w);
+        if other == body || (other >= 1u && other <= MOVED_BODIES && held(other - 1u)) {
+            continue;
+        }
+        let surface = collider_surface(k, x, 0.0);
+        if surface.w < 0.0 {
+            push -= surface.w * surface.xyz;
+        }
+    }
+    if any(push != vec3<f32>(0.0)) {
+        add_push(slot, push);
+    }
 }

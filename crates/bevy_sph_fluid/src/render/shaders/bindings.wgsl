@@ -29,7 +29,7 @@
 // Whitewater's free list and its slots in cell order.
 @group(0) @binding(4) var<storage, read_write> grid: array<u32>;
 // Grid mode: per-cell counts. Whitewater's counters (render/whitewater/whitewater.wgsl) and its
-// per-cell counts.
+// per-cell counts. The moved bodies' contacts of the step (render/bodies/bodies.wgsl).
 @group(0) @binding(5) var<storage, read_write> cell_counts: array<atomic<u32>>;
 // The frame's pumps (shaders/pumps.wgsl) and probes (shaders/probes.wgsl), the clock, and the
 // fluid's force on each body over the frame (written by the forces pass, read back).
@@ -88,3 +88,4 @@ fn diffuse_bins_at(i: u32) -> u32 { return params.buffer_at[10].z + i; }
 fn diffuse_order_at(i: u32) -> u32 { return params.buffer_at[10].w + i; }
 fn body_words_at(i: u32) -> u32 { return params.buffer_at[11].x + i; }
 fn boundary_rest_at(i: u32) -> u32 { return params.buffer_at[11].y + i; }
+fn body_contacts_at(i: u32) -> u32 { return params.buffer_at[11].z + i; }
