@@ -242,9 +242,15 @@ fn sph_plan_moved_bodies(
     sim.frame.bodies = Some(GpuBodiesFrame { inputs, states });
 }
 
-/// Keeps a readback of the states alive while there are moved bodies.
+/// Keeps a readback of the states alive while there are moved bodies, and none after.
 fn sph_read_moved_bodies(mut moved: ResMut<SphMovedBodies>, mut commands: Commands) {
-    if moved.reader.is_some() || moved.slots.is_empty() {
+    if moved.slots.is_empty() {
+        if let Some(reader) = moved.reader.take() {
+            commands.entity(reader).despawn();
+        }
+        return;
+    }
+    if moved.reader.is_some() {
         return;
     }
     let Some(handle) = moved.states.clone() else {

@@ -30,10 +30,10 @@ pub struct RunArgs {
     /// --rollback and --json apply. The report adds the particle balance and the probes.
     #[arg(long, value_name = "FILE", conflicts_with = "scenario")]
     pub scene: Option<PathBuf>,
-    /// A scene file's dynamic and hinged bodies: held in place, or moved by avian (on either
-    /// backend; the CPU backend then runs the plugin in a headless app, and the GPU backend's
-    /// frames cover at most the plugin's `max_body_frame_time`, 6 ms of water, whatever
-    /// --substeps says, so the bodies' forces lag little).
+    /// A scene file's dynamic and hinged bodies: held in place, or moved by avian on the water's
+    /// clock (on either backend; the CPU backend then runs the plugin in a headless app, and on
+    /// the GPU the device moves the bodies with the water at every step, avian's state joining
+    /// once a frame: docs/scenes.md, "Bodies on the GPU").
     #[arg(long, value_enum, default_value = "held", requires = "scene")]
     pub bodies: Bodies,
     /// Which solver runs the scenario.

@@ -29,9 +29,6 @@ fn collect_probe_readings(
 pub struct AppSimulation {
     app: App,
     backend: SphBackend,
-    /// avian moves the dynamic colliders: the GPU's frames then cover at most
-    /// `SphControl::max_body_frame_time` of water (the force arrives a frame or two late).
-    avian: bool,
     /// The CPU backend's pressure iterations, summed frame by frame.
     cpu_iterations: IterationTotals,
     /// The scene file's probe entities, in the file's order.
@@ -183,7 +180,6 @@ impl AppSimulation {
             probes,
             adapter,
             substeps: substeps.max(1),
-            avian,
             rollback: setup.rollback,
             colliders,
             container,
@@ -243,12 +239,9 @@ impl Simulation for AppSimulation {
                 running: true,
                 substeps: k,
                 rollback: self.rollback,
-                // Held bodies do not move: no lag to keep short.
-                max_body_frame_time: if self.avian {
-                    SphControl::default().max_body_frame_time
-                } else {
-                    None
-                },
+                // Held bodies do not move, and avian's on the water's clock are moved by the device
+                // on the GPU: no force lag to keep short.
+                max_body_frame_time: None,
                 ..default()
             });
             let mut frames = 0;
