@@ -85,29 +85,6 @@ impl SphMovedBodies {
             .get(slot as usize)?
             .newest_record()
     }
-
-    /// The pose to sort slot `slot`'s boundary samples at and its origin's linear and angular
-    /// velocity: the newest record carried `ahead` seconds on at its velocity.
-    pub fn predicted(
-        &self,
-        slot: u32,
-        center_of_mass: Vec3,
-        ahead: f32,
-    ) -> Option<(Pose, Vec3, Vec3)> {
-        let s = self.newest_record(slot)?.state;
-        let position = s.position + ahead * s.linear_velocity;
-        let rotation = turned(s.rotation, ahead * s.angular_velocity);
-        let origin = position - rotate(rotation, center_of_mass);
-        let velocity = s.linear_velocity + s.angular_velocity.cross(origin - position);
-        Some((
-            Pose {
-                translation: origin,
-                rotation,
-            },
-            velocity,
-            s.angular_velocity,
-        ))
-    }
 }
 
 pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
@@ -122,6 +99,21 @@ pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
                 .in_set(SphSystems::Writeback),
         ),
     );
+}
+
+/// The pose to sort a body's boundary samples at and its origin's linear and angular velocity:
+/// its `record` carried `ahead` seconds on at its velocity.
+pub fn predicted(record: &FrameRecord, center_of_mass: Vec3, ahead: f32) -> (Pose, Vec3, Vec3) {
+    let s = record.state;
+    let position = s.position + ahead * s.linear_velocity;
+    let rotation = turned(s.rotation, ahead * s.angular_velocity);
+    let origin = position - rotate(rotation, center_of_mass);
+    let velocity = s.linear_velocity + s.angular_velocity.cross(origin - position);
+    let pose = Pose {
+        translation: origin,
+        rotation,
+    };
+    (pose, velocity, s.angular_velocity)
 }
 
 /// The model of a body from its [`SphRigidBody`] at `origin`, `None` when it cannot be moved.
@@ -190,6 +182,7 @@ fn sph_plan_moved_bodies(
     let engine_frame = *moved.engine_frame.get_or_insert(sim.frame_number);
     let (last_frame, frame_time) = (sim.frame_number, sim.plan.duration);
     let mut inputs = vec![GpuBodyInput::default(); GPU_MOVED_BODIES];
+    let mut boundary = sim.boundary_mut(&container, &params.0);
     for (entity, collider, body, transform) in &bodies {
         let Some(tracked) = map.tracked.get_mut(&entity) else {
             continue;
@@ -204,9 +197,8 @@ fn sph_plan_moved_bodies(
         if let Some(record) = moved.newest_record(slot) {
             // From the record's end to the middle of this frame.
             let ahead = (last_frame.wrapping_sub(record.frame) as f32 + 0.5) * frame_time;
-            let predicted = moved.predicted(slot, body.center_of_mass, ahead);
-            let boundary = sim.boundary_mut(&container, &params.0);
-            if let (Some((pose, linear, angular)), Some(boundary)) = (predicted, boundary) {
+            let (pose, linear, angular) = predicted(&record, body.center_of_mass, ahead);
+            if let Some(boundary) = boundary.as_deref_mut() {
                 match boundary.set_motion(tracked.id, pose, linear, angular) {
                     Ok(()) => tracked.pose = pose,
                     Err(e) => stats.error = Some(format!("moved body {entity}: {e}")),

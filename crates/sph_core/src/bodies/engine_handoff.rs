@@ -190,14 +190,6 @@ impl DeviceBody {
         }
     }
 
-    /// Moves the body out of the solids it touches this step
-    /// ([`crate::bodies::solid_contact::AxisPush::resolve`]).
-    pub fn resolve_contacts(&mut self, push: &crate::bodies::solid_contact::AxisPush) {
-        if let Some(state) = self.state {
-            self.state = Some(push.resolve(&state));
-        }
-    }
-
     /// Records the frame's end at water time `time_ns`.
     pub fn end_frame(&mut self, time_ns: u64) {
         if let Some(state) = self.state {

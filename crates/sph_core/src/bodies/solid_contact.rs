@@ -30,12 +30,6 @@ pub struct AxisPush {
 }
 
 impl AxisPush {
-    /// Joins another step's pushes (the largest per axis and sign).
-    pub fn join(&mut self, other: &AxisPush) {
-        self.positive = self.positive.max(other.positive);
-        self.negative = self.negative.max(other.negative);
-    }
-
     /// Adds a push: per axis and sign, the largest is kept.
     pub fn add(&mut self, push: Vec3) {
         for a in 0..3 {

@@ -73,6 +73,21 @@ fn quat(q: Quat) -> [f32; 4] {
     q.to_array()
 }
 
+/// A rigid state from its words (a state's or a record's: the same order).
+fn rigid(
+    position: [f32; 3],
+    rotation: [f32; 4],
+    linear: [f32; 3],
+    angular: [f32; 3],
+) -> RigidState {
+    RigidState {
+        position: position.into(),
+        rotation: Quat::from_array(rotation),
+        linear_velocity: linear.into(),
+        angular_velocity: angular.into(),
+    }
+}
+
 impl GpuBodyInput {
     /// The input of a body of `model`, the engine's state `engine` when it has one, its samples
     /// sorted at `sorted`.
@@ -190,12 +205,12 @@ impl GpuBodyRecord {
             frame: self.frame,
             time_ns: (self.time_ns_hi as u64) << 32 | self.time_ns_lo as u64,
             duration: self.duration,
-            state: RigidState {
-                position: self.position.into(),
-                rotation: Quat::from_array(self.rotation),
-                linear_velocity: self.linear_velocity.into(),
-                angular_velocity: self.angular_velocity.into(),
-            },
+            state: rigid(
+                self.position,
+                self.rotation,
+                self.linear_velocity,
+                self.angular_velocity,
+            ),
             impulse: self.impulse.into(),
             angular_impulse: self.angular_impulse.into(),
         })
@@ -254,11 +269,13 @@ impl GpuBodyState {
     /// The body as [`DeviceBody`] holds it.
     pub fn device_body(&self) -> DeviceBody {
         DeviceBody {
-            state: (self.held != 0).then(|| RigidState {
-                position: self.position.into(),
-                rotation: Quat::from_array(self.rotation),
-                linear_velocity: self.linear_velocity.into(),
-                angular_velocity: self.angular_velocity.into(),
+            state: (self.held != 0).then(|| {
+                rigid(
+                    self.position,
+                    self.rotation,
+                    self.linear_velocity,
+                    self.angular_velocity,
+                )
             }),
             engine_frame: (self.has_engine_frame != 0).then_some(self.engine_frame),
             resyncs: self.resyncs,
