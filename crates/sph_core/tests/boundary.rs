@@ -565,6 +565,65 @@ fn the_speculative_contact_stops_at_the_margin_and_never_pushes() {
     }
 }
 
+/// A moving solid keeps its pose through the step: a particle rising under a lifted lid at twice
+/// the lid's speed stops at the margin from the lid's pose of the step (with the approach
+/// measured relative to the lid it ended 0.2 Δx inside), and a lid lowered onto a particle at
+/// rest takes it along ahead of its next pose.
+#[test]
+fn the_speculative_contact_keeps_to_a_moving_solids_pose_of_the_step() {
+    use sph_core::boundary::speculative_contact::{
+        speculative_contact_at, NextDrift, SURFACE_MARGIN,
+    };
+    let (params, container, _) = tank();
+    let mut boundary = Boundary::new(&container, &params, Slip::Free).unwrap();
+    let dx = params.spacing();
+    let (dt, margin, m) = (params.time_step, SURFACE_MARGIN * dx, params.particle_mass);
+    let lid = Collider::new(
+        ColliderShape::Cuboid {
+            half_extents: Vec3::new(5.0 * dx, dx, 5.0 * dx),
+        },
+        Pose {
+            translation: Vec3::new(10.0 * dx, 12.0 * dx, 10.0 * dx),
+            rotation: Quat::IDENTITY,
+        },
+    )
+    .with_motion(ColliderMotion::Kinematic);
+    let id = boundary.add(lid.clone()).unwrap();
+    let drift = NextDrift {
+        dt,
+        kick: 1.0,
+        margin,
+    };
+    // The lid's bottom face is at y = 11 dx. (gap under it, the particle's upward speed, the
+    // lid's): rising at twice the lifted lid's speed, it would cross the face in the step;
+    // rising slowly, it meets the lowered lid.
+    let speed = dx / dt;
+    for (gap, particle_speed, lid_speed) in [
+        (0.3 * dx, 0.6 * speed, 0.3 * speed),
+        (0.2 * dx, 0.1 * speed, -0.3 * speed),
+    ] {
+        boundary
+            .set_motion(id, lid.pose, Vec3::Y * lid_speed, Vec3::ZERO)
+            .unwrap();
+        let x = Vec3::new(10.0 * dx, 11.0 * dx - gap, 10.0 * dx);
+        let v = Vec3::Y * particle_speed;
+        let a_s = speculative_contact_at(&boundary, x, v, Vec3::ZERO, drift, m, |_, _, _| {});
+        let end = lid.signed_distance(x + (v + a_s * dt) * dt);
+        if lid_speed > 0.0 {
+            assert!(
+                (end - margin).abs() < 1e-4 * dx,
+                "rising under a lifted lid: ends {end} m from it (margin {margin})"
+            );
+        } else {
+            let next = end + lid_speed * dt;
+            assert!(
+                (next - margin).abs() < 1e-4 * dx,
+                "under a lowered lid: {next} m from its next pose (margin {margin})"
+            );
+        }
+    }
+}
+
 /// The contact's stopping share (`BoundaryContact::stopping_scale`): it brings an approach to
 /// rest within dt_max, holds a particle that gravity presses into the wall, and gives nothing to
 /// a particle that recedes or slides along the wall.

@@ -11,9 +11,13 @@
 //! v' = v_c + κ (a + a_s) dt (v_c the contact velocity of [`crate::forces::ForceInputs`], a the
 //! particle's other accelerations, a_s this contact's so far, κ the share of this evaluation's
 //! acceleration the drift takes, [`NextDrift::kick`]), may approach the surface at most at
-//! (φ - margin)/dt relative to the solid's velocity v_s there:
-//! (v' - v_s)·n ≥ -max(φ - margin, 0)/dt;
-//! where it would approach faster, a_s gains n Δv/(κ dt) with Δv the excess. The contact only stops
+//! (φ - margin)/dt, plus the speed at which the solid comes on there (v_s its velocity):
+//! v'·n - max(v_s·n, 0) ≥ -max(φ - margin, 0)/dt.
+//! A collider keeps one pose through a step and takes the next one after it, so a solid that
+//! comes on (v_s·n > 0) must push the particle ahead of its next pose, while one that moves away
+//! makes no room during the step: with the approach measured relative to it, water rising under
+//! a lifted gate (`sph-bench run --scenario gate --solver pbf`) followed the gate's 0.5 m/s into
+//! its bottom face and 20 particles reached the guard. Where it would approach faster, a_s gains n Δv/(κ dt) with Δv the excess. The contact only stops
 //! an approach (perfectly inelastic); it never pushes a particle away, so a particle at rest at
 //! its lattice distance Δx/2 from a wall feels nothing. The surfaces are taken one after
 //! another, so in a wedge the later one sees the earlier one's stop. The reaction -m n Δv/(κ dt)
@@ -72,7 +76,7 @@ pub fn speculative_contact_at(
     let mut extra = Vec3::ZERO;
     let mut stop = |phi: f32, n: Vec3, v_solid: Vec3, body: u32| {
         let v_next = v_contact + (a + extra) * step;
-        let approach = (v_next - v_solid).dot(n);
+        let approach = v_next.dot(n) - v_solid.dot(n).max(0.0);
         let allowed = -(phi - margin).max(0.0) / dt;
         if approach < allowed {
             let stopping = n * ((allowed - approach) / step);

@@ -2,8 +2,8 @@
 // bring a particle no closer than the margin (params.surface_margin, a tenth of a spacing) to
 // the exact surface of a collider or of the box. For each surface within reach, taken one after
 // another, the velocity the drift starts from, v' = v_c + (a + a_s) dt, may approach it at most
-// at (φ - margin)/dt relative to the solid there: (v' - v_s)·n >= -max(φ - margin, 0)/dt. The
-// excess approach is taken away along n (never a push away), and its reaction -m n Δv/dt goes to
+// at (φ - margin)/dt, plus the solid's own speed toward it when it comes on:
+// v'·n - max(v_s·n, 0) >= -max(φ - margin, 0)/dt (the Rust twin says why). The excess approach is taken away along n (never a push away), and its reaction -m n Δv/dt goes to
 // the surface's body at the particle.
 #define_import_path sph::speculative_contact
 
@@ -12,10 +12,10 @@
 #import sph::body_reactions::add_reaction
 
 // The acceleration that takes away the approach of v_next to a surface at distance phi with
-// outward normal n beyond (phi - margin)/dt, relative to the solid's velocity v_solid; the
-// drift's velocity takes it times step = κ dt.
+// outward normal n beyond (phi - margin)/dt, with a solid that comes on at v_solid·n > 0 taken
+// along; the drift's velocity takes it times step = κ dt.
 fn stopping(phi: f32, n: vec3<f32>, v_solid: vec3<f32>, v_next: vec3<f32>, dt: f32, step: f32) -> vec3<f32> {
-    let approach = dot(v_next - v_solid, n);
+    let approach = dot(v_next, n) - max(dot(v_solid, n), 0.0);
     let allowed = -max(phi - params.surface_margin, 0.0) / dt;
     if approach < allowed {
         return n * ((allowed - approach) / step);
