@@ -76,7 +76,7 @@ fn main() {
         SphBackend::Gpu
     };
     let mut app = App::new();
-    app.add_plugins(default_plugins());
+    app.add_plugins(default_plugins(cli.screenshot.is_some()));
     if !no_gpu_timings {
         // Per-stage GPU milliseconds in the panel (timestamp queries).
         app.add_plugins(RenderDiagnosticsPlugin);
@@ -127,8 +127,16 @@ fn main() {
 }
 
 /// Bevy's default plugins with the sandbox's 1280×720 window and its assets, hot-reloaded.
-fn default_plugins() -> bevy::app::PluginGroupBuilder {
+/// Bevy's plugins for the sandbox's window. With `screenshot`, every render pipeline is compiled
+/// before the frame that first draws with it: compiled in the background, a pipeline could still
+/// be pending at the screenshot's frame on a loaded machine, and the picture missed what it draws
+/// (the CI's surface picture showed no water and no tank at frame 30 while other tests ran).
+fn default_plugins(screenshot: bool) -> bevy::app::PluginGroupBuilder {
     DefaultPlugins
+        .set(bevy::render::RenderPlugin {
+            synchronous_pipeline_compilation: screenshot,
+            ..default()
+        })
         .set(WindowPlugin {
             primary_window: Some(Window {
                 title: "Aquaplay SPH sandbox".into(),
