@@ -14,10 +14,16 @@ use sph_core::{BlockSpawn, BoxContainer};
 const TANK: Vec3 = Vec3::new(1.0, 0.6, 0.4);
 
 fn main() {
+    let screenshot = ScreenshotAt::from_args();
     App::new()
-        .add_plugins(DefaultPlugins)
+        // For a screenshot, every pipeline is compiled before the frame that first draws with
+        // it, so the saved frame misses nothing on a loaded machine.
+        .add_plugins(DefaultPlugins.set(bevy::render::RenderPlugin {
+            synchronous_pipeline_compilation: screenshot.0.is_some(),
+            ..default()
+        }))
         .add_plugins(SphFluidPlugin::default())
-        .insert_resource(ScreenshotAt::from_args())
+        .insert_resource(screenshot)
         .add_systems(Startup, (spawn_water, spawn_level))
         .add_systems(Update, screenshot_and_exit)
         .run();

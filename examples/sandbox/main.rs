@@ -126,11 +126,10 @@ fn main() {
     .run();
 }
 
-/// Bevy's default plugins with the sandbox's 1280×720 window and its assets, hot-reloaded.
-/// Bevy's plugins for the sandbox's window. With `screenshot`, every render pipeline is compiled
-/// before the frame that first draws with it: compiled in the background, a pipeline could still
-/// be pending at the screenshot's frame on a loaded machine, and the picture missed what it draws
-/// (the CI's surface picture showed no water and no tank at frame 30 while other tests ran).
+/// Bevy's default plugins with the sandbox's 1280×720 window and its assets, hot-reloaded. With
+/// `screenshot`, every pipeline is compiled before the frame that first draws with it: compiled
+/// in the background, a pipeline can still be pending at the screenshot's frame on a loaded
+/// machine, and the picture misses what it draws.
 fn default_plugins(screenshot: bool) -> bevy::app::PluginGroupBuilder {
     DefaultPlugins
         .set(bevy::render::RenderPlugin {

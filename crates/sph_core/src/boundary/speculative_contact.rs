@@ -16,11 +16,12 @@
 //! A collider keeps one pose through a step and takes the next one after it, so a solid that
 //! comes on (v_s·n > 0) must push the particle ahead of its next pose, while one that moves away
 //! makes no room during the step: with the approach measured relative to it, water rising under
-//! a lifted gate (`sph-bench run --scenario gate --solver pbf`) followed the gate's 0.5 m/s into
-//! its bottom face and 20 particles reached the guard. Where it would approach faster, a_s gains n Δv/(κ dt) with Δv the excess. The contact only stops
-//! an approach (perfectly inelastic); it never pushes a particle away, so a particle at rest at
-//! its lattice distance Δx/2 from a wall feels nothing. The surfaces are taken one after
-//! another, so in a wedge the later one sees the earlier one's stop. The reaction -m n Δv/(κ dt)
+//! a lifted gate (`sph-bench run --scenario gate --solver pbf`) followed the gate into its
+//! bottom face and reached the guard. Where it would approach faster, a_s gains n Δv/(κ dt)
+//! with Δv the excess. The contact only stops an approach (perfectly inelastic); it never
+//! pushes a particle away, so a particle at rest at its lattice distance Δx/2 from a wall feels
+//! nothing. The surfaces are taken one after another, so in a wedge the later one sees the
+//! earlier one's stop. The reaction -m n Δv/(κ dt)
 //! goes to the surface's body at the particle (Akinci 2012's two-way coupling). This is the
 //! speculative contact of rigid-body engines (Catto, Box2D) applied to the particles; the guard
 //! ([`crate::boundary::guard`]) still counts any particle that ends up inside. WCSPH applies it at the end

@@ -3,8 +3,9 @@
 // the exact surface of a collider or of the box. For each surface within reach, taken one after
 // another, the velocity the drift starts from, v' = v_c + (a + a_s) dt, may approach it at most
 // at (φ - margin)/dt, plus the solid's own speed toward it when it comes on:
-// v'·n - max(v_s·n, 0) >= -max(φ - margin, 0)/dt (the Rust twin says why). The excess approach is taken away along n (never a push away), and its reaction -m n Δv/dt goes to
-// the surface's body at the particle.
+// v'·n - max(v_s·n, 0) >= -max(φ - margin, 0)/dt (the Rust twin says why). The excess approach
+// is taken away along n (never a push away), and its reaction -m n Δv/dt goes to the surface's
+// body at the particle.
 #define_import_path sph::speculative_contact
 
 #import sph::bindings::{params, colliders}
