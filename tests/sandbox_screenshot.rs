@@ -364,8 +364,8 @@ fn a_close_view_of_the_waters_edge_against_the_island_shows_no_strands() {
         "scenes/aquaplay.ron",
         "--camera",
         "0.45,0.30,-0.15,0.6,0.12,0.18",
-        // Enough for the scene file to load and spawn (26 frames on lavapipe with the moved
-        // bodies' shaders to compose at start-up; 20 were enough before).
+        // Enough for the scene file to load and spawn: about 26 frames on lavapipe, where the
+        // moved bodies' shaders compose at start-up beside the loading.
         "--frames",
         "40",
         "--paused",
