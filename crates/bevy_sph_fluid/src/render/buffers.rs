@@ -300,7 +300,8 @@ pub fn buffer_sizes(
             Buf::BodyWords if key.bodies => sph_core::gpu_layout::GPU_BODY_BYTES as u64,
             Buf::BodyWords => 16,
             Buf::BodyContacts if key.bodies => {
-                4 * 6 * sph_core::gpu_layout::GPU_MOVED_BODIES as u64
+                4 * sph_core::gpu_layout::GPU_BODY_CONTACT_WORDS as u64
+                    * sph_core::gpu_layout::GPU_MOVED_BODIES as u64
             }
             Buf::BodyContacts => 16,
             Buf::Colliders => std::mem::size_of::<GpuCollider>() as u64,

@@ -9,34 +9,67 @@
 //! - **The walls**: the body's shape reaches `support(e)` from its origin along each world axis e
 //!   (exact for a cuboid, a sphere, a capsule and a cylinder; a mesh is left to the engine), and
 //!   what reaches past a face is pushed back.
-//! - **The other solids**: each of the body's boundary samples inside a solid is pushed out along
-//!   the solid's normal, n (−φ).
+//! - **The other solids**: each of the body's boundary samples nearer to a solid than its own
+//!   depth inside its body (half a spacing, the outer layer's) is pushed back along the solid's
+//!   normal to that distance, so the body's surface ends on the solid's.
+//! - **The other bodies it moves**: the same, at the other body's pose of the step, back to a
+//!   margin g dt² outside it ([`body_margin`]), for a share m_other / (m + m_other) of the push
+//!   (the other body's samples push it back with the rest); a hinged body gives way only about
+//!   its axle, so the body it meets takes the whole push.
+//!   The engine's contact between two bodies comes a readback late, as with the solids: a box
+//!   resting on a floating box sank into it for three frames on the device, and the engine's
+//!   late correction threw both out of the tank.
 //! - **The resolution**: per world axis and sign the largest push of the step moves the body
-//!   (a position projection, as the engine's contacts do), and the velocity into the pushes is
-//!   taken away. The body does not turn: its rotation is the engine's to correct.
+//!   (a position projection, as the engine's contacts do), the samples' pushes first and then
+//!   the walls' ([`box_push`] at the moved pose: the walls give way to nothing, so a box pressed
+//!   onto one resting on the floor does not push it into the floor), and the velocity into the pushes is
+//!   taken away: along a push, the body keeps at least the velocity of what pushes it, zero for
+//!   a solid and the pair's common velocity (m v + m_other v_other) / (m + m_other) for a body, a
+//!   perfectly inelastic contact that keeps the pair's momentum. The body does not turn: its
+//!   rotation is the engine's to correct.
 
 use crate::bodies::rigid_step::{conjugate, rotate, RigidState};
 use crate::boundary::collider::{Collider, ColliderShape, Pose};
 use crate::container::BoxContainer;
 use glam::{Quat, Vec3};
 
-/// The largest push along each world axis, in each direction, of one step's contacts [m].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// The largest push along each world axis, in each direction, of one step's contacts [m], with
+/// the least velocity each direction's pushers leave the body.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisPush {
     /// Along +x, +y, +z (≥ 0).
     pub positive: Vec3,
     /// Along −x, −y, −z (≥ 0).
     pub negative: Vec3,
+    /// Where pushed along +axis, the body's velocity along it is at least this [m/s] (−∞: no
+    /// push).
+    pub positive_floor: Vec3,
+    /// Where pushed along −axis, the body's velocity along −axis is at least this [m/s].
+    pub negative_floor: Vec3,
+}
+
+impl Default for AxisPush {
+    fn default() -> Self {
+        Self {
+            positive: Vec3::ZERO,
+            negative: Vec3::ZERO,
+            positive_floor: Vec3::NEG_INFINITY,
+            negative_floor: Vec3::NEG_INFINITY,
+        }
+    }
 }
 
 impl AxisPush {
-    /// Adds a push: per axis and sign, the largest is kept.
-    pub fn add(&mut self, push: Vec3) {
+    /// Adds a push by a pusher moving at `velocity` (zero for a solid): per axis and sign, the
+    /// largest push and the largest floor are kept.
+    pub fn add(&mut self, push: Vec3, velocity: Vec3) {
         for a in 0..3 {
             if push[a] > 0.0 {
                 self.positive[a] = self.positive[a].max(push[a]);
+                self.positive_floor[a] = self.positive_floor[a].max(velocity[a]);
             } else if push[a] < 0.0 {
                 self.negative[a] = self.negative[a].max(-push[a]);
+                self.negative_floor[a] = self.negative_floor[a].max(-velocity[a]);
             }
         }
     }
@@ -46,12 +79,15 @@ impl AxisPush {
         self.positive == Vec3::ZERO && self.negative == Vec3::ZERO
     }
 
-    /// `state` moved by the pushes, without its velocity into them.
+    /// `state` moved by the pushes, with its velocity into them raised to the floors.
     pub fn resolve(&self, state: &RigidState) -> RigidState {
         let mut v = state.linear_velocity;
         for a in 0..3 {
-            if (self.positive[a] > 0.0 && v[a] < 0.0) || (self.negative[a] > 0.0 && v[a] > 0.0) {
-                v[a] = 0.0;
+            if self.positive[a] > 0.0 {
+                v[a] = v[a].max(self.positive_floor[a]);
+            }
+            if self.negative[a] > 0.0 {
+                v[a] = v[a].min(-self.negative_floor[a]);
             }
         }
         RigidState {
@@ -59,6 +95,37 @@ impl AxisPush {
             linear_velocity: v,
             ..*state
         }
+    }
+}
+
+/// The velocity two bodies in contact share after a perfectly inelastic contact: mass `m` at
+/// `v` and `m_other` at `v_other` (their momentum over their mass).
+pub fn common_velocity(m: f32, v: Vec3, m_other: f32, v_other: Vec3) -> Vec3 {
+    (v * m + v_other * m_other) / (m + m_other)
+}
+
+/// A body's share of the push out of another body it moves: m_other / (m + m_other).
+pub fn push_share(m: f32, m_other: f32) -> f32 {
+    m_other / (m + m_other)
+}
+
+/// The gap two bodies the device moves are pushed to at the start of a step of `dt` under
+/// gravity `g` [m/s²]: g dt², what one of them, resting on the other and not held by the water,
+/// falls onto it in the step. So the pair ends the step touching rather than one inside the
+/// other, and the engine's own contact between them (a readback later) finds no overlap to
+/// push apart; pushed only out of contact, the upper of two stacked boxes ended each step
+/// 1.6 mm inside the lower.
+pub fn body_margin(g: f32, dt: f32) -> f32 {
+    g * dt * dt
+}
+
+/// The push of a boundary sample at `x` out of `other`, another body the device moves, at its
+/// pose of the step: back to `margin` outside it (the sample's depth and [`body_margin`]), of
+/// which the sample's body takes `share` ([`push_share`]).
+pub fn body_push(x: Vec3, other: &Collider, share: f32, margin: f32) -> Vec3 {
+    match other.surface_within(x, margin) {
+        Some((phi, n)) if phi < margin => n * ((margin - phi) * share),
+        _ => Vec3::ZERO,
     }
 }
 
@@ -91,20 +158,96 @@ pub fn box_push(shape: &ColliderShape, pose: Pose, container: &BoxContainer) -> 
             return AxisPush::default();
         };
         let o = pose.translation[a];
-        push.positive[a] = (lo[a] - (o - reach)).max(0.0);
-        push.negative[a] = ((o + reach) - hi[a]).max(0.0);
+        let along = |length: f32| {
+            let mut push = Vec3::ZERO;
+            push[a] = length;
+            push
+        };
+        push.add(along((lo[a] - (o - reach)).max(0.0)), Vec3::ZERO);
+        push.add(along(-((o + reach) - hi[a]).max(0.0)), Vec3::ZERO);
     }
     push
 }
 
-/// The push of a boundary sample at `x` out of the solids it is inside: n (−φ) for each.
-pub fn sample_push<'a>(x: Vec3, solids: impl IntoIterator<Item = &'a Collider>) -> Vec3 {
+/// The push of a boundary sample at `x`, `depth` inside its own body's surface (the outer
+/// layer's, half a spacing: [`crate::boundary::sampling::layer_depths`]), out of the solids it
+/// is nearer to than `depth`: n (depth − φ) for each, so the body's surface ends on theirs.
+pub fn sample_push<'a>(
+    x: Vec3,
+    depth: f32,
+    solids: impl IntoIterator<Item = &'a Collider>,
+) -> Vec3 {
     solids
         .into_iter()
-        .filter_map(|c| c.surface_within(x, 0.0))
-        .filter(|&(phi, _)| phi < 0.0)
-        .map(|(phi, n)| -phi * n)
+        .filter_map(|c| c.surface_within(x, depth))
+        .filter(|&(phi, _)| phi < depth)
+        .map(|(phi, n)| (depth - phi) * n)
         .sum()
+}
+
+/// Another body the device moves, as one step's contacts see it: its collider at its pose of the
+/// step, its mass, its velocity, and whether a hinge holds it.
+#[derive(Clone, Copy, Debug)]
+pub struct MovedNeighbour<'a> {
+    /// Its collider at its pose of the step.
+    pub collider: &'a Collider,
+    /// Its mass [kg].
+    pub mass: f32,
+    /// Its centre of mass's velocity [m/s].
+    pub velocity: Vec3,
+    /// Whether it turns about an axle (it then gives way to nothing along the push).
+    pub hinged: bool,
+}
+
+/// One step's pushes on a free body of mass `m` at velocity `v` from its boundary samples
+/// `samples` (world, at the body's pose of the step; twin of body_placement.wgsl): each sample
+/// out of the `solids` to `depth`, its depth inside its body (half a spacing, the outer layer's:
+/// [`sample_push`]), and out of each of the `others` to `margin` (the depth and [`body_margin`]),
+/// with its share and the pair's common velocity ([`body_push`]).
+pub fn sample_pushes(
+    samples: impl IntoIterator<Item = Vec3>,
+    depth: f32,
+    margin: f32,
+    (m, v): (f32, Vec3),
+    solids: &[Collider],
+    others: &[MovedNeighbour],
+) -> AxisPush {
+    let mut push = AxisPush::default();
+    for x in samples {
+        for other in others {
+            let (share, velocity) = if other.hinged {
+                (1.0, Vec3::ZERO)
+            } else {
+                (
+                    push_share(m, other.mass),
+                    common_velocity(m, v, other.mass, other.velocity),
+                )
+            };
+            push.add(body_push(x, other.collider, share, margin), velocity);
+        }
+        push.add(sample_push(x, depth, solids), Vec3::ZERO);
+    }
+    push
+}
+
+/// A free body's state after a step's contacts (twin of body_motion.wgsl's `resolve_contacts`):
+/// `stepped` (the body after [`crate::bodies::rigid_step::advance`]) moved by its samples'
+/// pushes `push` ([`sample_pushes`]), then by the walls of `container` at the pose that gives
+/// (`shape` with its centre of mass at `center_of_mass` in its frame): the walls give way to
+/// nothing, so they come last.
+pub fn resolve_step(
+    push: &AxisPush,
+    stepped: &RigidState,
+    shape: &ColliderShape,
+    center_of_mass: Vec3,
+    container: &BoxContainer,
+) -> RigidState {
+    let pushed = push.resolve(stepped);
+    let pose = Pose {
+        translation: pushed.origin(center_of_mass),
+        rotation: pushed.rotation,
+    };
+    box_push(shape, pose, container).resolve(&pushed)
 }
 
 #[cfg(test)]
@@ -146,8 +289,8 @@ mod tests {
     #[test]
     fn pushes_keep_the_largest_per_axis_and_take_the_velocity_into_them() {
         let mut push = AxisPush::default();
-        push.add(Vec3::new(0.01, -0.002, 0.0));
-        push.add(Vec3::new(0.004, -0.005, 0.0));
+        push.add(Vec3::new(0.01, -0.002, 0.0), Vec3::ZERO);
+        push.add(Vec3::new(0.004, -0.005, 0.0), Vec3::ZERO);
         assert_eq!(push.positive, Vec3::new(0.01, 0.0, 0.0));
         assert_eq!(push.negative, Vec3::new(0.0, 0.005, 0.0));
         let state = RigidState {
@@ -163,6 +306,38 @@ mod tests {
         assert_eq!(out.angular_velocity, Vec3::Z);
     }
 
+    /// A light box pushed up out of a heavier one sinking at 0.1 m/s keeps the pair's common
+    /// velocity along the push, not zero: their momentum is kept.
+    #[test]
+    fn a_push_by_a_body_leaves_the_pairs_common_velocity() {
+        let (m, m_other) = (1.0, 3.0);
+        let (v, v_other) = (Vec3::new(0.2, -0.5, 0.0), Vec3::new(0.0, -0.1, 0.0));
+        let common = common_velocity(m, v, m_other, v_other);
+        assert!((common.y - -0.2).abs() < 1e-6, "{common}");
+        assert!((push_share(m, m_other) - 0.75).abs() < 1e-6);
+        let mut push = AxisPush::default();
+        push.add(Vec3::new(0.0, 0.004, 0.0), common);
+        let state = RigidState {
+            position: Vec3::ZERO,
+            rotation: Quat::IDENTITY,
+            linear_velocity: v,
+            angular_velocity: Vec3::ZERO,
+        };
+        let out = push.resolve(&state);
+        assert_eq!(out.linear_velocity, Vec3::new(0.2, common.y, 0.0));
+        // Its partner, pushed down by the rest, meets the same velocity from above.
+        let mut back = AxisPush::default();
+        back.add(Vec3::new(0.0, -0.001, 0.0), common);
+        let partner = RigidState {
+            linear_velocity: v_other,
+            ..state
+        };
+        let out_other = back.resolve(&partner);
+        assert!((out_other.linear_velocity.y - common.y).abs() < 1e-6);
+        let momentum = m * out.linear_velocity.y + m_other * out_other.linear_velocity.y;
+        assert!((momentum - (m * v.y + m_other * v_other.y)).abs() < 1e-6);
+    }
+
     #[test]
     fn a_sample_inside_a_solid_is_pushed_out_along_its_normal() {
         let wall = Collider {
@@ -175,8 +350,96 @@ mod tests {
             motion: ColliderMotion::Static,
             slip: Default::default(),
         };
-        let push = sample_push(Vec3::new(0.08, 0.0, 0.0), [&wall]);
-        assert!((push - Vec3::new(0.02, 0.0, 0.0)).length() < 1e-3, "{push}");
-        assert_eq!(sample_push(Vec3::new(0.2, 0.0, 0.0), [&wall]), Vec3::ZERO);
+        let push = sample_push(Vec3::new(0.08, 0.0, 0.0), 0.005, [&wall]);
+        assert!(
+            (push - Vec3::new(0.025, 0.0, 0.0)).length() < 1e-3,
+            "{push}"
+        );
+        assert_eq!(
+            sample_push(Vec3::new(0.2, 0.0, 0.0), 0.005, [&wall]),
+            Vec3::ZERO
+        );
+        // Half a spacing out: its body's surface touches the wall, no push.
+        assert_eq!(
+            sample_push(Vec3::new(0.106, 0.0, 0.0), 0.005, [&wall]),
+            Vec3::ZERO
+        );
+        // Out of a body the device moves: back to the margin outside, for the body's share.
+        let margin = body_margin(9.81, 1.0 / 120.0);
+        let push = body_push(Vec3::new(0.08, 0.0, 0.0), &wall, 0.25, margin);
+        let expected = 0.25 * (0.02 + margin);
+        assert!(
+            (push - Vec3::new(expected, 0.0, 0.0)).length() < 1e-4,
+            "{push}"
+        );
+        let near = Vec3::new(0.1 + 0.5 * margin, 0.0, 0.0);
+        assert!(body_push(near, &wall, 1.0, margin).x > 0.0);
+        assert_eq!(
+            body_push(Vec3::new(0.2, 0.0, 0.0), &wall, 1.0, margin),
+            Vec3::ZERO
+        );
+    }
+
+    /// A box on the floor with a box of the same mass pressed 2 mm into its top: its top samples
+    /// push it down by its half share, and the floor, resolved last, puts it back on the floor
+    /// with no velocity into it; a hinged box above takes none of the push off it.
+    #[test]
+    fn the_walls_come_after_the_pushes_between_bodies() {
+        let spacing = 0.01;
+        let shape = ColliderShape::Cuboid {
+            half_extents: Vec3::splat(0.04),
+        };
+        let lower = RigidState {
+            position: Vec3::new(0.2, 0.04, 0.2),
+            rotation: Quat::IDENTITY,
+            linear_velocity: Vec3::new(0.0, -0.1, 0.0),
+            angular_velocity: Vec3::ZERO,
+        };
+        let upper = Collider::new(
+            shape.clone(),
+            Pose {
+                translation: Vec3::new(0.2, 0.118, 0.2),
+                rotation: Quat::IDENTITY,
+            },
+        );
+        let samples = crate::boundary::sampling::sample_shape(&shape, spacing).position;
+        let world = || samples.iter().map(|&p| p + lower.position);
+        let (depth, margin) = (
+            0.5 * spacing,
+            0.5 * spacing + body_margin(9.81, 1.0 / 120.0),
+        );
+        let mut neighbour = MovedNeighbour {
+            collider: &upper,
+            mass: 1.0,
+            velocity: Vec3::new(0.0, -0.3, 0.0),
+            hinged: false,
+        };
+        let push = sample_pushes(
+            world(),
+            depth,
+            margin,
+            (1.0, lower.linear_velocity),
+            &[],
+            &[neighbour],
+        );
+        // Half of the 2 mm overlap and the margin past the surface.
+        let expected = 0.5 * (0.002 + body_margin(9.81, 1.0 / 120.0));
+        assert!((push.negative.y - expected).abs() < 1e-5, "{push:?}");
+        assert!((push.negative_floor.y - 0.2).abs() < 1e-6, "{push:?}");
+        let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::splat(0.4));
+        let out = resolve_step(&push, &lower, &shape, Vec3::ZERO, &container);
+        assert!((out.position.y - 0.04).abs() < 1e-6, "{out:?}");
+        assert_eq!(out.linear_velocity.y, 0.0);
+        neighbour.hinged = true;
+        let held = sample_pushes(
+            world(),
+            depth,
+            margin,
+            (1.0, lower.linear_velocity),
+            &[],
+            &[neighbour],
+        );
+        assert!((held.negative.y - 2.0 * expected).abs() < 1e-5, "{held:?}");
+        assert_eq!(held.negative_floor.y, 0.0);
     }
 }

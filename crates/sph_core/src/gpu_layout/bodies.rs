@@ -325,6 +325,9 @@ pub const GPU_BODY_RECORD_WORDS: usize = std::mem::size_of::<GpuBodyRecord>() / 
 /// Bytes of the device's body region: inputs, then states.
 pub const GPU_BODY_BYTES: usize =
     GPU_MOVED_BODIES * (std::mem::size_of::<GpuBodyInput>() + std::mem::size_of::<GpuBodyState>());
+/// Words of one body's contacts in a step (`sph_core::bodies::solid_contact::AxisPush`): the
+/// pushes along ±x, ±y, ±z, then the velocity floors along them.
+pub const GPU_BODY_CONTACT_WORDS: usize = 12;
 /// Where the states start in the body region [bytes].
 pub const GPU_BODY_STATES_OFFSET: usize = GPU_MOVED_BODIES * std::mem::size_of::<GpuBodyInput>();
 

@@ -255,19 +255,46 @@ fn corrected(s: Rigid, engine: Rigid, record: Rigid, since: f32) -> Rigid {
     );
 }
 
-// The step's contact pushes of slot (solid_contact::AxisPush), f32 bits of non-negative values,
-// so they order as u32: words +x, +y, +z, -x, -y, -z.
+// The words of slot's contacts in a step (solid_contact::AxisPush).
+const CONTACT_WORDS: u32 = 12u;
+// Words 0..6: the pushes +x, +y, +z, -x, -y, -z, f32 bits of non-negative values, so they order
+// as u32. Words 6..12: the floors of the velocity along +x, +y, +z and along -x, -y, -z, as
+// ordered_bits (0: no floor).
 fn contact_word(slot: u32, k: u32) -> u32 {
-    return body_contacts_at(slot * 6u + k);
+    return body_contacts_at(slot * CONTACT_WORDS + k);
 }
 
-// Adds a push to slot's step (the largest per axis and sign).
-fn add_push(slot: u32, push: vec3<f32>) {
+// The bits of v, ordered as u32 as the values are (negative values' bits reversed, positive
+// values' sign set), so an atomicMax keeps the largest value; never 0.
+fn ordered_bits(v: f32) -> u32 {
+    let b = bitcast<u32>(v);
+    if (b & 0x80000000u) != 0u {
+        return ~b;
+    }
+    return b | 0x80000000u;
+}
+
+// The value of ordered_bits u; -3.4e38 for 0 (no floor).
+fn from_ordered_bits(u: u32) -> f32 {
+    if u == 0u {
+        return -3.4e38;
+    }
+    if (u & 0x80000000u) != 0u {
+        return bitcast<f32>(u & 0x7fffffffu);
+    }
+    return bitcast<f32>(~u);
+}
+
+// Adds a push by a pusher moving at `velocity` (zero for a solid) to slot's step: the largest
+// push and the largest floor per axis and sign.
+fn add_push(slot: u32, push: vec3<f32>, velocity: vec3<f32>) {
     for (var a = 0u; a < 3u; a += 1u) {
         if push[a] > 0.0 {
             atomicMax(&cell_counts[contact_word(slot, a)], bitcast<u32>(push[a]));
+            atomicMax(&cell_counts[contact_word(slot, a + 6u)], ordered_bits(velocity[a]));
         } else if push[a] < 0.0 {
             atomicMax(&cell_counts[contact_word(slot, a + 3u)], bitcast<u32>(-push[a]));
+            atomicMax(&cell_counts[contact_word(slot, a + 9u)], ordered_bits(-velocity[a]));
         }
     }
 }

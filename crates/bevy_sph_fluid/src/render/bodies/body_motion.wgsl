@@ -7,15 +7,15 @@
 // 4. the engine's state, when newer than the last taken: the first as it is, later ones as
 //    their difference from this device's record of their frame (engine_handoff), also added
 //    to the newer records; a frame no longer recorded is taken whole and counted;
-// 5. the contacts with the solids the device does not move (sph_core::bodies::solid_contact):
-//    the samples' pushes the placement gathered, and the shape's reach past the box's faces;
-//    the largest push per axis and sign moves the body and takes its velocity into the push
-//    (a hinged body's axle holds it); the pushes are cleared for the next step;
+// 5. the contacts with the solids and the other bodies (sph_core::bodies::solid_contact): the
+//    samples' pushes the placement gathered, and the shape's reach past the box's faces; the
+//    largest push per axis and sign moves the body, and its velocity into the push is raised to
+//    the pushers' (a hinged body's axle holds it); the pushes are cleared for the next step;
 // 6. FRAME_END (the frame's last step): the frame's record.
 #import sph::bindings::{params, shared_state, grid, colliders, cell_counts}
 #import sph::body_reactions::{body_force_unit, body_moment_unit}
 #import sph::clock::{step_dt, frozen}
-#import sph::bodies::{MOVED_BODIES, RECORDS, Rigid, moved, held, load_model, load_state, store_state, load_record, store_record_state, state_word, input_word, record_word, word_f32, word_vec3, word_vec4, set_f32, set_vec3, advance, corrected, after, rotate, ST_HELD, ST_ENGINE_FRAME, ST_HAS_ENGINE_FRAME, ST_RESYNCS, ST_FRAME, ST_EVALUATIONS_SEEN, ST_DURATION, ST_SUMS_SEEN, ST_IMPULSE, ST_ANGULAR_IMPULSE, IN_CENTER_OF_MASS, IN_ENGINE_FRAME, IN_ENGINE_ORIGIN, IN_ENGINE_ROTATION, IN_ENGINE_LINEAR_VELOCITY, IN_ENGINE_ANGULAR_VELOCITY, IN_HAS_ENGINE_STATE, REC_FRAME, REC_TIME_LO, REC_TIME_HI, REC_DURATION, REC_VALID, REC_IMPULSE, REC_ANGULAR_IMPULSE, IN_HINGED, contact_word, support, origin}
+#import sph::bodies::{MOVED_BODIES, RECORDS, Rigid, moved, held, load_model, load_state, store_state, load_record, store_record_state, state_word, input_word, record_word, word_f32, word_vec3, word_vec4, set_f32, set_vec3, advance, corrected, after, rotate, ST_HELD, ST_ENGINE_FRAME, ST_HAS_ENGINE_FRAME, ST_RESYNCS, ST_FRAME, ST_EVALUATIONS_SEEN, ST_DURATION, ST_SUMS_SEEN, ST_IMPULSE, ST_ANGULAR_IMPULSE, IN_CENTER_OF_MASS, IN_ENGINE_FRAME, IN_ENGINE_ORIGIN, IN_ENGINE_ROTATION, IN_ENGINE_LINEAR_VELOCITY, IN_ENGINE_ANGULAR_VELOCITY, IN_HAS_ENGINE_STATE, REC_FRAME, REC_TIME_LO, REC_TIME_HI, REC_DURATION, REC_VALID, REC_IMPULSE, REC_ANGULAR_IMPULSE, IN_HINGED, contact_word, from_ordered_bits, support, origin}
 
 // A 64-bit two's-complement difference (low, high words) as f32.
 fn difference(lo: u32, hi: u32, seen_lo: u32, seen_hi: u32) -> f32 {
@@ -148,20 +148,30 @@ fn take_engine_state(slot: u32, center_of_mass: vec3<f32>) {
     }
 }
 
-// The step's contacts of slot: the samples' pushes, the box's faces against the shape's reach
-// from its origin along each axis; cleared for the next step.
+// The step's contacts of slot: the samples' pushes first, then the box's faces against the
+// shape's reach from its origin along each axis (the walls give way to nothing, so they come
+// last); cleared for the next step. Along a push the velocity is raised to the pushers' floor
+// (zero for the solids and the faces).
 fn resolve_contacts(slot: u32, center_of_mass: vec3<f32>) {
     var positive = vec3<f32>(0.0);
     var negative = vec3<f32>(0.0);
+    var positive_floor = vec3<f32>(0.0);
+    var negative_floor = vec3<f32>(0.0);
     for (var a = 0u; a < 3u; a += 1u) {
         positive[a] = bitcast<f32>(atomicExchange(&cell_counts[contact_word(slot, a)], 0u));
         negative[a] = bitcast<f32>(atomicExchange(&cell_counts[contact_word(slot, a + 3u)], 0u));
+        positive_floor[a] = from_ordered_bits(atomicExchange(&cell_counts[contact_word(slot, a + 6u)], 0u));
+        negative_floor[a] = from_ordered_bits(atomicExchange(&cell_counts[contact_word(slot, a + 9u)], 0u));
     }
     if !held(slot) || frozen() || grid[input_word(slot, IN_HINGED)] != 0u {
         return;
     }
     let s = load_state(slot);
-    let o = origin(s, center_of_mass);
+    var position = s.position + positive - negative;
+    var v = pushed_velocity(s.linear_velocity, positive, negative, positive_floor, negative_floor);
+    let o = origin(Rigid(position, s.rotation, v, s.angular_velocity), center_of_mass);
+    var up = vec3<f32>(0.0);
+    var down = vec3<f32>(0.0);
     for (var k = 0u; k < params.guard_colliders; k++) {
         if bitcast<u32>(colliders[k].linear_velocity.w) != slot + 1u {
             continue;
@@ -175,20 +185,28 @@ fn resolve_contacts(slot: u32, center_of_mass: vec3<f32>) {
             if reach < 0.0 {
                 break;
             }
-            let up = max(params.box_min[a] - (o[a] - reach), 0.0);
-            let down = max((o[a] + reach) - params.box_max[a], 0.0);
-            positive[a] = max(positive[a], up);
-            negative[a] = max(negative[a], down);
+            up[a] = max(up[a], params.box_min[a] - (o[a] - reach));
+            down[a] = max(down[a], (o[a] + reach) - params.box_max[a]);
         }
     }
-    if all(positive == vec3<f32>(0.0)) && all(negative == vec3<f32>(0.0)) {
+    position += up - down;
+    v = pushed_velocity(v, up, down, vec3<f32>(0.0), vec3<f32>(0.0));
+    if all(position == s.position) && all(v == s.linear_velocity) {
         return;
     }
-    var v = s.linear_velocity;
+    store_state(slot, Rigid(position, s.rotation, v, s.angular_velocity));
+}
+
+// v raised along each push to its floor (solid_contact::AxisPush::resolve).
+fn pushed_velocity(v_in: vec3<f32>, positive: vec3<f32>, negative: vec3<f32>, positive_floor: vec3<f32>, negative_floor: vec3<f32>) -> vec3<f32> {
+    var v = v_in;
     for (var a = 0u; a < 3u; a += 1u) {
-        if (positive[a] > 0.0 && v[a] < 0.0) || (negative[a] > 0.0 && v[a] > 0.0) {
-            v[a] = 0.0;
+        if positive[a] > 0.0 {
+            v[a] = max(v[a], positive_floor[a]);
+        }
+        if negative[a] > 0.0 {
+            v[a] = min(v[a], -negative_floor[a]);
         }
     }
-    store_state(slot, Rigid(s.position + positive - negative, s.rotation, v, s.angular_velocity));
+    return v;
 }

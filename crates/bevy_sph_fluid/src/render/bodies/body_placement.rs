@@ -24,6 +24,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::Colliders,
         Buf::Meshes,
         Buf::BodyContacts,
+        Buf::Clock,
     ],
     workgroup_size: WORKGROUP_SIZE,
     roles: &[&[]],

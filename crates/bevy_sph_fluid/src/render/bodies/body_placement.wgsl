@@ -4,12 +4,18 @@
 // boundary samples moves rigidly from where the CPU sorted it (`boundary_rest`, at the pose
 // the input names) to the body's pose now, with the body's velocity at that point. The samples
 // stay in their sorted cells: the CPU sorts them at the pose it predicts for the frame, so they
-// move a small part of h from it (docs/scenes.md, "Bodies on the GPU"). A sample inside a solid
-// the device does not move (sph_core::bodies::solid_contact::sample_push) adds its push out of it
-// to its body's contacts of the step, which the motion pass resolves.
+// move a small part of h from it (docs/scenes.md, "Bodies on the GPU"). A sample nearer than
+// half a spacing (its depth inside its own surface) to a solid the device does not move
+// (sph_core::bodies::solid_contact::sample_push) adds its push back to that distance to its
+// body's contacts of the step, which the motion pass resolves; a sample nearer than half a
+// spacing and g dt² to another body the device moves, at that body's pose of the step (its state: this pass
+// moves the colliders' entries), adds its share m_other / (m + m_other) of the push back to
+// that distance, with the pair's common velocity (solid_contact::body_margin, body_push,
+// push_share, common_velocity).
 #import sph::bindings::{params, grid, boundary_samples, boundary_body, colliders, boundary_position_at, boundary_velocity_at, boundary_rest_at}
-#import sph::bodies::{MOVED_BODIES, held, load_state, input_word, word_vec3, word_vec4, origin, rotate, conjugate, add_push, IN_CENTER_OF_MASS, IN_SORTED_ORIGIN, IN_SORTED_ROTATION, IN_HINGED}
-#import sph::guard::collider_surface
+#import sph::bodies::{MOVED_BODIES, held, load_state, input_word, word_f32, word_vec3, word_vec4, origin, rotate, conjugate, add_push, IN_MASS, IN_CENTER_OF_MASS, IN_SORTED_ORIGIN, IN_SORTED_ROTATION, IN_HINGED}
+#import sph::guard::{collider_surface, surface_of}
+#import sph::clock::step_dt
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -55,19 +61,42 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if grid[input_word(slot, IN_HINGED)] != 0u {
         return;
     }
+    let m = word_f32(input_word(slot, IN_MASS));
     var push = vec3<f32>(0.0);
     for (var k = 0u; k < params.guard_colliders; k++) {
-        // Not its own collider, nor another moved body's (the engine's).
         let other = bitcast<u32>(colliders[k].linear_velocity.w);
-        if other == body || (other >= 1u && other <= MOVED_BODIES && held(other - 1u)) {
+        if other == body {
             continue;
         }
-        let surface = collider_surface(k, x, 0.0);
-        if surface.w < 0.0 {
-            push -= surface.w * surface.xyz;
+        if other >= 1u && other <= MOVED_BODIES && held(other - 1u) {
+            // Another body the device moves, at its pose of the step; a hinged one gives way only
+            // about its axle, so it takes none of the push.
+            let so = load_state(other - 1u);
+            var c = colliders[k];
+            let o_other = origin(so, word_vec3(input_word(other - 1u, IN_CENTER_OF_MASS)));
+            c.translation = vec4<f32>(o_other, c.translation.w);
+            c.rotation = so.rotation;
+            // The sample lies half a spacing inside its own surface (the outer layer).
+            let margin = 0.5 * params.spacing + length(params.gravity) * step_dt() * step_dt();
+            let surface = surface_of(c, x, margin);
+            if surface.w < margin {
+                let m_other = word_f32(input_word(other - 1u, IN_MASS));
+                var share = m_other / (m + m_other);
+                var shared_v = (s.linear_velocity * m + so.linear_velocity * m_other) / (m + m_other);
+                if grid[input_word(other - 1u, IN_HINGED)] != 0u {
+                    share = 1.0;
+                    shared_v = vec3<f32>(0.0);
+                }
+                add_push(slot, (margin - surface.w) * share * surface.xyz, shared_v);
+            }
+            continue;
+        }
+        let surface = collider_surface(k, x, 0.5 * params.spacing);
+        if surface.w < 0.5 * params.spacing {
+            push += (0.5 * params.spacing - surface.w) * surface.xyz;
         }
     }
     if any(push != vec3<f32>(0.0)) {
-        add_push(slot, push);
+        add_push(slot, push, vec3<f32>(0.0));
     }
 }

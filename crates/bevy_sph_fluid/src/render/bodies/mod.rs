@@ -32,7 +32,9 @@ pub fn last_stages(key: &VariantKey) -> Vec<&'static GpuStage> {
 
 #[cfg(test)]
 mod tests {
-    use sph_core::gpu_layout::{GpuBodyInput, GpuBodyRecord, GpuBodyState, GPU_MOVED_BODIES};
+    use sph_core::gpu_layout::{
+        GpuBodyInput, GpuBodyRecord, GpuBodyState, GPU_BODY_CONTACT_WORDS, GPU_MOVED_BODIES,
+    };
     use std::mem::{offset_of, size_of};
 
     /// The value of `const NAME: u32 = Nu;` in bodies.wgsl.
@@ -50,6 +52,7 @@ mod tests {
     #[test]
     fn the_wgsl_words_are_the_rust_layouts() {
         assert_eq!(word("MOVED_BODIES"), GPU_MOVED_BODIES);
+        assert_eq!(word("CONTACT_WORDS"), GPU_BODY_CONTACT_WORDS);
         assert_eq!(word("INPUT_WORDS") * 4, size_of::<GpuBodyInput>());
         assert_eq!(word("STATE_WORDS") * 4, size_of::<GpuBodyState>());
         assert_eq!(word("RECORD_WORDS") * 4, size_of::<GpuBodyRecord>());

@@ -9,6 +9,7 @@
 #import sph::bindings::{params, colliders, boundary_samples, meshes_at}
 #import sph::kernels::{collide, outside_box, PositionVelocity}
 #import sph::clock::record_correction
+#import sph::types::GpuCollider
 
 // v rotated by the unit quaternion q.
 fn rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
@@ -162,8 +163,13 @@ fn mesh_distance(nodes: u32, tris: u32, half_thickness: f32, p: vec3<f32>) -> ve
 // mesh's exact gradient, central differences of a primitive's exact distance. Used by the guard
 // (reach: minus its tolerance) and the speculative contact (shaders/speculative_contact.wgsl).
 fn collider_surface(k: u32, x: vec3<f32>, reach: f32) -> vec4<f32> {
+    return surface_of(colliders[k], x, reach);
+}
+
+// collider_surface of the collider c, at whatever pose it holds (the bodies' placement asks at a
+// moved body's pose of the step, bodies/body_placement.wgsl).
+fn surface_of(c: GpuCollider, x: vec3<f32>, reach: f32) -> vec4<f32> {
     let far = vec4<f32>(0.0, 1.0, 0.0, 3.4e38);
-    let c = colliders[k];
     let inverse = vec4<f32>(-c.rotation.xyz, c.rotation.w);
     let local = rotate(inverse, x - c.translation.xyz);
     let bound = max(c.size.w + reach, 0.0);
