@@ -9,9 +9,9 @@
 //! On the GPU with avian on the water's clock ([`SphWaterTime`]) each dynamic body also carries
 //! an [`SphRigidBody`] equal to avian's, and the device moves it with the water at every step
 //! (`crate::moved_bodies`): its force is read back a few frames late, and a late force does work
-//! on a body that bobs. avian then steps over exactly the frames the device's records cover, a
-//! step per frame, with their water impulse, and hands its state back; the device adds what
-//! only avian saw (contacts, joints, a game's push). Any other dynamic body on the GPU (avian on the game's
+//! on a body that bobs. avian then steps over exactly the frames the device's records cover, in
+//! steps of at most a game frame, with their water impulse, and hands its state back; the device
+//! adds what only avian saw (contacts, joints, a game's push). Any other dynamic body on the GPU (avian on the game's
 //! clock) keeps the older rule: a frame covers at most [`SphControl::max_body_frame_time`] of
 //! water while it is in the water.
 //!
@@ -69,7 +69,6 @@ use crate::sets::SphSystems;
 use avian3d::prelude::*;
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
-use sph_core::bodies::engine_handoff::RECORDS;
 use std::time::Duration;
 
 /// The schedule to run avian in (`PhysicsPlugins::new(SphWaterTime)`) so that rigid bodies
@@ -83,14 +82,20 @@ pub struct SphWaterTime;
 /// state, a long hitch) is cut, so bodies never take one huge step.
 pub const MAX_WATER_TIME_STEP: f64 = 0.25;
 
+/// The longest step avian takes over a readback's frames [s]: a game frame, near avian's own
+/// fixed rate (64 Hz). avian finds its contacts once a step: stepped over the three frames of a
+/// readback at once (50 ms), a raft resting on the floor fell 1.4 cm into it before its contact
+/// caught it, and the handoff passed that on to the device.
+pub const MAX_ENGINE_STEP: f64 = 1.0 / 60.0;
+
 /// The water's simulated time when [`SphWaterTime`] last ran.
 #[derive(Default)]
 struct WaterTimeSeen(Option<f64>);
 
 /// Runs [`SphWaterTime`] (when the app has it) for the simulated time the water gained: with
 /// bodies the device moves (`crate::moved_bodies`), the water time of the frames their records
-/// read back cover ([`SphMovedBodies::window`]), one run per frame, after which the bodies are at
-/// those frames' end.
+/// read back cover ([`SphMovedBodies::window`]), in runs of at most [`MAX_ENGINE_STEP`], after
+/// which the bodies are at those frames' end.
 fn sph_run_physics_on_water_time(world: &mut World, mut seen: Local<WaterTimeSeen>) {
     let now = world.resource::<SphStats>().sim_time;
     let moved = world
@@ -108,14 +113,11 @@ fn sph_run_physics_on_water_time(world: &mut World, mut seen: Local<WaterTimeSee
             .is_some_and(|s| s.contains(SphWaterTime));
         if avian {
             if window.seconds > 0.0 {
-                // A step a frame, as the engine would run beside the water without the readback:
-                // the engine finds its contacts once a step, and stepped over three frames at
-                // once (50 ms) a box resting on the floor fell 1.4 cm into it before its contact
-                // caught it, which the handoff passed on to the device.
-                let frames = window.frames.clamp(1, RECORDS as u32);
-                let seconds = window.seconds.min(MAX_WATER_TIME_STEP) / frames as f64;
-                for _ in 0..frames {
-                    run_on_water_time(world, seconds);
+                let seconds = window.seconds.min(MAX_WATER_TIME_STEP);
+                // (A window of exactly a game frame is one step, whatever its rounding.)
+                let steps = (seconds / MAX_ENGINE_STEP - 1e-6).ceil().max(1.0);
+                for _ in 0..steps as u32 {
+                    run_on_water_time(world, seconds / steps);
                 }
             }
             world

@@ -38,8 +38,6 @@ pub struct EngineWindow {
     pub time_ns: u64,
     /// The water time the window covers [s]: what the engine steps.
     pub seconds: f64,
-    /// The frames the window covers: the engine steps once per frame (at least once).
-    pub frames: u32,
     /// Each moved body's water impulse and angular impulse (about its centre of mass) over the
     /// window [N s, N m s], by collider slot; `None` when some of its frames were no longer
     /// recorded: the engine then takes the body's newest record whole ([`Self::newest`]).
@@ -291,7 +289,6 @@ pub(crate) fn sph_moved_bodies_window(mut moved: ResMut<SphMovedBodies>) {
         to_frame,
         time_ns,
         seconds: time_ns.saturating_sub(start_ns) as f64 * 1e-9,
-        frames: to_frame.wrapping_sub(engine_frame),
         ..Default::default()
     };
     let Some(latest) = moved.latest.as_ref() else {

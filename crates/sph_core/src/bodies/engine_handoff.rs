@@ -8,9 +8,9 @@
 //! 1. The device records the body's state and the water's impulse on it over the frame
 //!    (J = Σ F dt, and Σ τ_c dt about the centre of mass) with the frame's number and time.
 //! 2. The engine receives those records as they are read back (a few frames late on a GPU),
-//!    steps the body over exactly the frames they cover, a step per frame, with the force J / T
-//!    (J and T, their water time, over those frames), and hands its state at the newest of them
-//!    back to the device.
+//!    steps the body over exactly the frames they cover, in steps of at most a game frame, with
+//!    the force J / T (J and T, their water time, over those frames), and hands its state at the
+//!    newest of them back to the device.
 //! 3. The device compares the engine's state at that frame with its own record of it: the
 //!    difference is what only the engine saw (a contact, a joint, a game's push). It adds the
 //!    difference to its state now, the velocity difference carried over the time since that
