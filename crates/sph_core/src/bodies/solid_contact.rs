@@ -22,11 +22,11 @@
 //! - **The resolution**: per world axis and sign the largest push of the step moves the body
 //!   (a position projection, as the engine's contacts do), the samples' pushes first and then
 //!   the walls' ([`box_push`] at the moved pose: the walls give way to nothing, so a box pressed
-//!   onto one resting on the floor does not push it into the floor), and the velocity into the pushes is
-//!   taken away: along a push, the body keeps at least the velocity of what pushes it, zero for
-//!   a solid and the pair's common velocity (m v + m_other v_other) / (m + m_other) for a body, a
-//!   perfectly inelastic contact that keeps the pair's momentum. The body does not turn: its
-//!   rotation is the engine's to correct.
+//!   onto one resting on the floor does not push it into the floor), and the velocity into the
+//!   pushes is taken away: along a push, the body keeps at least the velocity of what pushes it,
+//!   zero for a solid and the pair's common velocity (m v + m_other v_other) / (m + m_other) for
+//!   a body, a perfectly inelastic contact that keeps the pair's momentum. The body does not
+//!   turn: its rotation is the engine's to correct.
 
 use crate::bodies::rigid_step::{conjugate, rotate, RigidState};
 use crate::boundary::collider::{Collider, ColliderShape, Pose};

@@ -8,10 +8,10 @@
 // half a spacing (its depth inside its own surface) to a solid the device does not move
 // (sph_core::bodies::solid_contact::sample_push) adds its push back to that distance to its
 // body's contacts of the step, which the motion pass resolves; a sample nearer than half a
-// spacing and g dt² to another body the device moves, at that body's pose of the step (its state: this pass
-// moves the colliders' entries), adds its share m_other / (m + m_other) of the push back to
-// that distance, with the pair's common velocity (solid_contact::body_margin, body_push,
-// push_share, common_velocity).
+// spacing and g dt² to another body the device moves, at that body's pose of the step (its
+// state: this pass moves the colliders' entries), adds its share m_other / (m + m_other) of the
+// push back to that distance, with the pair's common velocity. CPU twin:
+// solid_contact::sample_pushes.
 #import sph::bindings::{params, grid, boundary_samples, boundary_body, colliders, boundary_position_at, boundary_velocity_at, boundary_rest_at}
 #import sph::bodies::{MOVED_BODIES, held, load_state, input_word, word_f32, word_vec3, word_vec4, origin, rotate, conjugate, add_push, IN_MASS, IN_CENTER_OF_MASS, IN_SORTED_ORIGIN, IN_SORTED_ROTATION, IN_HINGED}
 #import sph::guard::{collider_surface, surface_of}
