@@ -408,20 +408,23 @@ mod tests {
             0.5 * spacing,
             0.5 * spacing + body_margin(9.81, 1.0 / 120.0),
         );
-        let mut neighbour = MovedNeighbour {
-            collider: &upper,
-            mass: 1.0,
-            velocity: Vec3::new(0.0, -0.3, 0.0),
-            hinged: false,
+        let pushes = |hinged: bool| {
+            let neighbour = MovedNeighbour {
+                collider: &upper,
+                mass: 1.0,
+                velocity: Vec3::new(0.0, -0.3, 0.0),
+                hinged,
+            };
+            sample_pushes(
+                world(),
+                depth,
+                margin,
+                (1.0, lower.linear_velocity),
+                &[],
+                &[neighbour],
+            )
         };
-        let push = sample_pushes(
-            world(),
-            depth,
-            margin,
-            (1.0, lower.linear_velocity),
-            &[],
-            &[neighbour],
-        );
+        let push = pushes(false);
         // Half of the 2 mm overlap and the margin past the surface.
         let expected = 0.5 * (0.002 + body_margin(9.81, 1.0 / 120.0));
         assert!((push.negative.y - expected).abs() < 1e-5, "{push:?}");
@@ -430,15 +433,7 @@ mod tests {
         let out = resolve_step(&push, &lower, &shape, Vec3::ZERO, &container);
         assert!((out.position.y - 0.04).abs() < 1e-6, "{out:?}");
         assert_eq!(out.linear_velocity.y, 0.0);
-        neighbour.hinged = true;
-        let held = sample_pushes(
-            world(),
-            depth,
-            margin,
-            (1.0, lower.linear_velocity),
-            &[],
-            &[neighbour],
-        );
+        let held = pushes(true);
         assert!((held.negative.y - 2.0 * expected).abs() < 1e-5, "{held:?}");
         assert_eq!(held.negative_floor.y, 0.0);
     }
