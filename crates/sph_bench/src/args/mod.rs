@@ -144,7 +144,7 @@ mod tests {
 
     #[test]
     fn errors_name_the_option_the_value_and_the_range() {
-        let cases: [(&[&str], &[&str]); 9] = [
+        let cases: [(&[&str], &[&str]); 10] = [
             (
                 &["run", "--dt", "2"],
                 &["--dt", "'2'", "2 is not in (0, 1] s"],
@@ -172,6 +172,10 @@ mod tests {
                 &["--substeps", "'65'", "1..=64 steps per frame"],
             ),
             (&["soak", "--steps"], &["--steps", "a value is required"]),
+            (
+                &["run", "--samples-every", "0"],
+                &["--samples-every", "'0'", "[0.001, 10] s"],
+            ),
         ];
         for (args, wanted) in cases {
             let e = parse(args).expect_err("an error");

@@ -2,8 +2,8 @@
 
 use super::values::{
     cfl, column_width, dfsph_max_iterations, dt, integrator, jacobi_weight, on_off,
-    over_relaxation, particles, pbf_iterations, percent, percent_per_second, search, sim_time,
-    solver, steps, substeps, viscosity_alpha, vorticity, wall_friction, Backend,
+    over_relaxation, particles, pbf_iterations, percent, percent_per_second, samples_every, search,
+    sim_time, solver, steps, substeps, viscosity_alpha, vorticity, wall_friction, Backend,
 };
 use crate::scenarios::{Bodies, Scenario};
 use clap::{ArgAction, Args};
@@ -134,6 +134,11 @@ pub struct RunArgs {
     /// Steps per frame on the GPU backend [steps].
     #[arg(long, value_name = "K", value_parser = substeps, default_value = "10")]
     pub substeps: u32,
+    /// Sample the state and the bodies every this much simulated time [s] [default: the state
+    /// every 0.01 s, the bodies every 0.05 s]. In the plugin's app (the GPU backend, and avian
+    /// bodies on the CPU) each sample pauses the app until its clock is read back.
+    #[arg(long, value_name = "SECONDS", value_parser = samples_every)]
+    pub samples_every: Option<f32>,
     /// Write the JSON report here [default: stdout].
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
@@ -174,6 +179,7 @@ impl Default for RunArgs {
             steps: None,
             time: None,
             substeps: 10,
+            samples_every: None,
             json: None,
         }
     }

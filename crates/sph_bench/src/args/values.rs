@@ -199,6 +199,10 @@ pub(super) fn wall_friction(text: &str) -> Result<f32, String> {
     number(text, |v: f32| (0.0..=100.0).contains(&v), "[0, 100]")
 }
 
+pub(super) fn samples_every(text: &str) -> Result<f32, String> {
+    number(text, |v: f32| (1e-3..=10.0).contains(&v), "[0.001, 10] s")
+}
+
 pub(super) fn sim_time(text: &str) -> Result<f32, String> {
     number(text, |v: f32| v > 0.0 && v <= 1e6, "(0, 1e6] s")
 }

@@ -89,16 +89,18 @@ pub const SETTLED_SPEED: f32 = 0.02;
 /// A body turning slower than this [rad/s] over the last quarter of a run has settled.
 pub const SETTLED_TURN_RATE: f32 = 0.05;
 
-/// The poses of a scene file's dynamic and hinged colliders every [`BODY_SAMPLE_INTERVAL`].
+/// The poses of a scene file's dynamic and hinged colliders every `interval` of simulated time
+/// ([`BODY_SAMPLE_INTERVAL`] unless the run asks for another).
 pub(super) struct BodyTrack {
     /// The tracked colliders' indices in `Setup::colliders`.
     pub(super) bodies: Vec<usize>,
     series: Vec<Vec<BodySample>>,
     pub(super) next: f64,
+    interval: f64,
 }
 
 impl BodyTrack {
-    pub(super) fn new(setup: &Setup) -> Self {
+    pub(super) fn new(setup: &Setup, interval: f64) -> Self {
         let bodies: Vec<usize> = setup.extras.as_ref().map_or(Vec::new(), |extras| {
             extras
                 .colliders
@@ -112,6 +114,7 @@ impl BodyTrack {
             series: vec![Vec::new(); bodies.len()],
             bodies,
             next: 0.0,
+            interval,
         }
     }
 
@@ -130,7 +133,7 @@ impl BodyTrack {
         if self.bodies.is_empty() || !due {
             return;
         }
-        self.next = t + BODY_SAMPLE_INTERVAL;
+        self.next = t + self.interval;
         let now = sim.colliders_now(&setup.colliders);
         for (series, &k) in self.series.iter_mut().zip(&self.bodies) {
             let pose = now[k].pose;

@@ -79,6 +79,22 @@ pub fn run_setup(
     duration: Duration,
     bars: &Bars,
 ) -> Result<Report, String> {
+    run_setup_sampled(setup, backend, substeps, duration, None, bars)
+}
+
+/// [`run_setup`] with the state and the bodies sampled every `samples_every` seconds of
+/// simulated time (`None`: every [`SAMPLE_INTERVAL`] and [`bodies::BODY_SAMPLE_INTERVAL`]).
+/// On the GPU a sample pauses the app until its clock is read back, which the readback-lagged
+/// coupling of moving bodies notices (docs/scenes.md): fewer samples run more frames unpaused,
+/// as a game runs.
+pub fn run_setup_sampled(
+    setup: &Setup,
+    backend: Backend,
+    substeps: u32,
+    duration: Duration,
+    samples_every: Option<f64>,
+    bars: &Bars,
+) -> Result<Report, String> {
     let mut sim = simulation(setup, backend, substeps, bars)?;
     let params = setup.scene.params;
     let end = match duration {
@@ -90,7 +106,7 @@ pub fn run_setup(
     let mut next_sample = 0.0;
     let mut progress = bars.run(setup.scenario.name(), progress_units(duration, 0, 0.0).1);
     let mut forces = ForceWindow::new(0.6 * end, setup.colliders.len());
-    let mut track = BodyTrack::new(setup);
+    let mut track = BodyTrack::new(setup, samples_every.unwrap_or(bodies::BODY_SAMPLE_INTERVAL));
     let finished = |sim: &dyn Simulation| match duration {
         Duration::Steps(n) => sim.steps() >= n,
         Duration::Time(t) => sim.time() >= t - 1e-9,
@@ -100,7 +116,7 @@ pub fn run_setup(
         if samples.wanted() && sim.time() + 1e-9 >= next_sample {
             let state = sim.state()?;
             samples.record(setup, sim.time(), &state, sim.whitewater_counts())?;
-            next_sample += SAMPLE_INTERVAL;
+            next_sample += samples_every.unwrap_or(SAMPLE_INTERVAL);
         }
         if finished(sim.as_ref()) || sim.unstable_step().is_some() {
             break;
@@ -299,5 +315,12 @@ pub fn run(args: &RunArgs, bars: &Bars) -> Result<Report, String> {
         None => configured_setup(args),
     };
     let duration = args.duration().unwrap_or(Duration::Time(setup.duration));
-    run_setup(&setup, args.backend, args.substeps, duration, bars)
+    run_setup_sampled(
+        &setup,
+        args.backend,
+        args.substeps,
+        duration,
+        args.samples_every.map(f64::from),
+        bars,
+    )
 }

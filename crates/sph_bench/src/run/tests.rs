@@ -221,3 +221,24 @@ fn a_scene_files_boat_is_held_or_moved_by_avian() {
     assert!(last.distance(end) < 0.05, "{last} vs {end}");
     assert!(boat.series.iter().any(|s| s.velocity != [0.0; 3]));
 }
+
+/// `--samples-every` spaces the bodies' samples as asked (0.2 s over 0.6 s: at 0, 0.2, 0.4 and
+/// 0.6 s, where the default takes one every 0.05 s).
+#[test]
+fn samples_every_spaces_the_bodies_samples() {
+    let scene =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/lock.ron");
+    let args = RunArgs {
+        scene: Some(scene),
+        time: Some(0.6),
+        samples_every: Some(0.2),
+        ..Default::default()
+    };
+    let report = run(&args, &Bars::new(true)).unwrap();
+    let times: Vec<f64> = report.body_motion[0].series.iter().map(|s| s.t).collect();
+    assert!((4..=5).contains(&times.len()), "{times:?}");
+    for pair in times.windows(2).take(3) {
+        let gap = pair[1] - pair[0];
+        assert!((0.19..0.22).contains(&gap), "{times:?}");
+    }
+}
