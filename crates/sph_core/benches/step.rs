@@ -56,9 +56,9 @@ fn arg<T: std::str::FromStr>(flag: &str) -> Option<T> {
 /// PBF on sph-bench's dambreak32k (31,250 particles at 0.02 m, a 0.5 × 1 × 0.5 m column in a
 /// 2 × 1.2 × 0.5 m tank) at its defaults, or with `--pbf-iterations N`, `--cfl λ`,
 /// `--pbf-omega ω` (the over-relaxation), `--dt DT` (the largest step, 1/120 s by default) and
-/// `--fixed-dt` (the largest step every step): the mean ms per step and per stage over the first 0.5 s, the real-time factor of the
-/// steps, the mean compression over the steps (as sph-bench's `density_error_mean_run_pct`) and
-/// the mean speed at the end.
+/// `--fixed-dt` (the largest step every step): the mean ms per step and per stage over the first
+/// 0.5 s, the real-time factor of the steps, the mean compression over the steps (as
+/// sph-bench's `density_error_mean_run_pct`) and the mean speed at the end.
 fn bench_pbf() {
     let spacing = 0.02;
     let mut params = SphParams::from_spacing(SpacingDerivation {

@@ -84,9 +84,9 @@ pub fn run_setup(
 
 /// [`run_setup`] with the state and the bodies sampled every `samples_every` seconds of
 /// simulated time (`None`: every [`SAMPLE_INTERVAL`] and [`bodies::BODY_SAMPLE_INTERVAL`]).
-/// On the GPU a sample pauses the app until its clock is read back, which the readback-lagged
-/// coupling of moving bodies notices (docs/scenes.md): fewer samples run more frames unpaused,
-/// as a game runs.
+/// In the plugin's app (the GPU backend, avian bodies on either) a sample pauses the app until
+/// its clock is read back, which the GPU's readback-lagged coupling of moving bodies notices
+/// (docs/scenes.md): fewer samples run more frames unpaused, as a game runs.
 pub fn run_setup_sampled(
     setup: &Setup,
     backend: Backend,
