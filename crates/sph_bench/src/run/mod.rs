@@ -106,6 +106,7 @@ pub fn run_setup_sampled(
     let mut next_sample = 0.0;
     let mut progress = bars.run(setup.scenario.name(), progress_units(duration, 0, 0.0).1);
     let mut forces = ForceWindow::new(0.6 * end, setup.colliders.len());
+    let state_interval = samples_every.unwrap_or(SAMPLE_INTERVAL);
     let mut track = BodyTrack::new(setup, samples_every.unwrap_or(bodies::BODY_SAMPLE_INTERVAL));
     let finished = |sim: &dyn Simulation| match duration {
         Duration::Steps(n) => sim.steps() >= n,
@@ -116,7 +117,7 @@ pub fn run_setup_sampled(
         if samples.wanted() && sim.time() + 1e-9 >= next_sample {
             let state = sim.state()?;
             samples.record(setup, sim.time(), &state, sim.whitewater_counts())?;
-            next_sample += samples_every.unwrap_or(SAMPLE_INTERVAL);
+            next_sample += state_interval;
         }
         if finished(sim.as_ref()) || sim.unstable_step().is_some() {
             break;

@@ -11,6 +11,13 @@ use crate::scenarios::{Bodies, Scenario};
 use sph_core::glam::Vec3;
 use sph_core::{Integrator, Solver};
 
+/// A scene file shipped in assets/scenes.
+fn shipped_scene(file: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/scenes")
+        .join(file)
+}
+
 /// A small dam break at several times its derived dt (0.003 s), for 0.2 s.
 fn too_large_a_step(rollback: bool) -> Report {
     let args = RunArgs {
@@ -96,8 +103,7 @@ fn oversized_steps_finish_or_report_unstable_on_both_backends() {
 
 #[test]
 fn solver_on_the_command_line_replaces_the_scene_files_and_the_report_says_so() {
-    let scene =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/dam_break.ron");
+    let scene = shipped_scene("dam_break.ron");
     let args = |solver| RunArgs {
         scene: Some(scene.clone()),
         solver,
@@ -144,8 +150,7 @@ fn rollback_reaches_the_solver_and_the_report() {
 
 #[test]
 fn a_scene_file_runs_with_its_drain_pump_and_probes_and_the_balance_holds() {
-    let scene =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/aquaplay.ron");
+    let scene = shipped_scene("aquaplay.ron");
     let args = RunArgs {
         scene: Some(scene),
         time: Some(0.3),
@@ -176,8 +181,7 @@ fn a_scene_file_runs_with_its_drain_pump_and_probes_and_the_balance_holds() {
 /// upper basin (water 0.24 m deep), and the particle balance holds.
 #[test]
 fn a_scene_files_boat_is_held_or_moved_by_avian() {
-    let scene =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/lock.ron");
+    let scene = shipped_scene("lock.ron");
     let report = |bodies| {
         let args = RunArgs {
             scene: Some(scene.clone()),
@@ -226,8 +230,7 @@ fn a_scene_files_boat_is_held_or_moved_by_avian() {
 /// 0.6 s, where the default takes one every 0.05 s).
 #[test]
 fn samples_every_spaces_the_bodies_samples() {
-    let scene =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/lock.ron");
+    let scene = shipped_scene("lock.ron");
     let args = RunArgs {
         scene: Some(scene),
         time: Some(0.6),
