@@ -2,7 +2,8 @@
 //! dropped into a tank is moved by the device at every water step, and each frame's record
 //! agrees with the CPU twin's step (`sph_core::bodies::rigid_step::advance`, then the box's
 //! contact with the tank, `solid_contact::box_push`) from the record before, under the water's
-//! force and torque the device recorded.
+//! force and torque the device recorded; at three steps a frame each record's moments in time
+//! of the water's impulse give the body's end of frame from its start.
 
 use bevy::prelude::*;
 use bevy_sph_fluid::moved_bodies::SphMovedBodies;
@@ -32,8 +33,14 @@ struct Drop {
 }
 
 /// A box of `density` [kg/m³], side 0.08 m, spinning, dropped at 0.2 m/s onto water 0.08 m deep
-/// (PBF, one step a frame): `frames` records, each against the twin's step from the one before.
-fn drop_box(density: f32, frames: usize) -> Drop {
+/// (PBF, `substeps` steps a frame, the body damped by `damping` (linear, twice that angular)):
+/// at least `frames` records read back, by frame; the box and where it started.
+fn dropped_records(
+    density: f32,
+    frames: usize,
+    substeps: u32,
+    damping: f32,
+) -> (BTreeMap<u32, FrameRecord>, SphRigidBody, Transform) {
     let mut app = common::headless_app(6_000, SphBackend::Gpu);
     let mut params = sph_core::SphParams::water();
     params.use_solver(sph_core::Solver::Pbf);
@@ -50,8 +57,8 @@ fn drop_box(density: f32, frames: usize) -> Drop {
         free_rotation: Vec3::ONE,
         hinge_axis: None,
         gravity: params.gravity,
-        linear_damping: 0.1,
-        angular_damping: 0.2,
+        linear_damping: damping,
+        angular_damping: 2.0 * damping,
         linear_velocity: Vec3::new(0.05, -0.2, 0.0),
         angular_velocity: Vec3::new(0.0, 1.5, 0.5),
     };
@@ -74,7 +81,7 @@ fn drop_box(density: f32, frames: usize) -> Drop {
     });
     app.insert_resource(SphControl {
         running: true,
-        substeps: 1,
+        substeps,
         ..default()
     });
     // Every record read back, by frame.
@@ -99,6 +106,18 @@ fn drop_box(density: f32, frames: usize) -> Drop {
         }
     }
     assert!(records.len() >= frames, "{} records", records.len());
+    (records, body, start)
+}
+
+/// A box of `density` [kg/m³] dropped as [`dropped_records`] says (one step a frame, damped):
+/// `frames` records, each against the twin's step from the one before.
+fn drop_box(density: f32, frames: usize) -> Drop {
+    let (records, body, start) = dropped_records(density, frames, 1, 0.1);
+    let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.3, 0.3, 0.3));
+    let shape = ColliderShape::Cuboid {
+        half_extents: Vec3::splat(0.5 * SIDE),
+    };
+    let mass = body.mass;
     let model =
         bevy_sph_fluid::moved_bodies::body_model(&body, start.translation, start.rotation).unwrap();
     let mut drop = Drop {
@@ -166,6 +185,46 @@ fn the_devices_body_steps_match_the_cpu_twin() {
     let drop = drop_box(500.0, 40);
     assert!(drop.pairs >= 30 && drop.wet >= 10, "{} pairs", drop.pairs);
     assert_twin(&drop);
+}
+
+/// Three water steps a frame, no damping: each frame's record says when in the frame the water
+/// pushed (the moments in time of its impulse, P = Σ F dt (t − t₀), and of its steps,
+/// Q = Σ dt (t − t₀); `sph_core::bodies::engine_window`). With them the body's end follows from
+/// its start, c₁ = c₀ + v₀ T + (J T − P) / M + g (T² − Q), in every frame of a 500 kg/m³ box
+/// floating in the middle of the tank (no contact); taking the push as even over the frame
+/// (P = Q J / T) misses it by far more.
+#[test]
+fn a_frames_moments_say_when_in_it_the_water_pushed() {
+    let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let (records, body, _) = dropped_records(500.0, 30, 3, 0.0);
+    let (mut pairs, mut worst, mut worst_even) = (0, 0.0f32, 0.0f32);
+    for (frame, before) in &records {
+        let Some(after) = records.get(&(frame + 1)) else {
+            continue;
+        };
+        let (t, j, p, q) = (
+            after.duration,
+            after.impulse,
+            after.impulse_moment,
+            after.time_moment,
+        );
+        // Three steps of the frame: 0 < Q < T² / 2.
+        assert!(
+            q > 0.0 && q < 0.5 * t * t,
+            "frame {}: T {t}, Q {q}",
+            after.frame
+        );
+        let s = before.state;
+        let free = s.position + t * s.linear_velocity + (t * t - q) * body.gravity;
+        let end = after.state.position;
+        worst = worst.max((free + (t * j - p) / body.mass - end).length());
+        worst_even = worst_even.max((free + (t * j - q * j / t) / body.mass - end).length());
+        pairs += 1;
+    }
+    println!("{pairs} frame pairs: largest miss {worst:.2e} m, {worst_even:.2e} m taken even");
+    assert!(pairs >= 25, "{pairs} pairs");
+    assert!(worst < 1e-6, "missed by {worst} m");
+    assert!(worst_even > 10.0 * worst.max(1e-7), "even: {worst_even} m");
 }
 
 /// A 3,000 kg/m³ box sinks to the tank's floor: the device stops it there (its contact with the

@@ -10,8 +10,9 @@
 //! an [`SphRigidBody`] equal to avian's, and the device moves it with the water at every step
 //! (`crate::moved_bodies`): its force is read back a few frames late, and a late force does work
 //! on a body that bobs. avian then steps over exactly the frames the device's records cover, in
-//! steps of at most a game frame, with their water impulse, and hands its state back; the device
-//! adds what only avian saw (contacts, joints, a game's push). Any other dynamic body on the GPU
+//! steps of at most a game frame, with their water impulse, moves each body by the gap between
+//! the device's steps and its own over them (`sph_core::bodies::engine_window`), and hands its
+//! state back; the device adds what only avian saw (contacts, joints, a game's push). Any other dynamic body on the GPU
 //! (avian on the game's clock) keeps the older rule: a frame covers at most
 //! [`SphControl::max_body_frame_time`] of water while it is in the water.
 //!
@@ -115,9 +116,14 @@ fn sph_run_physics_on_water_time(world: &mut World, mut seen: Local<WaterTimeSee
             if window.seconds > 0.0 {
                 let seconds = window.seconds.min(MAX_WATER_TIME_STEP);
                 // (A window of exactly a game frame is one step, whatever its rounding.)
-                let steps = (seconds / MAX_ENGINE_STEP - 1e-6).ceil().max(1.0);
-                for _ in 0..steps as u32 {
-                    run_on_water_time(world, seconds / steps);
+                let steps = (seconds / MAX_ENGINE_STEP - 1e-6).ceil().max(1.0) as u32;
+                for _ in 0..steps {
+                    run_on_water_time(world, seconds / steps as f64);
+                }
+                // A cut window (a long hitch) was not stepped whole: no gap to close.
+                if seconds == window.seconds {
+                    let substeps = world.get_resource::<SubstepCount>().map_or(1, |s| s.0);
+                    close_step_gaps(world, &window, steps * substeps.max(1));
                 }
             }
             world
@@ -135,6 +141,64 @@ fn sph_run_physics_on_water_time(world: &mut World, mut seen: Local<WaterTimeSee
         return;
     }
     run_on_water_time(world, gained);
+}
+
+/// Moves each free body avian stepped over `window` in `substeps` substeps of its mean water
+/// force by the gap between the device's steps and that free step
+/// (`sph_core::bodies::engine_window`): avian then ends the window where the device's steps
+/// took the body, and the handoff passes the device only what avian saw beyond the water.
+/// Without it, a window of more than a game frame of water left avian centimetres from the
+/// device, and the handoff handed the difference on as if it were a contact: a boat was thrown
+/// out of the channel at 4 water steps a frame.
+fn close_step_gaps(world: &mut World, window: &crate::moved_bodies::EngineWindow, substeps: u32) {
+    let slots: Vec<(Entity, u32)> = world
+        .resource::<SphMovedBodies>()
+        .slots
+        .iter()
+        .map(|(&e, &s)| (e, s))
+        .collect();
+    for (entity, slot) in slots {
+        let Some(Some(push)) = window.impulses.get(&slot).copied() else {
+            continue;
+        };
+        // The device's steps and avian's must cover the same water time.
+        if (push.duration as f64 - window.seconds).abs() > 1e-4 {
+            continue;
+        }
+        let Ok(mut body) = world.get_entity_mut(entity) else {
+            continue;
+        };
+        let (Some(rigid), Some(position), Some(rotation)) = (
+            body.get::<SphRigidBody>(),
+            body.get::<Position>(),
+            body.get::<Rotation>(),
+        ) else {
+            continue;
+        };
+        let (origin, q) = (position.0, rotation.0);
+        let Some(model) = crate::moved_bodies::body_model(rigid, origin, q) else {
+            continue;
+        };
+        let (shift, turn) = push.gap(&model, q, substeps);
+        if shift == Vec3::ZERO && turn == Vec3::ZERO {
+            continue;
+        }
+        // Turned about the centre of mass, which moves by the shift.
+        let center = origin + q * model.center_of_mass;
+        let turned = sph_core::bodies::rigid_step::turned(q, turn);
+        let moved = center + shift - turned * model.center_of_mass;
+        if let Some(mut p) = body.get_mut::<Position>() {
+            p.0 = moved;
+        }
+        if let Some(mut r) = body.get_mut::<Rotation>() {
+            r.0 = turned;
+        }
+        // The collider and the engine's state handed to the device are read from it.
+        if let Some(mut t) = body.get_mut::<Transform>() {
+            t.translation = moved;
+            t.rotation = turned;
+        }
+    }
 }
 
 /// Runs [`SphWaterTime`] once with the generic [`Time`] advanced by `seconds`.
@@ -505,9 +569,9 @@ fn sph_drive_avian_bodies(
         if let Some(&slot) = moved.slots.get(&entity) {
             let window = moved.window.as_ref();
             water = match window.map(|w| (w, w.impulses.get(&slot).copied().flatten())) {
-                Some((w, Some((impulse, angular)))) if w.seconds > 0.0 => {
+                Some((w, Some(push))) if w.seconds > 0.0 => {
                     let per = (1.0 / w.seconds) as f32;
-                    (impulse * per, angular * per)
+                    (push.impulse * per, push.angular_impulse * per)
                 }
                 Some((w, None)) => {
                     if let (Some(record), Ok(mut body)) =
@@ -538,5 +602,136 @@ fn sph_drive_avian_bodies(
                 commands.entity(entity).insert(ConstantTorque(about_center));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::moved_bodies::{body_model, EngineWindow};
+    use sph_core::bodies::engine_handoff::DeviceBody;
+    use sph_core::bodies::engine_window::WindowImpulse;
+    use sph_core::bodies::rigid_step::RigidState;
+
+    /// A free body of 2 kg as both sides hold it.
+    fn rigid() -> SphRigidBody {
+        SphRigidBody {
+            mass: 2.0,
+            center_of_mass: Vec3::ZERO,
+            inverse_inertia: Mat3::from_diagonal(Vec3::splat(25.0)),
+            free_translation: Vec3::ONE,
+            free_rotation: Vec3::ONE,
+            hinge_axis: None,
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            linear_damping: 0.0,
+            angular_damping: 0.0,
+            linear_velocity: Vec3::new(0.2, 0.0, 0.0),
+            angular_velocity: Vec3::ZERO,
+        }
+    }
+
+    /// The device's three frames of four steps of 1/240 s (a window of 0.05 s, three runs of
+    /// avian): a wave's slap in the first steps, then the weight carried; the window read back
+    /// and the device's body at its end.
+    fn device_window(start: Vec3) -> (EngineWindow, RigidState) {
+        let body = rigid();
+        let model = body_model(&body, start, Quat::IDENTITY).unwrap();
+        let mut device = DeviceBody {
+            state: Some(RigidState {
+                position: start,
+                rotation: Quat::IDENTITY,
+                linear_velocity: body.linear_velocity,
+                angular_velocity: Vec3::ZERO,
+            }),
+            ..Default::default()
+        };
+        let dt = 1.0 / 240.0;
+        let mut records = Vec::new();
+        for frame in 1..=3u32 {
+            device.begin_frame(frame);
+            for step in 0..4 {
+                let slap = if frame == 1 && step < 2 { 30.0 } else { 0.0 };
+                let force = Vec3::new(slap, 19.62, 0.5 * slap);
+                let torque = Vec3::new(0.0, 0.0, 0.1 * slap);
+                let c = device.state.unwrap().position;
+                device.step(&model, force, torque + c.cross(force), dt);
+            }
+            device.end_frame((frame as f64 * 4.0 * dt as f64 * 1e9).round() as u64);
+            records.push(device.records[frame as usize % 8].unwrap());
+        }
+        let newest = *records.last().unwrap();
+        let window = EngineWindow {
+            to_frame: 3,
+            time_ns: newest.time_ns,
+            seconds: newest.time_ns as f64 * 1e-9,
+            impulses: [(0, Some(WindowImpulse::over(&records, newest.time_ns)))].into(),
+            newest: [(0, newest)].into(),
+        };
+        (window, device.state.unwrap())
+    }
+
+    /// avian, stepped over a window with its mean water force and moved by the gap, ends it
+    /// where the device's steps took the body: the handoff then has nothing to pass on.
+    #[test]
+    fn avian_ends_a_window_where_the_devices_steps_took_the_body() {
+        let start = Vec3::new(0.3, 0.5, 0.2);
+        let (window, device) = device_window(start);
+        let mut app = App::new();
+        app.add_plugins((
+            MinimalPlugins,
+            TransformPlugin,
+            PhysicsPlugins::new(SphWaterTime),
+        ));
+        app.insert_resource(Gravity(rigid().gravity));
+        app.insert_resource(SubstepCount(6));
+        app.init_resource::<SphStats>();
+        app.finish();
+        let entity = app
+            .world_mut()
+            .spawn((
+                RigidBody::Dynamic,
+                Mass(2.0),
+                AngularInertia::new(Vec3::splat(1.0 / 25.0)),
+                LinearVelocity(rigid().linear_velocity),
+                SphCollider::new(sph_core::ColliderShape::Sphere { radius: 0.05 })
+                    .with_motion(sph_core::ColliderMotion::Dynamic),
+                SphColliderForce::default(),
+                rigid(),
+                Transform::from_translation(start),
+            ))
+            .id();
+        app.update();
+        let mut moved = SphMovedBodies::default();
+        moved.slots.insert(entity, 0);
+        moved.window = Some(window.clone());
+        app.insert_resource(moved);
+        let world = app.world_mut();
+        world.run_system_cached(sph_drive_avian_bodies).unwrap();
+        world
+            .run_system_cached(sph_run_physics_on_water_time)
+            .unwrap();
+        let position = world.get::<Position>(entity).unwrap().0;
+        let rotation = world.get::<Rotation>(entity).unwrap().0;
+        let velocity = world.get::<LinearVelocity>(entity).unwrap().0;
+        let transform = world.get::<Transform>(entity).unwrap();
+        assert_eq!(transform.translation, position);
+        assert!(
+            (position - device.position).length() < 2e-5,
+            "avian {position}, device {}",
+            device.position
+        );
+        assert!(
+            (velocity - device.linear_velocity).length() < 1e-4,
+            "{velocity}"
+        );
+        let left = (Vec4::from(rotation) - Vec4::from(device.rotation)).length();
+        assert!(left < 1e-4, "avian {rotation}, device {}", device.rotation);
+        // Without the gap avian would have ended the window millimetres short: the slap early
+        // in the window carried the device's body further than its mean force carried avian's.
+        let push = window.impulses[&0].unwrap();
+        let model = body_model(&rigid(), position, rotation).unwrap();
+        let (shift, _) = push.gap(&model, rotation, 3 * 6);
+        assert!(shift.length() > 1e-3, "{shift}");
+        assert_eq!(world.resource::<SphMovedBodies>().engine_frame, Some(3));
     }
 }

@@ -8,9 +8,10 @@
 //!   small part of h from there;
 //! - reads the device's records back and sets the engine's next window
 //!   ([`SphMovedBodies::window`]): the frames read back since the engine's frame, their water
-//!   time and each body's water impulse over them. The engine steps its bodies over exactly
-//!   that time with that impulse, then calls [`SphMovedBodies::engine_stepped`]
-//!   (`crate::avian_coupling` does both for avian bodies).
+//!   time and each body's water impulse over them, with when in them it came. The engine steps
+//!   its bodies over exactly that time with that impulse, closes the gap to the device's steps
+//!   (`sph_core::bodies::engine_window`), then calls [`SphMovedBodies::engine_stepped`]
+//!   (`crate::avian_coupling` does all three for avian bodies).
 //!
 //! Without such a body nothing here runs on the device and no buffer is made.
 
@@ -24,6 +25,7 @@ use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::storage::ShaderBuffer;
 use sph_core::bodies::engine_handoff::{after, EngineState, FrameRecord, RECORDS};
+use sph_core::bodies::engine_window::WindowImpulse;
 use sph_core::bodies::rigid_step::{rotate, turned, Hinge, RigidBodyModel};
 use sph_core::gpu_layout::{GpuBodyInput, GpuBodyStates, GPU_MOVED_BODIES};
 use sph_core::{ColliderMotion, Pose};
@@ -39,9 +41,10 @@ pub struct EngineWindow {
     /// The water time the window covers [s]: what the engine steps.
     pub seconds: f64,
     /// Each moved body's water impulse and angular impulse (about its centre of mass) over the
-    /// window [N s, N m s], by collider slot; `None` when some of its frames were no longer
-    /// recorded: the engine then takes the body's newest record whole ([`Self::newest`]).
-    pub impulses: HashMap<u32, Option<(Vec3, Vec3)>>,
+    /// window, and when in it they came, by collider slot; `None` when some of its frames were
+    /// no longer recorded: the engine then takes the body's newest record whole
+    /// ([`Self::newest`]).
+    pub impulses: HashMap<u32, Option<WindowImpulse>>,
     /// Each moved body's record of `to_frame`, by collider slot.
     pub newest: HashMap<u32, FrameRecord>,
 }
@@ -310,11 +313,7 @@ pub(crate) fn sph_moved_bodies_window(mut moved: ResMut<SphMovedBodies>) {
             && !records
                 .iter()
                 .any(|r| r.frame == engine_frame.wrapping_add(1));
-        let impulse = (!lost).then(|| {
-            records.iter().fold((Vec3::ZERO, Vec3::ZERO), |(j, l), r| {
-                (j + r.impulse, l + r.angular_impulse)
-            })
-        });
+        let impulse = (!lost).then(|| WindowImpulse::over(&records, time_ns));
         window.impulses.insert(slot, impulse);
         window.newest.insert(slot, last);
     }

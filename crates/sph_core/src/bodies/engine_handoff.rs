@@ -6,11 +6,13 @@
 //!
 //! The rule, at every frame's end, for each body:
 //! 1. The device records the body's state and the water's impulse on it over the frame
-//!    (J = Σ F dt, and Σ τ_c dt about the centre of mass) with the frame's number and time.
+//!    (J = Σ F dt, and Σ τ_c dt about the centre of mass, with their moments in time) with the
+//!    frame's number and time.
 //! 2. The engine receives those records as they are read back (a few frames late on a GPU),
 //!    steps the body over exactly the frames they cover, in steps of at most a game frame, with
-//!    the force J / T (J and T, their water time, over those frames), and hands its state at the
-//!    newest of them back to the device.
+//!    the force J / T (J and T, their water time, over those frames), moves it by the gap
+//!    between the device's steps and that free step ([`crate::bodies::engine_window`]), and
+//!    hands its state at the newest of them back to the device.
 //! 3. The device compares the engine's state at that frame with its own record of it: the
 //!    difference is what only the engine saw (a contact, a joint, a game's push). It adds the
 //!    difference to its state now, the velocity difference carried over the time since that
@@ -44,6 +46,13 @@ pub struct FrameRecord {
     pub impulse: Vec3,
     /// The water's angular impulse about the centre of mass, Σ τ_c dt [N m s].
     pub angular_impulse: Vec3,
+    /// When in the frame the water pushed: Σ F dt (t − t₀) [N s²], t a step's start and t₀ the
+    /// frame's ([`crate::bodies::engine_window`]).
+    pub impulse_moment: Vec3,
+    /// The same of the angular impulse, Σ τ_c dt (t − t₀) [N m s²].
+    pub angular_impulse_moment: Vec3,
+    /// The same of the steps themselves, Σ dt (t − t₀) [s²] (gravity's).
+    pub time_moment: f32,
 }
 
 /// The engine's body at the end of a frame the device recorded: its origin's pose (the
@@ -117,6 +126,12 @@ pub struct DeviceBody {
     pub angular_impulse: Vec3,
     /// The water time of the frame so far [s].
     pub duration: f32,
+    /// Σ F dt (t − t₀) over the frame so far [N s²] ([`FrameRecord::impulse_moment`]).
+    pub impulse_moment: Vec3,
+    /// Σ τ_c dt (t − t₀) over the frame so far [N m s²].
+    pub angular_impulse_moment: Vec3,
+    /// Σ dt (t − t₀) over the frame so far [s²].
+    pub time_moment: f32,
     /// The last frames' ends, frame k at `k % RECORDS`.
     pub records: [Option<FrameRecord>; RECORDS],
 }
@@ -129,6 +144,9 @@ impl DeviceBody {
             self.impulse = Vec3::ZERO;
             self.angular_impulse = Vec3::ZERO;
             self.duration = 0.0;
+            self.impulse_moment = Vec3::ZERO;
+            self.angular_impulse_moment = Vec3::ZERO;
+            self.time_moment = 0.0;
         }
     }
 
@@ -138,8 +156,13 @@ impl DeviceBody {
         let Some(state) = self.state else {
             return;
         };
-        self.impulse += dt * force;
-        self.angular_impulse += dt * (moment - state.position.cross(force));
+        let (impulse, angular) = (dt * force, dt * (moment - state.position.cross(force)));
+        // The step starts `duration` into the frame.
+        self.impulse_moment += self.duration * impulse;
+        self.angular_impulse_moment += self.duration * angular;
+        self.time_moment += self.duration * dt;
+        self.impulse += impulse;
+        self.angular_impulse += angular;
         self.duration += dt;
         self.state = Some(advance(model, &state, force, moment, dt));
     }
@@ -202,6 +225,9 @@ impl DeviceBody {
                 state,
                 impulse: self.impulse,
                 angular_impulse: self.angular_impulse,
+                impulse_moment: self.impulse_moment,
+                angular_impulse_moment: self.angular_impulse_moment,
+                time_moment: self.time_moment,
             });
         }
     }
@@ -210,6 +236,7 @@ impl DeviceBody {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bodies::engine_window::WindowImpulse;
     use glam::Mat3;
 
     fn model() -> RigidBodyModel {
@@ -291,6 +318,48 @@ mod tests {
         }
     }
 
+    impl Run {
+        /// A frame of four steps under the lifts `lifts`, one per step.
+        fn frame_varying(&mut self, frame: u32, lifts: [Vec3; 4]) {
+            self.device.begin_frame(frame);
+            for lift in lifts {
+                let c = self.device.state.unwrap().position;
+                self.device.step(&model(), lift, c.cross(lift), 0.004);
+                self.time_ns += 4_000_000;
+            }
+            self.device.end_frame(self.time_ns);
+        }
+
+        /// The engine steps over the records after its frame up to `upto` in `substeps`
+        /// semi-implicit substeps of the mean force, moves its body by the gap to the device's
+        /// steps when `close`, and hands its state back.
+        fn engine_substeps(&mut self, upto: u32, substeps: u32, close: bool) {
+            let m = model();
+            let records: Vec<FrameRecord> = (self.engine_frame + 1..=upto)
+                .map(|f| self.device.records[f as usize % RECORDS].unwrap())
+                .collect();
+            let push = WindowImpulse::over(&records, records.last().unwrap().time_ns);
+            let h = push.duration / substeps as f32;
+            let a = push.impulse / (m.mass * push.duration) + m.gravity;
+            for _ in 0..substeps {
+                self.engine.linear_velocity += h * a;
+                self.engine.position += h * self.engine.linear_velocity;
+            }
+            if close {
+                self.engine.position += push.gap(&m, self.engine.rotation, substeps).0;
+            }
+            self.engine_frame = upto;
+            let handed = EngineState {
+                frame: upto,
+                origin: self.engine.position,
+                rotation: self.engine.rotation,
+                linear_velocity: self.engine.linear_velocity,
+                angular_velocity: self.engine.angular_velocity,
+            };
+            self.device.take_engine_state(&m, &handed, self.time_ns);
+        }
+    }
+
     fn start() -> RigidState {
         RigidState {
             position: Vec3::new(0.0, 1.0, 0.0),
@@ -345,6 +414,38 @@ mod tests {
         let again = run.device;
         run.engine_catches_up(9, Vec3::ZERO);
         assert_eq!(run.device.state, again.state);
+    }
+
+    /// Water that carries the body's weight over a frame but unevenly within it (a wave's slap
+    /// then nothing): once the engine, three frames behind in six substeps a window, closes the
+    /// gap to the device's steps, the handoff leaves the device's body as the water alone moved
+    /// it; without closing it the handoff moves the body as if the engine had seen a contact.
+    #[test]
+    fn an_uneven_push_moves_the_device_only_by_the_water_once_the_gap_is_closed() {
+        let weight = model().mass * model().gravity;
+        let lifts = [-3.0 * weight, -weight, Vec3::ZERO, Vec3::ZERO];
+        let mut alone = Run::new(start());
+        for frame in 1..=20u32 {
+            alone.frame_varying(frame, lifts);
+        }
+        let reference = alone.device.state.unwrap();
+        for close in [true, false] {
+            let mut run = Run::new(start());
+            for frame in 1..=20u32 {
+                run.frame_varying(frame, lifts);
+                if frame > 3 {
+                    run.engine_substeps(frame - 3, 6, close);
+                }
+            }
+            let s = run.device.state.unwrap();
+            let off = (s.position - reference.position).length();
+            if close {
+                assert!(off < 1e-5, "closed: {off}");
+            } else {
+                assert!(off > 1e-3, "not closed: {off}");
+            }
+            assert!((s.linear_velocity - reference.linear_velocity).length() < 1e-4);
+        }
     }
 
     /// An engine frame older than the records is taken whole, and counted.

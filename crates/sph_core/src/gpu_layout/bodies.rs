@@ -196,6 +196,14 @@ pub struct GpuBodyRecord {
     pub angular_impulse: [f32; 3],
     /// Padding.
     pub pad3: u32,
+    /// Σ F dt (t − t₀) over the frame [N s²] ([`FrameRecord::impulse_moment`]).
+    pub impulse_moment: [f32; 3],
+    /// Σ dt (t − t₀) over the frame [s²].
+    pub time_moment: f32,
+    /// Σ τ_c dt (t − t₀) over the frame [N m s²].
+    pub angular_impulse_moment: [f32; 3],
+    /// Padding.
+    pub pad4: u32,
 }
 
 impl GpuBodyRecord {
@@ -213,6 +221,9 @@ impl GpuBodyRecord {
             ),
             impulse: self.impulse.into(),
             angular_impulse: self.angular_impulse.into(),
+            impulse_moment: self.impulse_moment.into(),
+            angular_impulse_moment: self.angular_impulse_moment.into(),
+            time_moment: self.time_moment,
         })
     }
 }
@@ -261,6 +272,14 @@ pub struct GpuBodyState {
     pub angular_impulse: [f32; 3],
     /// Padding.
     pub pad5: u32,
+    /// Σ F dt (t − t₀) over the frame so far [N s²].
+    pub impulse_moment: [f32; 3],
+    /// Σ dt (t − t₀) over the frame so far [s²].
+    pub time_moment: f32,
+    /// Σ τ_c dt (t − t₀) over the frame so far [N m s²].
+    pub angular_impulse_moment: [f32; 3],
+    /// Padding.
+    pub pad6: u32,
     /// The last frames' ends, frame k at `k % RECORDS`.
     pub records: [GpuBodyRecord; RECORDS],
 }
@@ -283,6 +302,9 @@ impl GpuBodyState {
             impulse: self.impulse.into(),
             angular_impulse: self.angular_impulse.into(),
             duration: self.duration,
+            impulse_moment: self.impulse_moment.into(),
+            angular_impulse_moment: self.angular_impulse_moment.into(),
+            time_moment: self.time_moment,
             records: self.records.map(|r| r.record()),
         }
     }
@@ -338,8 +360,8 @@ mod tests {
     #[test]
     fn the_layouts_are_whole_words_in_16_byte_rows() {
         assert_eq!(std::mem::size_of::<GpuBodyInput>(), 224);
-        assert_eq!(std::mem::size_of::<GpuBodyRecord>(), 112);
-        assert_eq!(std::mem::size_of::<GpuBodyState>(), 176 + 112 * RECORDS);
+        assert_eq!(std::mem::size_of::<GpuBodyRecord>(), 144);
+        assert_eq!(std::mem::size_of::<GpuBodyState>(), 208 + 144 * RECORDS);
         assert_eq!(GPU_BODY_STATES_OFFSET % 16, 0);
     }
 

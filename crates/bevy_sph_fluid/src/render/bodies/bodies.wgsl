@@ -9,8 +9,8 @@
 const MOVED_BODIES: u32 = 31u;
 const RECORDS: u32 = 8u;
 const INPUT_WORDS: u32 = 56u;
-const STATE_WORDS: u32 = 268u;
-const RECORD_WORDS: u32 = 28u;
+const STATE_WORDS: u32 = 340u;
+const RECORD_WORDS: u32 = 36u;
 
 // GpuBodyInput's words.
 const IN_MASS: u32 = 0u;
@@ -49,7 +49,10 @@ const ST_LINEAR_VELOCITY: u32 = 28u;
 const ST_ANGULAR_VELOCITY: u32 = 32u;
 const ST_IMPULSE: u32 = 36u;
 const ST_ANGULAR_IMPULSE: u32 = 40u;
-const ST_RECORDS: u32 = 44u;
+const ST_IMPULSE_MOMENT: u32 = 44u;
+const ST_TIME_MOMENT: u32 = 47u;
+const ST_ANGULAR_IMPULSE_MOMENT: u32 = 48u;
+const ST_RECORDS: u32 = 52u;
 
 // GpuBodyRecord's words.
 const REC_FRAME: u32 = 0u;
@@ -63,6 +66,9 @@ const REC_LINEAR_VELOCITY: u32 = 12u;
 const REC_ANGULAR_VELOCITY: u32 = 16u;
 const REC_IMPULSE: u32 = 20u;
 const REC_ANGULAR_IMPULSE: u32 = 24u;
+const REC_IMPULSE_MOMENT: u32 = 28u;
+const REC_TIME_MOMENT: u32 = 31u;
+const REC_ANGULAR_IMPULSE_MOMENT: u32 = 32u;
 
 // Word k of slot's input, of its state, of its record r.
 fn input_word(slot: u32, k: u32) -> u32 {

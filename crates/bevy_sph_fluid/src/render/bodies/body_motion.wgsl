@@ -3,7 +3,8 @@
 // 1. a new frame (the force sums' stamp) starts its impulse sums and its reading of the sums;
 // 2. this step's force and moment: the sums' growth since they were last read, over the force
 //    evaluations it spans (the sums are exact 64-bit fixed point, so the difference is too);
-// 3. the step: impulse J += F dt, angular impulse += τ_c dt, then rigid_step::advance;
+// 3. the step: impulse J += F dt, angular impulse += τ_c dt, their moments in time over the
+//    frame (engine_window), then rigid_step::advance;
 // 4. the engine's state, when newer than the last taken: the first as it is, later ones as
 //    their difference from this device's record of their frame (engine_handoff), also added
 //    to the newer records; a frame no longer recorded is taken whole and counted;
@@ -15,7 +16,7 @@
 #import sph::bindings::{params, shared_state, grid, colliders, cell_counts}
 #import sph::body_reactions::{body_force_unit, body_moment_unit}
 #import sph::clock::{step_dt, frozen}
-#import sph::bodies::{MOVED_BODIES, RECORDS, Rigid, moved, held, load_model, load_state, store_state, load_record, store_record_state, state_word, input_word, record_word, word_f32, word_vec3, word_vec4, set_f32, set_vec3, advance, corrected, after, rotate, ST_HELD, ST_ENGINE_FRAME, ST_HAS_ENGINE_FRAME, ST_RESYNCS, ST_FRAME, ST_EVALUATIONS_SEEN, ST_DURATION, ST_SUMS_SEEN, ST_IMPULSE, ST_ANGULAR_IMPULSE, IN_CENTER_OF_MASS, IN_ENGINE_FRAME, IN_ENGINE_ORIGIN, IN_ENGINE_ROTATION, IN_ENGINE_LINEAR_VELOCITY, IN_ENGINE_ANGULAR_VELOCITY, IN_HAS_ENGINE_STATE, REC_FRAME, REC_TIME_LO, REC_TIME_HI, REC_DURATION, REC_VALID, REC_IMPULSE, REC_ANGULAR_IMPULSE, IN_HINGED, contact_word, from_ordered_bits, support, origin}
+#import sph::bodies::{MOVED_BODIES, RECORDS, Rigid, moved, held, load_model, load_state, store_state, load_record, store_record_state, state_word, input_word, record_word, word_f32, word_vec3, word_vec4, set_f32, set_vec3, advance, corrected, after, rotate, ST_HELD, ST_ENGINE_FRAME, ST_HAS_ENGINE_FRAME, ST_RESYNCS, ST_FRAME, ST_EVALUATIONS_SEEN, ST_DURATION, ST_SUMS_SEEN, ST_IMPULSE, ST_ANGULAR_IMPULSE, ST_IMPULSE_MOMENT, ST_TIME_MOMENT, ST_ANGULAR_IMPULSE_MOMENT, IN_CENTER_OF_MASS, IN_ENGINE_FRAME, IN_ENGINE_ORIGIN, IN_ENGINE_ROTATION, IN_ENGINE_LINEAR_VELOCITY, IN_ENGINE_ANGULAR_VELOCITY, IN_HAS_ENGINE_STATE, REC_FRAME, REC_TIME_LO, REC_TIME_HI, REC_DURATION, REC_VALID, REC_IMPULSE, REC_ANGULAR_IMPULSE, REC_IMPULSE_MOMENT, REC_TIME_MOMENT, REC_ANGULAR_IMPULSE_MOMENT, IN_HINGED, contact_word, from_ordered_bits, support, origin}
 
 // A 64-bit two's-complement difference (low, high words) as f32.
 fn difference(lo: u32, hi: u32, seen_lo: u32, seen_hi: u32) -> f32 {
@@ -52,6 +53,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         set_f32(state_word(slot, ST_DURATION), 0.0);
         set_vec3(state_word(slot, ST_IMPULSE), vec3<f32>(0.0));
         set_vec3(state_word(slot, ST_ANGULAR_IMPULSE), vec3<f32>(0.0));
+        set_vec3(state_word(slot, ST_IMPULSE_MOMENT), vec3<f32>(0.0));
+        set_f32(state_word(slot, ST_TIME_MOMENT), 0.0);
+        set_vec3(state_word(slot, ST_ANGULAR_IMPULSE_MOMENT), vec3<f32>(0.0));
         for (var k = 0u; k < 12u; k += 1u) {
             grid[state_word(slot, ST_SUMS_SEEN + k)] = 0u;
         }
@@ -77,9 +81,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let moment = vec3<f32>(sums[3], sums[4], sums[5]) * (body_moment_unit() * per);
         let dt = step_dt();
         let s = load_state(slot);
-        set_vec3(state_word(slot, ST_IMPULSE), word_vec3(state_word(slot, ST_IMPULSE)) + dt * force);
-        set_vec3(state_word(slot, ST_ANGULAR_IMPULSE), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE)) + dt * (moment - cross(s.position, force)));
-        set_f32(state_word(slot, ST_DURATION), word_f32(state_word(slot, ST_DURATION)) + dt);
+        let impulse = dt * force;
+        let angular = dt * (moment - cross(s.position, force));
+        // The step starts `before` into the frame (engine_window's moments).
+        let before = word_f32(state_word(slot, ST_DURATION));
+        set_vec3(state_word(slot, ST_IMPULSE_MOMENT), word_vec3(state_word(slot, ST_IMPULSE_MOMENT)) + before * impulse);
+        set_vec3(state_word(slot, ST_ANGULAR_IMPULSE_MOMENT), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE_MOMENT)) + before * angular);
+        set_f32(state_word(slot, ST_TIME_MOMENT), word_f32(state_word(slot, ST_TIME_MOMENT)) + before * dt);
+        set_vec3(state_word(slot, ST_IMPULSE), word_vec3(state_word(slot, ST_IMPULSE)) + impulse);
+        set_vec3(state_word(slot, ST_ANGULAR_IMPULSE), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE)) + angular);
+        set_f32(state_word(slot, ST_DURATION), before + dt);
         store_state(slot, advance(model, s, force, moment, dt));
     }
     // 4. The engine's state.
@@ -98,6 +109,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         store_record_state(slot, r, load_state(slot));
         set_vec3(record_word(slot, r, REC_IMPULSE), word_vec3(state_word(slot, ST_IMPULSE)));
         set_vec3(record_word(slot, r, REC_ANGULAR_IMPULSE), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE)));
+        set_vec3(record_word(slot, r, REC_IMPULSE_MOMENT), word_vec3(state_word(slot, ST_IMPULSE_MOMENT)));
+        set_f32(record_word(slot, r, REC_TIME_MOMENT), word_f32(state_word(slot, ST_TIME_MOMENT)));
+        set_vec3(record_word(slot, r, REC_ANGULAR_IMPULSE_MOMENT), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE_MOMENT)));
     }
 #endif
 }

@@ -142,6 +142,15 @@ mod tests {
                 "ST_ANGULAR_IMPULSE",
                 offset_of!(GpuBodyState, angular_impulse),
             ),
+            (
+                "ST_IMPULSE_MOMENT",
+                offset_of!(GpuBodyState, impulse_moment),
+            ),
+            ("ST_TIME_MOMENT", offset_of!(GpuBodyState, time_moment)),
+            (
+                "ST_ANGULAR_IMPULSE_MOMENT",
+                offset_of!(GpuBodyState, angular_impulse_moment),
+            ),
             ("ST_RECORDS", offset_of!(GpuBodyState, records)),
         ];
         let records = [
@@ -164,6 +173,15 @@ mod tests {
             (
                 "REC_ANGULAR_IMPULSE",
                 offset_of!(GpuBodyRecord, angular_impulse),
+            ),
+            (
+                "REC_IMPULSE_MOMENT",
+                offset_of!(GpuBodyRecord, impulse_moment),
+            ),
+            ("REC_TIME_MOMENT", offset_of!(GpuBodyRecord, time_moment)),
+            (
+                "REC_ANGULAR_IMPULSE_MOMENT",
+                offset_of!(GpuBodyRecord, angular_impulse_moment),
             ),
         ];
         for (name, bytes) in inputs.into_iter().chain(states).chain(records) {
