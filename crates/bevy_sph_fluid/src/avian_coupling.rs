@@ -12,9 +12,9 @@
 //! on a body that bobs. avian then steps over exactly the frames the device's records cover, in
 //! steps of at most a game frame, with their water impulse, moves each body by the gap between
 //! the device's steps and its own over them (`sph_core::bodies::engine_window`), and hands its
-//! state back; the device adds what only avian saw (contacts, joints, a game's push). Any other dynamic body on the GPU
-//! (avian on the game's clock) keeps the older rule: a frame covers at most
-//! [`SphControl::max_body_frame_time`] of water while it is in the water.
+//! state back; the device adds what only avian saw (contacts, joints, a game's push). Any other
+//! dynamic body on the GPU (avian on the game's clock) keeps the older rule: a frame covers at
+//! most [`SphControl::max_body_frame_time`] of water while it is in the water.
 //!
 //! Mass: a free dynamic body (not on a scene's hinge, no locked translation axis) carries
 //! [`SphColliderMass`], kept equal to avian's mass, so that DFSPH's solves on the CPU let it give

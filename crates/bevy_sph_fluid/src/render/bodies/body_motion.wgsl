@@ -85,11 +85,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let angular = dt * (moment - cross(s.position, force));
         // The step starts `before` into the frame (engine_window's moments).
         let before = word_f32(state_word(slot, ST_DURATION));
-        set_vec3(state_word(slot, ST_IMPULSE_MOMENT), word_vec3(state_word(slot, ST_IMPULSE_MOMENT)) + before * impulse);
-        set_vec3(state_word(slot, ST_ANGULAR_IMPULSE_MOMENT), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE_MOMENT)) + before * angular);
-        set_f32(state_word(slot, ST_TIME_MOMENT), word_f32(state_word(slot, ST_TIME_MOMENT)) + before * dt);
-        set_vec3(state_word(slot, ST_IMPULSE), word_vec3(state_word(slot, ST_IMPULSE)) + impulse);
-        set_vec3(state_word(slot, ST_ANGULAR_IMPULSE), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE)) + angular);
+        let impulse_at = state_word(slot, ST_IMPULSE);
+        let angular_at = state_word(slot, ST_ANGULAR_IMPULSE);
+        let moment_at = state_word(slot, ST_IMPULSE_MOMENT);
+        let angular_moment_at = state_word(slot, ST_ANGULAR_IMPULSE_MOMENT);
+        let time_moment_at = state_word(slot, ST_TIME_MOMENT);
+        set_vec3(moment_at, word_vec3(moment_at) + before * impulse);
+        set_vec3(angular_moment_at, word_vec3(angular_moment_at) + before * angular);
+        set_f32(time_moment_at, word_f32(time_moment_at) + before * dt);
+        set_vec3(impulse_at, word_vec3(impulse_at) + impulse);
+        set_vec3(angular_at, word_vec3(angular_at) + angular);
         set_f32(state_word(slot, ST_DURATION), before + dt);
         store_state(slot, advance(model, s, force, moment, dt));
     }
@@ -109,9 +114,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         store_record_state(slot, r, load_state(slot));
         set_vec3(record_word(slot, r, REC_IMPULSE), word_vec3(state_word(slot, ST_IMPULSE)));
         set_vec3(record_word(slot, r, REC_ANGULAR_IMPULSE), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE)));
-        set_vec3(record_word(slot, r, REC_IMPULSE_MOMENT), word_vec3(state_word(slot, ST_IMPULSE_MOMENT)));
+        let moment = word_vec3(state_word(slot, ST_IMPULSE_MOMENT));
+        let angular_moment = word_vec3(state_word(slot, ST_ANGULAR_IMPULSE_MOMENT));
+        set_vec3(record_word(slot, r, REC_IMPULSE_MOMENT), moment);
+        set_vec3(record_word(slot, r, REC_ANGULAR_IMPULSE_MOMENT), angular_moment);
         set_f32(record_word(slot, r, REC_TIME_MOMENT), word_f32(state_word(slot, ST_TIME_MOMENT)));
-        set_vec3(record_word(slot, r, REC_ANGULAR_IMPULSE_MOMENT), word_vec3(state_word(slot, ST_ANGULAR_IMPULSE_MOMENT)));
     }
 #endif
 }
