@@ -234,12 +234,13 @@ impl DeviceBody {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::bodies::engine_window::WindowImpulse;
     use glam::Mat3;
 
-    fn model() -> RigidBodyModel {
+    /// A free body of 4 kg under gravity, undamped (also `engine_window`'s tests' body).
+    pub(crate) fn model() -> RigidBodyModel {
         RigidBodyModel {
             mass: 4.0,
             free_translation: Vec3::ONE,
@@ -282,13 +283,32 @@ mod tests {
         }
 
         fn frame(&mut self, frame: u32, lift: Vec3) {
+            self.frame_varying(frame, [lift; 4]);
+        }
+
+        /// A frame of four steps under the lifts `lifts`, one per step.
+        fn frame_varying(&mut self, frame: u32, lifts: [Vec3; 4]) {
             self.device.begin_frame(frame);
-            for _ in 0..4 {
+            for lift in lifts {
                 let c = self.device.state.unwrap().position;
                 self.device.step(&model(), lift, c.cross(lift), 0.004);
                 self.time_ns += 4_000_000;
             }
             self.device.end_frame(self.time_ns);
+        }
+
+        /// The engine's body, at frame `upto`, handed to the device.
+        fn hand_over(&mut self, upto: u32) {
+            self.engine_frame = upto;
+            let handed = EngineState {
+                frame: upto,
+                origin: self.engine.position,
+                rotation: self.engine.rotation,
+                linear_velocity: self.engine.linear_velocity,
+                angular_velocity: self.engine.angular_velocity,
+            };
+            self.device
+                .take_engine_state(&model(), &handed, self.time_ns);
         }
 
         /// The engine steps over the device's records after its frame up to `upto` with the
@@ -306,28 +326,7 @@ mod tests {
             let v1 = v0 + impulse / m.mass + time * m.gravity;
             self.engine.position += 0.5 * (v0 + v1) * time;
             self.engine.linear_velocity = v1 + push;
-            self.engine_frame = upto;
-            let handed = EngineState {
-                frame: upto,
-                origin: self.engine.position,
-                rotation: self.engine.rotation,
-                linear_velocity: self.engine.linear_velocity,
-                angular_velocity: self.engine.angular_velocity,
-            };
-            self.device.take_engine_state(&m, &handed, self.time_ns);
-        }
-    }
-
-    impl Run {
-        /// A frame of four steps under the lifts `lifts`, one per step.
-        fn frame_varying(&mut self, frame: u32, lifts: [Vec3; 4]) {
-            self.device.begin_frame(frame);
-            for lift in lifts {
-                let c = self.device.state.unwrap().position;
-                self.device.step(&model(), lift, c.cross(lift), 0.004);
-                self.time_ns += 4_000_000;
-            }
-            self.device.end_frame(self.time_ns);
+            self.hand_over(upto);
         }
 
         /// The engine steps over the records after its frame up to `upto` in `substeps`
@@ -348,15 +347,7 @@ mod tests {
             if close {
                 self.engine.position += push.gap(&m, self.engine.rotation, substeps).0;
             }
-            self.engine_frame = upto;
-            let handed = EngineState {
-                frame: upto,
-                origin: self.engine.position,
-                rotation: self.engine.rotation,
-                linear_velocity: self.engine.linear_velocity,
-                angular_velocity: self.engine.angular_velocity,
-            };
-            self.device.take_engine_state(&m, &handed, self.time_ns);
+            self.hand_over(upto);
         }
     }
 

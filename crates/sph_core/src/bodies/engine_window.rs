@@ -96,23 +96,9 @@ impl WindowImpulse {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bodies::engine_handoff::tests::model;
     use crate::bodies::engine_handoff::DeviceBody;
     use crate::bodies::rigid_step::{turned, RigidState};
-    use glam::Mat3;
-
-    fn model() -> RigidBodyModel {
-        RigidBodyModel {
-            mass: 4.0,
-            free_translation: Vec3::ONE,
-            free_rotation: Vec3::ONE,
-            center_of_mass: Vec3::ZERO,
-            inverse_inertia: Mat3::from_diagonal(Vec3::splat(5.0)),
-            hinge: None,
-            gravity: Vec3::new(0.0, -9.81, 0.0),
-            linear_damping: 0.0,
-            angular_damping: 0.0,
-        }
-    }
 
     fn start() -> RigidState {
         RigidState {
