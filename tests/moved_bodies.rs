@@ -2,13 +2,14 @@
 //! dropped into a tank is moved by the device at every water step, and each frame's record
 //! agrees with the CPU twin's step (`sph_core::bodies::rigid_step::advance`, then the box's
 //! contact with the tank, `solid_contact::box_push`) from the record before, under the water's
-//! force and torque the device recorded; at three steps a frame each record's moments in time
+//! force and torque the device recorded and the engine's push; at three steps a frame each record's moments in time
 //! of the water's impulse give the body's end of frame from its start.
 
 use bevy::prelude::*;
 use bevy_sph_fluid::moved_bodies::SphMovedBodies;
 use bevy_sph_fluid::prelude::*;
 use sph_core::bodies::engine_handoff::FrameRecord;
+use sph_core::bodies::engine_push::EnginePush;
 use sph_core::bodies::rigid_step::{advance, RigidState};
 use sph_core::bodies::solid_contact::{
     body_margin, box_push, resolve_step, sample_pushes, support, MovedNeighbour,
@@ -33,13 +34,15 @@ struct Drop {
 }
 
 /// A box of `density` [kg/m³], side 0.08 m, spinning, dropped at 0.2 m/s onto water 0.08 m deep
-/// (PBF, `substeps` steps a frame, the body damped by `damping` (linear, twice that angular)):
-/// at least `frames` records read back, by frame; the box and where it started.
+/// (PBF, `substeps` steps a frame, the body damped by `damping` (linear, twice that angular),
+/// the engine's `push` handed with its state): at least `frames` records read back, by frame;
+/// the box and where it started.
 fn dropped_records(
     density: f32,
     frames: usize,
     substeps: u32,
     damping: f32,
+    push: EnginePush,
 ) -> (BTreeMap<u32, FrameRecord>, SphRigidBody, Transform) {
     let mut app = common::headless_app(6_000, SphBackend::Gpu);
     let mut params = sph_core::SphParams::water();
@@ -87,6 +90,10 @@ fn dropped_records(
     // Every record read back, by frame.
     let mut records: BTreeMap<u32, FrameRecord> = BTreeMap::new();
     for _ in 0..40 * frames {
+        app.world_mut()
+            .resource_mut::<SphMovedBodies>()
+            .engine_pushes
+            .insert(entity, push);
         app.update();
         let moved = app.world().resource::<SphMovedBodies>();
         let slot = *moved.slots.get(&entity).expect("the box is a moved body");
@@ -109,10 +116,11 @@ fn dropped_records(
     (records, body, start)
 }
 
-/// A box of `density` [kg/m³] dropped as [`dropped_records`] says (one step a frame, damped):
-/// `frames` records, each against the twin's step from the one before.
-fn drop_box(density: f32, frames: usize) -> Drop {
-    let (records, body, start) = dropped_records(density, frames, 1, 0.1);
+/// A box of `density` [kg/m³] dropped as [`dropped_records`] says (one step a frame, damped,
+/// under the engine's `push`): `frames` records, each against the twin's step from the one
+/// before.
+fn drop_box(density: f32, frames: usize, push: EnginePush) -> Drop {
+    let (records, body, start) = dropped_records(density, frames, 1, 0.1, push);
     let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::new(0.3, 0.3, 0.3));
     let shape = ColliderShape::Cuboid {
         half_extents: Vec3::splat(0.5 * SIDE),
@@ -131,11 +139,13 @@ fn drop_box(density: f32, frames: usize) -> Drop {
         let Some(after) = records.get(&(frame + 1)) else {
             continue;
         };
-        // One step a frame: the frame's force and its moment about the origin.
+        // One step a frame: the frame's force and its moment about the origin, the water's and
+        // the engine's push.
         let dt = after.duration;
         let force = after.impulse / dt;
-        let moment = after.angular_impulse / dt + before.state.position.cross(force);
-        let stepped = advance(&model, &before.state, force, moment, dt);
+        let c = before.state.position;
+        let moment = after.angular_impulse / dt + c.cross(force) + push.moment_about_origin(c);
+        let stepped = advance(&model, &before.state, force + push.force, moment, dt);
         let pose = Pose {
             translation: stepped.origin(model.center_of_mass),
             rotation: stepped.rotation,
@@ -178,11 +188,18 @@ fn assert_twin(drop: &Drop) {
     assert!(drop.worst[3] < 1e-5, "rotation {}", drop.worst[3]);
 }
 
-/// A 500 kg/m³ box: it falls into the water, which pushes it back up.
+/// A 500 kg/m³ box: it falls into the water, which pushes it back up; the engine's push (a
+/// contact holding a fifth of its weight, pressing it sideways and turning it) applies at
+/// every step.
 #[test]
 fn the_devices_body_steps_match_the_cpu_twin() {
     let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
-    let drop = drop_box(500.0, 40);
+    let weight = 500.0 * SIDE * SIDE * SIDE * 9.81;
+    let push = EnginePush {
+        force: Vec3::new(0.1, 0.2, -0.05) * weight,
+        torque: Vec3::new(0.0, 1e-4, 2e-4),
+    };
+    let drop = drop_box(500.0, 40, push);
     assert!(drop.pairs >= 30 && drop.wet >= 10, "{} pairs", drop.pairs);
     assert_twin(&drop);
 }
@@ -196,7 +213,7 @@ fn the_devices_body_steps_match_the_cpu_twin() {
 #[test]
 fn a_frames_moments_say_when_in_it_the_water_pushed() {
     let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
-    let (records, body, _) = dropped_records(500.0, 30, 3, 0.0);
+    let (records, body, _) = dropped_records(500.0, 30, 3, 0.0, EnginePush::default());
     let (mut pairs, mut worst, mut worst_even) = (0, 0.0f32, 0.0f32);
     for (frame, before) in &records {
         let Some(after) = records.get(&(frame + 1)) else {
@@ -232,7 +249,7 @@ fn a_frames_moments_say_when_in_it_the_water_pushed() {
 #[test]
 fn a_sinking_body_rests_on_the_floor_as_the_twin_says() {
     let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
-    let drop = drop_box(3000.0, 90);
+    let drop = drop_box(3000.0, 90, EnginePush::default());
     assert!(
         drop.on_the_floor >= 5,
         "{} frames on the floor",

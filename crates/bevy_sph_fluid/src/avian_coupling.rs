@@ -12,7 +12,9 @@
 //! on a body that bobs. avian then steps over exactly the frames the device's records cover, in
 //! steps of at most a game frame, with their water impulse, moves each body by the gap between
 //! the device's steps and its own over them (`sph_core::bodies::engine_window`), and hands its
-//! state back; the device adds what only avian saw (contacts, joints, a game's push). Any other
+//! state back with the steady part of its own push on the body (its contacts and joints,
+//! `sph_core::bodies::engine_push`), which the device applies at every step until the next; the
+//! device adds what only avian saw (contacts, joints, a game's push). Any other
 //! dynamic body on the GPU (avian on the game's clock) keeps the older rule: a frame covers at
 //! most [`SphControl::max_body_frame_time`] of water while it is in the water.
 //!
@@ -69,7 +71,10 @@ use crate::scene_asset::{SphDynamicBody, SphHinge, SphSceneMember as SceneMember
 use crate::sets::SphSystems;
 use avian3d::prelude::*;
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
+use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
+use sph_core::bodies::engine_push::EnginePush;
+use sph_core::bodies::rigid_step::{RigidBodyModel, RigidState};
 use std::time::Duration;
 
 /// The schedule to run avian in (`PhysicsPlugins::new(SphWaterTime)`) so that rigid bodies
@@ -117,14 +122,18 @@ fn sph_run_physics_on_water_time(world: &mut World, mut seen: Local<WaterTimeSee
                 let seconds = window.seconds.min(MAX_WATER_TIME_STEP);
                 // (A window of exactly a game frame is one step, whatever its rounding.)
                 let steps = (seconds / MAX_ENGINE_STEP - 1e-6).ceil().max(1.0) as u32;
+                let before = engine_states(world);
                 for _ in 0..steps {
                     run_on_water_time(world, seconds / steps as f64);
                 }
-                // A cut window (a long hitch) was not stepped whole: no gap to close.
-                if seconds == window.seconds {
+                // A cut window (a long hitch) was not stepped whole: no gap to close, and no
+                // push measured over it.
+                let whole = seconds == window.seconds;
+                if whole {
                     let substeps = world.get_resource::<SubstepCount>().map_or(1, |s| s.0);
                     close_step_gaps(world, &window, steps * substeps.max(1));
                 }
+                hand_engine_pushes(world, &window, &before, whole);
             }
             world
                 .resource_mut::<SphMovedBodies>()
@@ -165,6 +174,12 @@ fn close_step_gaps(world: &mut World, window: &crate::moved_bodies::EngineWindow
         if (push.duration as f64 - window.seconds).abs() > 1e-4 {
             continue;
         }
+        let applied = world
+            .resource::<SphMovedBodies>()
+            .engine_pushes
+            .get(&entity)
+            .copied()
+            .unwrap_or_default();
         let Ok(mut body) = world.get_entity_mut(entity) else {
             continue;
         };
@@ -179,7 +194,9 @@ fn close_step_gaps(world: &mut World, window: &crate::moved_bodies::EngineWindow
         let Some(model) = crate::moved_bodies::body_model(rigid, origin, q) else {
             continue;
         };
-        let (shift, turn) = push.gap(&model, q, substeps);
+        // The device stepped the window's frames under the push handed before it (the newest
+        // one stands for the few it had then).
+        let (shift, turn) = push.gap(&model, q, substeps, &applied);
         if shift == Vec3::ZERO && turn == Vec3::ZERO {
             continue;
         }
@@ -199,6 +216,71 @@ fn close_step_gaps(world: &mut World, window: &crate::moved_bodies::EngineWindow
             t.rotation = turned;
         }
     }
+}
+
+/// Each moved body's model and state (its centre of mass's) in avian now, by entity.
+fn engine_states(world: &World) -> HashMap<Entity, (RigidBodyModel, RigidState)> {
+    let mut states = HashMap::new();
+    for &entity in world.resource::<SphMovedBodies>().slots.keys() {
+        let Ok(body) = world.get_entity(entity) else {
+            continue;
+        };
+        let (Some(rigid), Some(p), Some(r), Some(v), Some(w)) = (
+            body.get::<SphRigidBody>(),
+            body.get::<Position>(),
+            body.get::<Rotation>(),
+            body.get::<LinearVelocity>(),
+            body.get::<AngularVelocity>(),
+        ) else {
+            continue;
+        };
+        let Some(model) = crate::moved_bodies::body_model(rigid, p.0, r.0) else {
+            continue;
+        };
+        let state = RigidState::at_origin(p.0, r.0, v.0, w.0, model.center_of_mass);
+        states.insert(entity, (model, state));
+    }
+    states
+}
+
+/// avian's push on each moved body over `window` (`sph_core::bodies::engine_push`: its
+/// velocities `before` the window and now, less the water's impulse and gravity), steadied
+/// with the one handed before, handed to the device with the body's state
+/// ([`SphMovedBodies::engine_pushes`]). A window not stepped whole, or whose water was not all
+/// read back, hands none (the steady push starts again).
+fn hand_engine_pushes(
+    world: &mut World,
+    window: &crate::moved_bodies::EngineWindow,
+    before: &HashMap<Entity, (RigidBodyModel, RigidState)>,
+    whole: bool,
+) {
+    let after = engine_states(world);
+    let moved = world.resource::<SphMovedBodies>();
+    let mut pushes = HashMap::new();
+    for (entity, slot) in &moved.slots {
+        let (Some((model, start)), Some((_, end)), Some(Some(water)), true) = (
+            before.get(entity),
+            after.get(entity),
+            window.impulses.get(slot),
+            whole,
+        ) else {
+            continue;
+        };
+        if (water.duration as f64 - window.seconds).abs() > 1e-4 {
+            continue;
+        }
+        let push = EnginePush::measured(
+            model,
+            start,
+            end,
+            water.impulse,
+            water.angular_impulse,
+            water.duration,
+        );
+        let handed = moved.engine_pushes.get(entity).copied().unwrap_or_default();
+        pushes.insert(*entity, push.steadied(&handed, water.duration));
+    }
+    world.resource_mut::<SphMovedBodies>().engine_pushes = pushes;
 }
 
 /// Runs [`SphWaterTime`] once with the generic [`Time`] advanced by `seconds`.
@@ -730,8 +812,87 @@ mod tests {
         // in the window carried the device's body further than its mean force carried avian's.
         let push = window.impulses[&0].unwrap();
         let model = body_model(&rigid(), position, rotation).unwrap();
-        let (shift, _) = push.gap(&model, rotation, 3 * 6);
+        let (shift, _) = push.gap(&model, rotation, 3 * 6, &EnginePush::default());
         assert!(shift.length() > 1e-3, "{shift}");
         assert_eq!(world.resource::<SphMovedBodies>().engine_frame, Some(3));
+    }
+    /// A box resting on a static floor that only avian knows of, no water: avian hands the
+    /// device the floor's push, the box's weight upward, taken up over the push's time constant
+    /// (the device then holds the box up between avian's states); the first window's is a
+    /// small share of it (a blow is not carried on whole).
+    #[test]
+    fn avian_hands_the_device_the_push_of_a_resting_contact() {
+        let mut app = App::new();
+        app.add_plugins((
+            MinimalPlugins,
+            TransformPlugin,
+            PhysicsPlugins::new(SphWaterTime),
+        ));
+        app.insert_resource(Gravity(rigid().gravity));
+        app.init_resource::<SphStats>();
+        app.finish();
+        app.world_mut().spawn((
+            RigidBody::Static,
+            Collider::cuboid(2.0, 0.2, 2.0),
+            Transform::from_xyz(0.0, -0.1, 0.0),
+        ));
+        let resting = SphRigidBody {
+            linear_velocity: Vec3::ZERO,
+            ..rigid()
+        };
+        let entity = app
+            .world_mut()
+            .spawn((
+                RigidBody::Dynamic,
+                Collider::cuboid(0.2, 0.2, 0.2),
+                Mass(2.0),
+                AngularInertia::new(Vec3::splat(1.0 / 25.0)),
+                SphCollider::new(sph_core::ColliderShape::Cuboid {
+                    half_extents: Vec3::splat(0.1),
+                })
+                .with_motion(sph_core::ColliderMotion::Dynamic),
+                SphColliderForce::default(),
+                resting,
+                Transform::from_xyz(0.0, 0.1, 0.0),
+            ))
+            .id();
+        app.update();
+        let mut moved = SphMovedBodies::default();
+        moved.slots.insert(entity, 0);
+        app.insert_resource(moved);
+        let frame = 1.0 / 60.0;
+        let mut handed = Vec::new();
+        // 1.5 s of windows: six time constants.
+        for window in 1..=90u32 {
+            let world = app.world_mut();
+            let dry = WindowImpulse {
+                duration: frame as f32,
+                ..Default::default()
+            };
+            world.resource_mut::<SphMovedBodies>().window = Some(EngineWindow {
+                to_frame: window,
+                time_ns: (window as f64 * frame * 1e9).round() as u64,
+                seconds: frame,
+                impulses: [(0, Some(dry))].into(),
+                newest: Default::default(),
+            });
+            world.run_system_cached(sph_drive_avian_bodies).unwrap();
+            world
+                .run_system_cached(sph_run_physics_on_water_time)
+                .unwrap();
+            let pushes = &world.resource::<SphMovedBodies>().engine_pushes;
+            handed.push(pushes.get(&entity).copied());
+        }
+        let weight = 2.0 * rigid().gravity;
+        let first = handed[0].expect("a push after a window");
+        assert!(first.force.length() < 0.1 * weight.length(), "{first:?}");
+        let last = handed[89].expect("a push after the last window");
+        assert!(
+            (last.force + weight).length() < 0.02 * weight.length(),
+            "{last:?}"
+        );
+        assert!(last.torque.length() < 1e-3, "{handed:?}");
+        let y = app.world().get::<Position>(entity).unwrap().0.y;
+        assert!((y - 0.1).abs() < 5e-3, "the box rests: {y}");
     }
 }

@@ -25,6 +25,7 @@ use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::storage::ShaderBuffer;
 use sph_core::bodies::engine_handoff::{after, EngineState, FrameRecord, RECORDS};
+use sph_core::bodies::engine_push::EnginePush;
 use sph_core::bodies::engine_window::WindowImpulse;
 use sph_core::bodies::rigid_step::{rotate, turned, Hinge, RigidBodyModel};
 use sph_core::gpu_layout::{GpuBodyInput, GpuBodyStates, GPU_MOVED_BODIES};
@@ -66,6 +67,9 @@ pub struct SphMovedBodies {
     pub window: Option<EngineWindow>,
     /// The moved bodies of this frame: their collider slots by entity.
     pub slots: HashMap<Entity, u32>,
+    /// The engine's push on each moved body that its state carries to the device
+    /// ([`EngineState::push`]), by entity: set by the engine after each window (none: no push).
+    pub engine_pushes: HashMap<Entity, EnginePush>,
 }
 
 impl SphMovedBodies {
@@ -177,6 +181,7 @@ fn sph_plan_moved_bodies(
         moved.engine_time_ns = None;
         moved.latest = None;
         moved.window = None;
+        moved.engine_pushes.clear();
     }
     let (Some(container), true) = (sim.container, sim.backend == SphBackend::Gpu) else {
         sim.frame.bodies = None;
@@ -214,6 +219,11 @@ fn sph_plan_moved_bodies(
             rotation: transform.rotation,
             linear_velocity: body.linear_velocity,
             angular_velocity: body.angular_velocity,
+            push: moved
+                .engine_pushes
+                .get(&entity)
+                .copied()
+                .unwrap_or_default(),
         };
         inputs[slot as usize] = GpuBodyInput::of(&model, Some(&engine), tracked.pose);
         moved.slots.insert(entity, slot);

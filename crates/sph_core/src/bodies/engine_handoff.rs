@@ -18,12 +18,17 @@
 //!    difference to its state now, the velocity difference carried over the time since that
 //!    frame, and to its newer records, so that the next difference counts only what is new.
 //!
+//! Between the engine's states the device also applies the engine's last push (its contacts and
+//! joints as a mean force, [`crate::bodies::engine_push`]) at every step: the record then
+//! holds it, and step 3's difference only its change.
+//!
 //! Every impulse is applied once on each side: the water's on the device at once and in the
 //! engine when read back, the engine's in the engine at once and on the device when handed over.
 //! Momentum is conserved, and the lag of the readback never enters the loop between the water
 //! and the body, which is what threw floating bodies out of the water when the engine alone
 //! moved them with forces three frames late.
 
+use crate::bodies::engine_push::EnginePush;
 use crate::bodies::rigid_step::{advance, conjugate, multiply, turned, RigidBodyModel, RigidState};
 use glam::{Quat, Vec3};
 
@@ -69,6 +74,9 @@ pub struct EngineState {
     pub linear_velocity: Vec3,
     /// Its angular velocity [rad/s].
     pub angular_velocity: Vec3,
+    /// The engine's push on the body that lasted over its last windows, which the device
+    /// applies at every step from now on.
+    pub push: EnginePush,
 }
 
 impl EngineState {
@@ -134,6 +142,9 @@ pub struct DeviceBody {
     pub time_moment: f32,
     /// The last frames' ends, frame k at `k % RECORDS`.
     pub records: [Option<FrameRecord>; RECORDS],
+    /// The engine's push applied at every step (the newest engine state's; the device reads it
+    /// from its input at every step).
+    pub engine_push: EnginePush,
 }
 
 impl DeviceBody {
@@ -151,11 +162,13 @@ impl DeviceBody {
     }
 
     /// One water step of `dt` [s] under the water's force [N] and moment about the origin
-    /// Σ x_b × f_b [N m]; a body without a state yet waits for the engine's.
+    /// Σ x_b × f_b [N m], and the engine's push; a body without a state yet waits for the
+    /// engine's. The impulses and their moments are the water's alone.
     pub fn step(&mut self, model: &RigidBodyModel, force: Vec3, moment: Vec3, dt: f32) {
         let Some(state) = self.state else {
             return;
         };
+        let push = self.engine_push;
         let (impulse, angular) = (dt * force, dt * (moment - state.position.cross(force)));
         // The step starts `duration` into the frame.
         self.impulse_moment += self.duration * impulse;
@@ -164,19 +177,28 @@ impl DeviceBody {
         self.impulse += impulse;
         self.angular_impulse += angular;
         self.duration += dt;
-        self.state = Some(advance(model, &state, force, moment, dt));
+        let moment_with_push = moment + push.moment_about_origin(state.position);
+        self.state = Some(advance(
+            model,
+            &state,
+            force + push.force,
+            moment_with_push,
+            dt,
+        ));
     }
 
     /// Takes the engine's state (when newer than the last taken) at water time `time_ns`: the
     /// first one as it is, later ones as the difference from the record of their frame
     /// ([`corrected`]), also added to the newer records. An engine frame no longer among the
-    /// records is taken whole (a resync) and the records are dropped.
+    /// records is taken whole (a resync) and the records are dropped. Its push applies from
+    /// now on, newer or not (the device reads it from its input at every step).
     pub fn take_engine_state(
         &mut self,
         model: &RigidBodyModel,
         engine: &EngineState,
         time_ns: u64,
     ) {
+        self.engine_push = engine.push;
         if self
             .engine_frame
             .is_some_and(|taken| !after(engine.frame, taken))
@@ -261,6 +283,8 @@ pub(crate) mod tests {
         engine: RigidState,
         engine_frame: u32,
         time_ns: u64,
+        /// The engine's push handed over with its state.
+        push: EnginePush,
     }
 
     impl Run {
@@ -272,6 +296,7 @@ pub(crate) mod tests {
                 rotation: start.rotation,
                 linear_velocity: start.linear_velocity,
                 angular_velocity: start.angular_velocity,
+                push: EnginePush::default(),
             };
             device.take_engine_state(&model(), &first, 0);
             Self {
@@ -279,6 +304,7 @@ pub(crate) mod tests {
                 engine: start,
                 engine_frame: 0,
                 time_ns: 0,
+                push: EnginePush::default(),
             }
         }
 
@@ -306,6 +332,7 @@ pub(crate) mod tests {
                 rotation: self.engine.rotation,
                 linear_velocity: self.engine.linear_velocity,
                 angular_velocity: self.engine.angular_velocity,
+                push: self.push,
             };
             self.device
                 .take_engine_state(&model(), &handed, self.time_ns);
@@ -345,7 +372,33 @@ pub(crate) mod tests {
                 self.engine.position += h * self.engine.linear_velocity;
             }
             if close {
-                self.engine.position += push.gap(&m, self.engine.rotation, substeps).0;
+                self.engine.position += push.gap(&m, self.engine.rotation, substeps, &self.push).0;
+            }
+            self.hand_over(upto);
+        }
+
+        /// The engine holds the body where it is (it rests on something the device does not
+        /// know of) over the records after its frame up to `upto`, and hands its state back
+        /// with its steady push when `carry`.
+        fn engine_holds(&mut self, upto: u32, carry: bool) {
+            let m = model();
+            let records: Vec<FrameRecord> = (self.engine_frame + 1..=upto)
+                .map(|f| self.device.records[f as usize % RECORDS].unwrap())
+                .collect();
+            let water = WindowImpulse::over(&records, records.last().unwrap().time_ns);
+            let before = self.engine;
+            self.engine.linear_velocity = Vec3::ZERO;
+            self.engine.angular_velocity = Vec3::ZERO;
+            let push = EnginePush::measured(
+                &m,
+                &before,
+                &self.engine,
+                water.impulse,
+                water.angular_impulse,
+                water.duration,
+            );
+            if carry {
+                self.push = push.steadied(&self.push, water.duration);
             }
             self.hand_over(upto);
         }
@@ -439,6 +492,36 @@ pub(crate) mod tests {
         }
     }
 
+    /// A body resting on something only the engine knows of (a crate on a raft), no water:
+    /// with the engine's steady push carried on, the device's body comes to stay where the
+    /// engine holds it between the handovers; without it, it falls for the frames the engine's
+    /// state takes to come back and is pulled up at every handover.
+    #[test]
+    fn a_body_resting_in_the_engine_stays_at_rest_on_the_device_with_the_engines_push() {
+        for carry in [true, false] {
+            let mut run = Run::new(start());
+            let mut worst = 0.0f32;
+            // 2 s of frames of 16 ms: eight of the push's time constants.
+            for frame in 1..=125u32 {
+                run.frame(frame, Vec3::ZERO);
+                if frame > 3 {
+                    run.engine_holds(frame - 3, carry);
+                }
+                if frame > 100 {
+                    let s = run.device.state.unwrap();
+                    worst = worst.max((s.position - start().position).length());
+                }
+            }
+            let weight = model().mass * model().gravity;
+            if carry {
+                assert!((run.push.force + weight).length() < 0.01, "{:?}", run.push);
+                assert!(worst < 1e-5, "carried: {worst}");
+            } else {
+                assert!(worst > 1e-3, "not carried: {worst}");
+            }
+        }
+    }
+
     /// An engine frame older than the records is taken whole, and counted.
     #[test]
     fn an_engine_state_older_than_the_records_is_taken_whole() {
@@ -452,6 +535,7 @@ pub(crate) mod tests {
             rotation: Quat::IDENTITY,
             linear_velocity: Vec3::ZERO,
             angular_velocity: Vec3::ZERO,
+            push: EnginePush::default(),
         };
         run.device.take_engine_state(&model(), &handed, run.time_ns);
         assert_eq!(run.device.resyncs, 1);

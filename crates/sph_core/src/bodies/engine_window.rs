@@ -17,9 +17,13 @@
 //! leaves the handoff only what the engine saw beyond the water (avian's contacts and joints).
 //! The turn's gap is the same with the angular impulse, I_w⁻¹ (Λ_τ − L κ), to first order (the
 //! world inertia taken at the window's end, the gyroscopic term left out as in
-//! [`crate::bodies::rigid_step`]); damping is left out of both.
+//! [`crate::bodies::rigid_step`]); damping is left out of both. The engine's push the device
+//! applied at every step ([`crate::bodies::engine_push`]) is a constant force, as gravity:
+//! (F_e / M) (Λ_t − T κ) and I_w⁻¹ τ_e (Λ_t − T κ); the engine's contacts that it stands for
+//! act in the engine itself.
 
 use crate::bodies::engine_handoff::FrameRecord;
+use crate::bodies::engine_push::EnginePush;
 use crate::bodies::rigid_step::{conjugate, rotate, RigidBodyModel};
 use glam::{Quat, Vec3};
 
@@ -62,7 +66,8 @@ impl WindowImpulse {
 
     /// How much further the device's steps moved and turned a body of `model` over the window
     /// than an engine stepping it in `engine_substeps` substeps of the mean force: the centre of
-    /// mass's gap [m] and the turn's [rad] (world), the body at `rotation` at the window's end.
+    /// mass's gap [m] and the turn's [rad] (world), the body at `rotation` at the window's end,
+    /// the device's steps under the engine's `push` besides the water.
     /// None for a hinged body (its axle's reaction and gravity's lever change with its angle
     /// within the window; the handoff passes its difference on) and none along locked axes.
     pub fn gap(
@@ -70,6 +75,7 @@ impl WindowImpulse {
         model: &RigidBodyModel,
         rotation: Quat,
         engine_substeps: u32,
+        push: &EnginePush,
     ) -> (Vec3, Vec3) {
         let t = self.duration;
         if model.hinge.is_some() || !(t.is_finite() && t > 0.0 && model.mass > 0.0) {
@@ -77,9 +83,11 @@ impl WindowImpulse {
         }
         let n = engine_substeps.max(1) as f32;
         let kappa = t * (n + 1.0) / (2.0 * n);
+        let steady = self.time_lever - kappa * t;
         let translation = (self.impulse_lever - kappa * self.impulse) / model.mass
-            + (self.time_lever - kappa * t) * model.gravity;
-        let angular = self.angular_impulse_lever - kappa * self.angular_impulse;
+            + steady * (model.gravity + push.force / model.mass);
+        let angular =
+            self.angular_impulse_lever - kappa * self.angular_impulse + steady * push.torque;
         let local = model.inverse_inertia * rotate(conjugate(rotation), angular);
         let gap = (
             translation * model.free_translation,
@@ -109,12 +117,21 @@ mod tests {
         }
     }
 
+    /// The engine's push the device applies in [`device_frames`] (a contact pressing the body
+    /// sideways and holding part of its weight).
+    const PUSH: EnginePush = EnginePush {
+        force: Vec3::new(-4.0, 10.0, 2.0),
+        torque: Vec3::new(0.1, 0.0, 0.3),
+    };
+
     /// Three frames of four water steps of 4 ms, the water's force and torque changing from step
-    /// to step (a slap in the first steps, then the weight carried): the device's records.
+    /// to step (a slap in the first steps, then the weight carried), the engine's push [`PUSH`]
+    /// applied too: the device's records.
     fn device_frames() -> (DeviceBody, Vec<FrameRecord>) {
         let m = model();
         let mut device = DeviceBody {
             state: Some(start()),
+            engine_push: PUSH,
             ..Default::default()
         };
         let mut records = Vec::new();
@@ -136,14 +153,17 @@ mod tests {
         (device, records)
     }
 
-    /// The engine's free step: `substeps` semi-implicit substeps of the mean force and torque.
+    /// The engine's free step: `substeps` semi-implicit substeps of the mean force and torque,
+    /// and of the contact [`PUSH`] stands for (a steady one).
     fn engine_step(window: &WindowImpulse, substeps: u32) -> RigidState {
         let m = model();
         let h = window.duration / substeps as f32;
         let mut s = start();
         for _ in 0..substeps {
-            s.linear_velocity += h * (window.impulse / (m.mass * window.duration) + m.gravity);
-            s.angular_velocity += h * 5.0 * window.angular_impulse / window.duration;
+            let water = window.impulse / (m.mass * window.duration);
+            s.linear_velocity += h * (water + PUSH.force / m.mass + m.gravity);
+            let torque = window.angular_impulse / window.duration + PUSH.torque;
+            s.angular_velocity += h * 5.0 * torque;
             s.position += h * s.linear_velocity;
             s.rotation = turned(s.rotation, h * s.angular_velocity);
         }
@@ -151,7 +171,8 @@ mod tests {
     }
 
     /// For any number of engine substeps, the engine's free step plus the gap is where the
-    /// device's steps took the body; the engine ends at the device's velocity without it.
+    /// device's steps took the body (the engine's push on the device counted as the engine's
+    /// steady contact); the engine ends at the device's velocity without it.
     #[test]
     fn the_gap_closes_the_engines_free_step_on_the_devices_steps() {
         let (device, records) = device_frames();
@@ -160,7 +181,7 @@ mod tests {
         let moved = device.state.unwrap();
         for substeps in [1, 6, 18, 100] {
             let engine = engine_step(&window, substeps);
-            let (shift, turn) = window.gap(&model(), engine.rotation, substeps);
+            let (shift, turn) = window.gap(&model(), engine.rotation, substeps, &PUSH);
             assert!(
                 (engine.linear_velocity - moved.linear_velocity).length() < 1e-5,
                 "{substeps}: {engine:?} {moved:?}"
@@ -207,7 +228,7 @@ mod tests {
         let window = WindowImpulse::over(&records, records[2].time_ns);
         let mut locked = model();
         locked.free_translation = Vec3::new(0.0, 1.0, 1.0);
-        assert_eq!(window.gap(&locked, Quat::IDENTITY, 6).0.x, 0.0);
+        assert_eq!(window.gap(&locked, Quat::IDENTITY, 6, &PUSH).0.x, 0.0);
         let mut hinged = model();
         hinged.hinge = Some(crate::bodies::rigid_step::Hinge {
             axis: Vec3::Z,
@@ -215,11 +236,11 @@ mod tests {
             inverse_inertia: 1.0,
         });
         assert_eq!(
-            window.gap(&hinged, Quat::IDENTITY, 6),
+            window.gap(&hinged, Quat::IDENTITY, 6, &PUSH),
             (Vec3::ZERO, Vec3::ZERO)
         );
         assert_eq!(
-            WindowImpulse::default().gap(&model(), Quat::IDENTITY, 6),
+            WindowImpulse::default().gap(&model(), Quat::IDENTITY, 6, &PUSH),
             (Vec3::ZERO, Vec3::ZERO)
         );
     }

@@ -4,6 +4,7 @@
 //! force sums' words and the frame numbers pass unchanged).
 
 use crate::bodies::engine_handoff::{DeviceBody, EngineState, FrameRecord, RECORDS};
+use crate::bodies::engine_push::EnginePush;
 use crate::bodies::rigid_step::{Hinge, RigidBodyModel, RigidState};
 use crate::boundary::collider::Pose;
 use crate::gpu_layout::body_forces::GPU_BODY_SLOTS;
@@ -14,8 +15,8 @@ use glam::{Mat3, Quat, Vec3};
 pub const GPU_MOVED_BODIES: usize = GPU_BODY_SLOTS - 1;
 
 /// One body as the CPU hands it to the device every frame (WGSL `body_input_*`): its model
-/// ([`RigidBodyModel`]), the engine's state at a frame's end ([`EngineState`]) and the pose its
-/// boundary samples were sorted at.
+/// ([`RigidBodyModel`]), the engine's state at a frame's end and its push ([`EngineState`]) and
+/// the pose its boundary samples were sorted at.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuBodyInput {
@@ -63,6 +64,14 @@ pub struct GpuBodyInput {
     pub pad1: u32,
     /// The orientation of that pose (x, y, z, w).
     pub sorted_rotation: [f32; 4],
+    /// The engine's push, its force [N] ([`EngineState::push`]), applied at every step.
+    pub engine_force: [f32; 3],
+    /// Padding.
+    pub pad2: u32,
+    /// Its torque about the centre of mass [N m].
+    pub engine_torque: [f32; 3],
+    /// Padding.
+    pub pad3: u32,
 }
 
 fn array(v: Vec3) -> [f32; 3] {
@@ -104,6 +113,7 @@ impl GpuBodyInput {
             rotation: Quat::IDENTITY,
             linear_velocity: Vec3::ZERO,
             angular_velocity: Vec3::ZERO,
+            push: EnginePush::default(),
         });
         Self {
             mass: model.mass,
@@ -128,6 +138,10 @@ impl GpuBodyInput {
             sorted_origin: array(sorted.translation),
             pad1: 0,
             sorted_rotation: quat(sorted.rotation),
+            engine_force: array(e.push.force),
+            pad2: 0,
+            engine_torque: array(e.push.torque),
+            pad3: 0,
         }
     }
 
@@ -158,6 +172,10 @@ impl GpuBodyInput {
             rotation: Quat::from_array(self.engine_rotation),
             linear_velocity: self.engine_linear_velocity.into(),
             angular_velocity: self.engine_angular_velocity.into(),
+            push: EnginePush {
+                force: self.engine_force.into(),
+                torque: self.engine_torque.into(),
+            },
         })
     }
 }
@@ -306,6 +324,8 @@ impl GpuBodyState {
             angular_impulse_moment: self.angular_impulse_moment.into(),
             time_moment: self.time_moment,
             records: self.records.map(|r| r.record()),
+            // Not kept in the state: the device reads it from its input at every step.
+            engine_push: EnginePush::default(),
         }
     }
 
@@ -359,7 +379,7 @@ mod tests {
 
     #[test]
     fn the_layouts_are_whole_words_in_16_byte_rows() {
-        assert_eq!(std::mem::size_of::<GpuBodyInput>(), 224);
+        assert_eq!(std::mem::size_of::<GpuBodyInput>(), 256);
         assert_eq!(std::mem::size_of::<GpuBodyRecord>(), 144);
         assert_eq!(std::mem::size_of::<GpuBodyState>(), 208 + 144 * RECORDS);
         assert_eq!(GPU_BODY_STATES_OFFSET % 16, 0);
@@ -388,6 +408,10 @@ mod tests {
             rotation: Quat::from_rotation_y(0.3),
             linear_velocity: Vec3::X,
             angular_velocity: Vec3::Y,
+            push: EnginePush {
+                force: Vec3::new(0.5, 20.0, -1.0),
+                torque: Vec3::new(0.1, 0.2, 0.3),
+            },
         };
         let input = GpuBodyInput::of(&model, Some(&engine), Pose::default());
         assert_eq!(input.model(), Some(model));

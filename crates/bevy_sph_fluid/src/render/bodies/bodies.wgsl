@@ -8,7 +8,7 @@
 
 const MOVED_BODIES: u32 = 31u;
 const RECORDS: u32 = 8u;
-const INPUT_WORDS: u32 = 56u;
+const INPUT_WORDS: u32 = 64u;
 const STATE_WORDS: u32 = 340u;
 const RECORD_WORDS: u32 = 36u;
 
@@ -33,6 +33,8 @@ const IN_HAS_ENGINE_STATE: u32 = 43u;
 const IN_ENGINE_ANGULAR_VELOCITY: u32 = 44u;
 const IN_SORTED_ORIGIN: u32 = 48u;
 const IN_SORTED_ROTATION: u32 = 52u;
+const IN_ENGINE_FORCE: u32 = 56u;
+const IN_ENGINE_TORQUE: u32 = 60u;
 
 // GpuBodyState's words.
 const ST_HELD: u32 = 0u;

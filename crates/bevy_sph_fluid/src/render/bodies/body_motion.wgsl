@@ -4,7 +4,8 @@
 // 2. this step's force and moment: the sums' growth since they were last read, over the force
 //    evaluations it spans (the sums are exact 64-bit fixed point, so the difference is too);
 // 3. the step: impulse J += F dt, angular impulse += τ_c dt, their moments in time over the
-//    frame (engine_window), then rigid_step::advance;
+//    frame (engine_window), then rigid_step::advance under the water's force and the engine's
+//    push (engine_push: its contacts and joints carried on between its states);
 // 4. the engine's state, when newer than the last taken: the first as it is, later ones as
 //    their difference from this device's record of their frame (engine_handoff), also added
 //    to the newer records; a frame no longer recorded is taken whole and counted;
@@ -16,7 +17,7 @@
 #import sph::bindings::{params, shared_state, grid, colliders, cell_counts}
 #import sph::body_reactions::{body_force_unit, body_moment_unit}
 #import sph::clock::{step_dt, frozen}
-#import sph::bodies::{MOVED_BODIES, RECORDS, Rigid, moved, held, load_model, load_state, store_state, load_record, store_record_state, state_word, input_word, record_word, word_f32, word_vec3, word_vec4, set_f32, set_vec3, advance, corrected, after, rotate, ST_HELD, ST_ENGINE_FRAME, ST_HAS_ENGINE_FRAME, ST_RESYNCS, ST_FRAME, ST_EVALUATIONS_SEEN, ST_DURATION, ST_SUMS_SEEN, ST_IMPULSE, ST_ANGULAR_IMPULSE, ST_IMPULSE_MOMENT, ST_TIME_MOMENT, ST_ANGULAR_IMPULSE_MOMENT, IN_CENTER_OF_MASS, IN_ENGINE_FRAME, IN_ENGINE_ORIGIN, IN_ENGINE_ROTATION, IN_ENGINE_LINEAR_VELOCITY, IN_ENGINE_ANGULAR_VELOCITY, IN_HAS_ENGINE_STATE, REC_FRAME, REC_TIME_LO, REC_TIME_HI, REC_DURATION, REC_VALID, REC_IMPULSE, REC_ANGULAR_IMPULSE, REC_IMPULSE_MOMENT, REC_TIME_MOMENT, REC_ANGULAR_IMPULSE_MOMENT, IN_HINGED, contact_word, from_ordered_bits, support, origin}
+#import sph::bodies::{MOVED_BODIES, RECORDS, Rigid, moved, held, load_model, load_state, store_state, load_record, store_record_state, state_word, input_word, record_word, word_f32, word_vec3, word_vec4, set_f32, set_vec3, advance, corrected, after, rotate, ST_HELD, ST_ENGINE_FRAME, ST_HAS_ENGINE_FRAME, ST_RESYNCS, ST_FRAME, ST_EVALUATIONS_SEEN, ST_DURATION, ST_SUMS_SEEN, ST_IMPULSE, ST_ANGULAR_IMPULSE, ST_IMPULSE_MOMENT, ST_TIME_MOMENT, ST_ANGULAR_IMPULSE_MOMENT, IN_CENTER_OF_MASS, IN_ENGINE_FRAME, IN_ENGINE_ORIGIN, IN_ENGINE_ROTATION, IN_ENGINE_LINEAR_VELOCITY, IN_ENGINE_ANGULAR_VELOCITY, IN_HAS_ENGINE_STATE, REC_FRAME, REC_TIME_LO, REC_TIME_HI, REC_DURATION, REC_VALID, REC_IMPULSE, REC_ANGULAR_IMPULSE, REC_IMPULSE_MOMENT, REC_TIME_MOMENT, REC_ANGULAR_IMPULSE_MOMENT, IN_HINGED, IN_ENGINE_FORCE, IN_ENGINE_TORQUE, contact_word, from_ordered_bits, support, origin}
 
 // A 64-bit two's-complement difference (low, high words) as f32.
 fn difference(lo: u32, hi: u32, seen_lo: u32, seen_hi: u32) -> f32 {
@@ -96,7 +97,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         set_vec3(impulse_at, word_vec3(impulse_at) + impulse);
         set_vec3(angular_at, word_vec3(angular_at) + angular);
         set_f32(state_word(slot, ST_DURATION), before + dt);
-        store_state(slot, advance(model, s, force, moment, dt));
+        // The engine's push: a force at the centre of mass and a torque about it.
+        let push = word_vec3(input_word(slot, IN_ENGINE_FORCE));
+        let push_moment = word_vec3(input_word(slot, IN_ENGINE_TORQUE)) + cross(s.position, push);
+        store_state(slot, advance(model, s, force + push, moment + push_moment, dt));
     }
     // 4. The engine's state.
     take_engine_state(slot, model.center_of_mass);

@@ -111,6 +111,8 @@ mod tests {
                 "IN_SORTED_ROTATION",
                 offset_of!(GpuBodyInput, sorted_rotation),
             ),
+            ("IN_ENGINE_FORCE", offset_of!(GpuBodyInput, engine_force)),
+            ("IN_ENGINE_TORQUE", offset_of!(GpuBodyInput, engine_torque)),
         ];
         let states = [
             ("ST_HELD", offset_of!(GpuBodyState, held)),
