@@ -514,8 +514,9 @@ pub(crate) mod tests {
             }
             let weight = model().mass * model().gravity;
             if carry {
-                assert!((run.push.force + weight).length() < 0.01, "{:?}", run.push);
-                assert!(worst < 1e-5, "carried: {worst}");
+                // All but e^(−7.8) of the weight taken up.
+                assert!((run.push.force + weight).length() < 0.05, "{:?}", run.push);
+                assert!(worst < 1e-4, "carried: {worst}");
             } else {
                 assert!(worst > 1e-3, "not carried: {worst}");
             }
