@@ -18,9 +18,9 @@
 //!    difference to its state now, the velocity difference carried over the time since that
 //!    frame, and to its newer records, so that the next difference counts only what is new.
 //!
-//! Between the engine's states the device also applies the engine's last push (its contacts and
-//! joints as a mean force, [`crate::bodies::engine_push`]) at every step: the record then
-//! holds it, and step 3's difference only its change.
+//! Between the engine's states the device also applies the engine's steady push (its contacts
+//! and joints as a mean force, [`crate::bodies::engine_push`]) at every step: the record then
+//! holds it, and step 3's difference only what it missed.
 //!
 //! Every impulse is applied once on each side: the water's on the device at once and in the
 //! engine when read back, the engine's in the engine at once and on the device when handed over.
@@ -74,8 +74,8 @@ pub struct EngineState {
     pub linear_velocity: Vec3,
     /// Its angular velocity [rad/s].
     pub angular_velocity: Vec3,
-    /// The engine's push on the body that lasted over its last windows, which the device
-    /// applies at every step from now on.
+    /// The steady part of the engine's push on the body over its last windows
+    /// ([`EnginePush::steadied`]), which the device applies at every step from now on.
     pub push: EnginePush,
 }
 
