@@ -752,12 +752,8 @@ mod tests {
         (window, device.state.unwrap())
     }
 
-    /// avian, stepped over a window with its mean water force and moved by the gap, ends it
-    /// where the device's steps took the body: the handoff then has nothing to pass on.
-    #[test]
-    fn avian_ends_a_window_where_the_devices_steps_took_the_body() {
-        let start = Vec3::new(0.3, 0.5, 0.2);
-        let (window, device) = device_window(start);
+    /// An app with avian on the water's clock, under [`rigid`]'s gravity.
+    fn avian_app() -> App {
         let mut app = App::new();
         app.add_plugins((
             MinimalPlugins,
@@ -765,9 +761,19 @@ mod tests {
             PhysicsPlugins::new(SphWaterTime),
         ));
         app.insert_resource(Gravity(rigid().gravity));
-        app.insert_resource(SubstepCount(6));
         app.init_resource::<SphStats>();
         app.finish();
+        app
+    }
+
+    /// avian, stepped over a window with its mean water force and moved by the gap, ends it
+    /// where the device's steps took the body: the handoff then has nothing to pass on.
+    #[test]
+    fn avian_ends_a_window_where_the_devices_steps_took_the_body() {
+        let start = Vec3::new(0.3, 0.5, 0.2);
+        let (window, device) = device_window(start);
+        let mut app = avian_app();
+        app.insert_resource(SubstepCount(6));
         let entity = app
             .world_mut()
             .spawn((
@@ -816,21 +822,14 @@ mod tests {
         assert!(shift.length() > 1e-3, "{shift}");
         assert_eq!(world.resource::<SphMovedBodies>().engine_frame, Some(3));
     }
+
     /// A box resting on a static floor that only avian knows of, no water: avian hands the
     /// device the floor's push, the box's weight upward, taken up over the push's time constant
     /// (the device then holds the box up between avian's states); the first window's is a
     /// small share of it (a blow is not carried on whole).
     #[test]
     fn avian_hands_the_device_the_push_of_a_resting_contact() {
-        let mut app = App::new();
-        app.add_plugins((
-            MinimalPlugins,
-            TransformPlugin,
-            PhysicsPlugins::new(SphWaterTime),
-        ));
-        app.insert_resource(Gravity(rigid().gravity));
-        app.init_resource::<SphStats>();
-        app.finish();
+        let mut app = avian_app();
         app.world_mut().spawn((
             RigidBody::Static,
             Collider::cuboid(2.0, 0.2, 2.0),
