@@ -12,7 +12,7 @@ use sph_core::bodies::engine_handoff::FrameRecord;
 use sph_core::bodies::engine_push::EnginePush;
 use sph_core::bodies::rigid_step::{advance, RigidState};
 use sph_core::bodies::solid_contact::{
-    body_margin, box_push, resolve_step, sample_pushes, support, MovedNeighbour,
+    body_margin, box_push, friction_step, resolve_step, sample_pushes, support, MovedNeighbour,
 };
 use sph_core::boundary::sampling::sample_shape;
 use sph_core::{BlockSpawn, BoxContainer, Collider, ColliderMotion, ColliderShape, Pose};
@@ -269,10 +269,12 @@ fn a_sinking_body_rests_on_the_floor_as_the_twin_says() {
     );
 }
 
-/// A 3,000 kg/m³ box dropped from 1 cm onto another resting on the floor, both moved by the
-/// device (no engine): the device's contact between them (`solid_contact::body_push`) stops the
-/// upper one on the lower one, within g dt² of touching, and both come to rest; without it the
-/// upper box sank through the lower one.
+/// A 3,000 kg/m³ box dropped from 1 cm onto another resting on the floor, sliding at 6 cm/s,
+/// both moved by the device (no engine): the device's contact between them
+/// (`solid_contact::body_push`) stops the upper one on the lower one, within g dt² of touching,
+/// and its friction (`solid_contact::support_friction`) makes the pair slide as one on the
+/// frictionless floor with the upper box's momentum; without the contact the upper box sank
+/// through the lower one.
 #[test]
 fn a_box_dropped_on_another_rests_on_it_on_the_device() {
     let _alone = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
@@ -301,13 +303,17 @@ fn a_box_dropped_on_another_rests_on_it_on_the_device() {
         angular_velocity: Vec3::ZERO,
     };
     let (lower_y, upper_y) = (0.5 * SIDE, 1.5 * SIDE + 0.01);
+    let slide = Vec3::new(0.0, 0.0, 0.06);
     let mut entities = Vec::new();
-    for y in [lower_y, upper_y] {
+    for (y, velocity) in [(lower_y, Vec3::ZERO), (upper_y, slide)] {
         entities.push(
             app.world_mut()
                 .spawn((
                     SphCollider::new(shape.clone()).with_motion(ColliderMotion::Dynamic),
-                    body,
+                    SphRigidBody {
+                        linear_velocity: velocity,
+                        ..body
+                    },
                     Transform::from_xyz(0.2, y, 0.15),
                 ))
                 .id(),
@@ -375,7 +381,7 @@ fn a_box_dropped_on_another_rests_on_it_on_the_device() {
             },
         )
     };
-    let (mut twin_pairs, mut pushed, mut worst) = (0, 0, [0.0f32; 2]);
+    let (mut twin_pairs, mut pushed, mut rubbed, mut worst) = (0, 0, 0, [0.0f32; 2]);
     for (k, own) in records.iter().enumerate() {
         let other = &records[1 - k];
         for (frame, before) in own {
@@ -386,20 +392,24 @@ fn a_box_dropped_on_another_rests_on_it_on_the_device() {
             let (b, o) = (before.state, other_before.state);
             let pose = collider_at(&b).pose;
             let other_collider = collider_at(&o);
+            let dt = after.duration;
+            let g = params.gravity.length();
             let push = sample_pushes(
                 local.iter().map(|&p| pose.to_world(p)),
-                0.5 * params.spacing(),
-                0.5 * params.spacing() + body_margin(params.gravity.length(), after.duration),
-                (mass, b.linear_velocity),
+                (
+                    0.5 * params.spacing(),
+                    0.5 * params.spacing() + body_margin(g, dt),
+                    friction_step(g, dt),
+                ),
+                (mass, &b),
                 std::slice::from_ref(&divider),
                 &[MovedNeighbour {
                     collider: &other_collider,
                     mass,
-                    velocity: o.linear_velocity,
+                    state: o,
                     hinged: false,
                 }],
             );
-            let dt = after.duration;
             let force = after.impulse / dt;
             let moment = after.angular_impulse / dt + b.position.cross(force);
             let stepped = advance(&model, &b, force, moment, dt);
@@ -408,16 +418,19 @@ fn a_box_dropped_on_another_rests_on_it_on_the_device() {
             worst[1] = worst[1].max((twin.linear_velocity - after.state.linear_velocity).length());
             twin_pairs += 1;
             pushed += (!push.is_empty()) as usize;
+            rubbed += (push.friction_limit > 0.0
+                && (b.linear_velocity.z - o.linear_velocity.z).abs() > 1e-3)
+                as usize;
         }
     }
     println!(
         "stacked boxes against the twin: {twin_pairs} frame pairs, {pushed} with a push between \
-         the boxes: largest |Δx| {:.2e} m, |Δv| {:.2e} m/s",
+         the boxes, {rubbed} sliding on each other: largest |Δx| {:.2e} m, |Δv| {:.2e} m/s",
         worst[0], worst[1]
     );
     assert!(
-        twin_pairs >= 100 && pushed >= 20,
-        "{twin_pairs} pairs, {pushed} pushed"
+        twin_pairs >= 100 && pushed >= 20 && rubbed >= 1,
+        "{twin_pairs} pairs, {pushed} pushed, {rubbed} rubbed"
     );
     assert!(worst[0] < 1e-6, "position {}", worst[0]);
     assert!(worst[1] < 1e-5, "velocity {}", worst[1]);
@@ -467,9 +480,19 @@ fn a_box_dropped_on_another_rests_on_it_on_the_device() {
         last_up.position.y
     );
     assert!(
-        last_up.linear_velocity.length() < 0.02 && last_low.linear_velocity.length() < 0.02,
-        "not at rest: {} and {} m/s",
-        last_up.linear_velocity.length(),
-        last_low.linear_velocity.length()
+        last_up.linear_velocity.y.abs() < 0.02 && last_low.linear_velocity.y.abs() < 0.02,
+        "not at rest on the floor: {} and {} m/s",
+        last_up.linear_velocity.y,
+        last_low.linear_velocity.y
+    );
+    // The friction made them one: the same slide, the upper box's momentum shared.
+    let (up_z, low_z) = (last_up.linear_velocity.z, last_low.linear_velocity.z);
+    println!("sliding together: the upper box at {up_z:.5} m/s, the lower at {low_z:.5}");
+    assert!((up_z - low_z).abs() < 1e-3, "{up_z} against {low_z} m/s");
+    assert!(
+        ((up_z + low_z) - slide.z).abs() < 2e-3,
+        "the pair's momentum {} against {}",
+        mass * (up_z + low_z),
+        mass * slide.z
     );
 }

@@ -167,13 +167,10 @@ fn close_step_gaps(world: &mut World, window: &crate::moved_bodies::EngineWindow
         .map(|(&e, &s)| (e, s))
         .collect();
     for (entity, slot) in slots {
-        let Some(Some(push)) = window.impulses.get(&slot).copied() else {
+        // The device's steps and avian's must cover the same water time.
+        let Some(push) = window.covered_impulse(slot) else {
             continue;
         };
-        // The device's steps and avian's must cover the same water time.
-        if (push.duration as f64 - window.seconds).abs() > 1e-4 {
-            continue;
-        }
         let applied = world
             .resource::<SphMovedBodies>()
             .engine_pushes
@@ -258,17 +255,14 @@ fn hand_engine_pushes(
     let moved = world.resource::<SphMovedBodies>();
     let mut pushes = HashMap::new();
     for (entity, slot) in &moved.slots {
-        let (Some((model, start)), Some((_, end)), Some(Some(water)), true) = (
+        let (Some((model, start)), Some((_, end)), Some(water), true) = (
             before.get(entity),
             after.get(entity),
-            window.impulses.get(slot),
+            window.covered_impulse(*slot),
             whole,
         ) else {
             continue;
         };
-        if (water.duration as f64 - window.seconds).abs() > 1e-4 {
-            continue;
-        }
         let push = EnginePush::measured(
             model,
             start,

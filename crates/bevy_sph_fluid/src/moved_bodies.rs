@@ -50,6 +50,15 @@ pub struct EngineWindow {
     pub newest: HashMap<u32, FrameRecord>,
 }
 
+impl EngineWindow {
+    /// `slot`'s water impulse over the window when the device's steps cover the water time the
+    /// engine steps (within 0.1 ms); `None` otherwise, or when some of its frames were lost.
+    pub fn covered_impulse(&self, slot: u32) -> Option<WindowImpulse> {
+        let impulse = (*self.impulses.get(&slot)?)?;
+        ((impulse.duration as f64 - self.seconds).abs() <= 1e-4).then_some(impulse)
+    }
+}
+
 /// The moved bodies' bookkeeping.
 #[derive(Resource, Default)]
 pub struct SphMovedBodies {

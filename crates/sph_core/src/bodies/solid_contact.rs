@@ -19,19 +19,26 @@
 //!   The engine's contact between two bodies comes a readback late, as with the solids: a box
 //!   resting on a floating box sank into it for three frames on the device, and the engine's
 //!   late correction threw both out of the tank.
+//! - **Friction between bodies** ([`support_friction`]): where one body rests on another (a push
+//!   within 45° of up or down), Coulomb's friction draws the pair's velocities at the contact
+//!   together, by at most μ g dt a step for the upper body ([`friction_step`]: its weight is the
+//!   load) and the same impulse for the lower one, so the pair's momentum is kept. Without it a
+//!   crate on a rocking raft slid off on the device, avian's friction reaching it a readback
+//!   late. The solids and the walls do not rub: the water's own slip at them is the scenes' to set.
 //! - **The resolution**: per world axis and sign the largest push of the step moves the body
 //!   (a position projection, as the engine's contacts do), the samples' pushes first and then
 //!   the walls' ([`box_push`] at the moved pose: the walls give way to nothing, so a box pressed
 //!   onto one resting on the floor does not push it into the floor), and the velocity into the
 //!   pushes is taken away: along a push, the body keeps at least the velocity of what pushes it,
 //!   zero for a solid and the pair's common velocity (m v + m_other v_other) / (m + m_other) for
-//!   a body, a perfectly inelastic contact that keeps the pair's momentum. The body does not
-//!   turn: its rotation is the engine's to correct.
+//!   a body, a perfectly inelastic contact that keeps the pair's momentum; then the friction
+//!   moves the horizontal velocity toward its targets. The body does not turn: its rotation is
+//!   the engine's to correct.
 
 use crate::bodies::rigid_step::{conjugate, rotate, RigidState};
 use crate::boundary::collider::{Collider, ColliderShape, Pose};
 use crate::container::BoxContainer;
-use glam::{Quat, Vec3};
+use glam::{Quat, Vec2, Vec3};
 
 /// The largest push along each world axis, in each direction, of one step's contacts [m], with
 /// the least velocity each direction's pushers leave the body.
@@ -46,6 +53,13 @@ pub struct AxisPush {
     pub positive_floor: Vec3,
     /// Where pushed along −axis, the body's velocity along −axis is at least this [m/s].
     pub negative_floor: Vec3,
+    /// The least horizontal velocity (x, z) the friction of a resting contact draws the body to
+    /// [m/s] (+∞: no such contact).
+    pub friction_low: Vec2,
+    /// The largest horizontal velocity (x, z) the friction draws the body to [m/s] (−∞: none).
+    pub friction_high: Vec2,
+    /// The most the friction changes the horizontal velocity in the step [m/s] (0: none).
+    pub friction_limit: f32,
 }
 
 impl Default for AxisPush {
@@ -55,6 +69,9 @@ impl Default for AxisPush {
             negative: Vec3::ZERO,
             positive_floor: Vec3::NEG_INFINITY,
             negative_floor: Vec3::NEG_INFINITY,
+            friction_low: Vec2::INFINITY,
+            friction_high: Vec2::NEG_INFINITY,
+            friction_limit: 0.0,
         }
     }
 }
@@ -74,12 +91,23 @@ impl AxisPush {
         }
     }
 
+    /// Adds a resting contact's friction: it draws the body's velocity toward `target` (its
+    /// horizontal components) by at most `limit` [m/s] in the step. Several contacts draw it
+    /// into the range of their targets, by the largest limit.
+    pub fn add_friction(&mut self, target: Vec3, limit: f32) {
+        let target = Vec2::new(target.x, target.z);
+        self.friction_low = self.friction_low.min(target);
+        self.friction_high = self.friction_high.max(target);
+        self.friction_limit = self.friction_limit.max(limit);
+    }
+
     /// Whether nothing pushes.
     pub fn is_empty(&self) -> bool {
         self.positive == Vec3::ZERO && self.negative == Vec3::ZERO
     }
 
-    /// `state` moved by the pushes, with its velocity into them raised to the floors.
+    /// `state` moved by the pushes, with its velocity into them raised to the floors and its
+    /// horizontal velocity moved toward the friction's targets.
     pub fn resolve(&self, state: &RigidState) -> RigidState {
         let mut v = state.linear_velocity;
         for a in 0..3 {
@@ -89,6 +117,13 @@ impl AxisPush {
             if self.negative[a] > 0.0 {
                 v[a] = v[a].min(-self.negative_floor[a]);
             }
+        }
+        if self.friction_limit > 0.0 {
+            let horizontal = Vec2::new(v.x, v.z);
+            let rub = (horizontal.clamp(self.friction_low, self.friction_high) - horizontal)
+                .clamp_length_max(self.friction_limit);
+            v.x += rub.x;
+            v.z += rub.y;
         }
         RigidState {
             position: state.position + self.positive - self.negative,
@@ -107,6 +142,33 @@ pub fn common_velocity(m: f32, v: Vec3, m_other: f32, v_other: Vec3) -> Vec3 {
 /// A body's share of the push out of another body it moves: m_other / (m + m_other).
 pub fn push_share(m: f32, m_other: f32) -> f32 {
     m_other / (m + m_other)
+}
+
+/// Coulomb's friction coefficient between two bodies the device moves: avian's default
+/// (`Friction::default()`, 0.5 static and dynamic), which the scenes keep.
+pub const BODY_FRICTION: f32 = 0.5;
+
+/// The most a step of `dt` changes the sliding velocity of a body resting on another under its
+/// weight, gravity `g` [m/s²]: μ g dt ([`BODY_FRICTION`]).
+pub fn friction_step(g: f32, dt: f32) -> f32 {
+    BODY_FRICTION * g * dt
+}
+
+/// The most friction changes the horizontal velocity of a body of mass `m` in a step, pushed by
+/// `push` out of another body of mass `m_other` ([`body_push`]), with `friction` its
+/// [`friction_step`]: a push within 45° of up rests the body on the other, under its own
+/// weight (`friction`); within 45° of down the other rests on it, and the same impulse is a
+/// share m_other / m of that; a push from the side (bodies side by side) does not rub: its load
+/// is not known here.
+pub fn support_friction(push: Vec3, friction: f32, m: f32, m_other: f32) -> Option<f32> {
+    if push.y * push.y < push.x * push.x + push.z * push.z || push.y == 0.0 {
+        return None;
+    }
+    Some(if push.y > 0.0 {
+        friction
+    } else {
+        friction * m_other / m
+    })
 }
 
 /// The gap two bodies the device moves are pushed to at the start of a step of `dt` under
@@ -186,44 +248,55 @@ pub fn sample_push<'a>(
 }
 
 /// Another body the device moves, as one step's contacts see it: its collider at its pose of the
-/// step, its mass, its velocity, and whether a hinge holds it.
+/// step, its mass, its state, and whether a hinge holds it.
 #[derive(Clone, Copy, Debug)]
 pub struct MovedNeighbour<'a> {
     /// Its collider at its pose of the step.
     pub collider: &'a Collider,
     /// Its mass [kg].
     pub mass: f32,
-    /// Its centre of mass's velocity [m/s].
-    pub velocity: Vec3,
+    /// Its state of the step (centre of mass, velocities).
+    pub state: RigidState,
     /// Whether it turns about an axle (it then gives way to nothing along the push).
     pub hinged: bool,
 }
 
-/// One step's pushes on a free body of mass `m` at velocity `v` from its boundary samples
-/// `samples` (world, at the body's pose of the step; twin of body_placement.wgsl): each sample
-/// out of the `solids` to `depth`, its depth inside its body (half a spacing, the outer layer's:
-/// [`sample_push`]), and out of each of the `others` to `margin` (the depth and [`body_margin`]),
-/// with its share and the pair's common velocity ([`body_push`]).
+/// One step's pushes on a free body of mass `m` in `state` from its boundary samples `samples`
+/// (world, at the body's pose of the step; twin of body_placement.wgsl): each sample out of the
+/// `solids` to `depth`, its depth inside its body (half a spacing, the outer layer's:
+/// [`sample_push`]), and out of each of the `others` to `margin` (the depth and
+/// [`body_margin`]), with its share and the pair's common velocity ([`body_push`]), and where
+/// one rests on the other the friction ([`support_friction`] with `friction`, the
+/// [`friction_step`]) toward the velocity that draws the two points at the sample together:
+/// v + share (v_other(x) − v(x)), the pair's impulses equal and opposite. A hinged body neither
+/// gives way nor rubs.
 pub fn sample_pushes(
     samples: impl IntoIterator<Item = Vec3>,
-    depth: f32,
-    margin: f32,
-    (m, v): (f32, Vec3),
+    (depth, margin, friction): (f32, f32, f32),
+    (m, state): (f32, &RigidState),
     solids: &[Collider],
     others: &[MovedNeighbour],
 ) -> AxisPush {
     let mut push = AxisPush::default();
     for x in samples {
         for other in others {
-            let (share, velocity) = if other.hinged {
-                (1.0, Vec3::ZERO)
-            } else {
-                (
-                    push_share(m, other.mass),
-                    common_velocity(m, v, other.mass, other.velocity),
-                )
-            };
-            push.add(body_push(x, other.collider, share, margin), velocity);
+            if other.hinged {
+                push.add(body_push(x, other.collider, 1.0, margin), Vec3::ZERO);
+                continue;
+            }
+            let share = push_share(m, other.mass);
+            let out = body_push(x, other.collider, share, margin);
+            let common = common_velocity(
+                m,
+                state.linear_velocity,
+                other.mass,
+                other.state.linear_velocity,
+            );
+            push.add(out, common);
+            if let Some(limit) = support_friction(out, friction, m, other.mass) {
+                let slip = other.state.point_velocity(x) - state.point_velocity(x);
+                push.add_friction(state.linear_velocity + share * slip, limit);
+            }
         }
         push.add(sample_push(x, depth, solids), Vec3::ZERO);
     }
@@ -412,14 +485,17 @@ mod tests {
             let neighbour = MovedNeighbour {
                 collider: &upper,
                 mass: 1.0,
-                velocity: Vec3::new(0.0, -0.3, 0.0),
+                state: RigidState {
+                    position: upper.pose.translation,
+                    linear_velocity: Vec3::new(0.0, -0.3, 0.0),
+                    ..lower
+                },
                 hinged,
             };
             sample_pushes(
                 world(),
-                depth,
-                margin,
-                (1.0, lower.linear_velocity),
+                (depth, margin, friction_step(9.81, 1.0 / 120.0)),
+                (1.0, &lower),
                 &[],
                 &[neighbour],
             )
@@ -436,5 +512,86 @@ mod tests {
         let held = pushes(true);
         assert!((held.negative.y - 2.0 * expected).abs() < 1e-5, "{held:?}");
         assert_eq!(held.negative_floor.y, 0.0);
+    }
+
+    /// A crate sliding at `slide` over a raft three times its mass, 2 mm into it: each box's
+    /// pushes out of the other at the states given, resolved; the pair's new velocities.
+    fn rub(slide: f32, side_by_side: bool) -> (Vec3, Vec3) {
+        let (spacing, dt) = (0.01, 1.0 / 120.0);
+        let shape = ColliderShape::Cuboid {
+            half_extents: Vec3::splat(0.04),
+        };
+        let offset = if side_by_side {
+            Vec3::new(0.078, 0.0, 0.0)
+        } else {
+            Vec3::new(0.0, 0.078, 0.0)
+        };
+        let raft = RigidState {
+            position: Vec3::new(0.2, 0.1, 0.2),
+            rotation: Quat::IDENTITY,
+            linear_velocity: Vec3::ZERO,
+            angular_velocity: Vec3::ZERO,
+        };
+        let crate_ = RigidState {
+            position: raft.position + offset,
+            linear_velocity: Vec3::new(slide, 0.0, 0.0),
+            ..raft
+        };
+        let (m_crate, m_raft) = (1.0, 3.0);
+        let samples = crate::boundary::sampling::sample_shape(&shape, spacing).position;
+        let settings = (
+            0.5 * spacing,
+            0.5 * spacing + body_margin(9.81, dt),
+            friction_step(9.81, dt),
+        );
+        let resolve = |own: &RigidState, m: f32, other: &RigidState, m_other: f32| {
+            let collider = Collider::new(
+                shape.clone(),
+                Pose {
+                    translation: other.position,
+                    rotation: Quat::IDENTITY,
+                },
+            );
+            let neighbour = MovedNeighbour {
+                collider: &collider,
+                mass: m_other,
+                state: *other,
+                hinged: false,
+            };
+            let world = samples.iter().map(|&p| p + own.position);
+            let push = sample_pushes(world, settings, (m, own), &[], &[neighbour]);
+            assert!(!push.is_empty());
+            push.resolve(own).linear_velocity
+        };
+        (
+            resolve(&crate_, m_crate, &raft, m_raft),
+            resolve(&raft, m_raft, &crate_, m_crate),
+        )
+    }
+
+    #[test]
+    fn friction_draws_a_resting_pair_together_and_keeps_their_momentum() {
+        let limit = friction_step(9.81, 1.0 / 120.0);
+        // Sliding fast: the crate loses μ g dt, the raft gains the same impulse.
+        let (crate_, raft) = rub(0.5, false);
+        assert!((crate_.x - (0.5 - limit)).abs() < 1e-6, "{crate_}");
+        assert!((raft.x - limit / 3.0).abs() < 1e-6, "{raft}");
+        assert!((crate_.x + 3.0 * raft.x - 0.5).abs() < 1e-6);
+        assert_eq!((crate_.z, raft.z), (0.0, 0.0));
+        // A slip within the limit is taken whole: both at the pair's common velocity.
+        let (crate_, raft) = rub(0.02, false);
+        assert!((crate_.x - 0.005).abs() < 1e-6, "{crate_}");
+        assert!((raft.x - 0.005).abs() < 1e-6, "{raft}");
+        // Side by side, they push apart and do not rub.
+        let (crate_, raft) = rub(0.5, true);
+        assert_eq!((crate_.x, raft.x), (0.5, 0.0));
+        assert_eq!(
+            support_friction(Vec3::new(0.0, -1.0, 0.0), limit, 3.0, 1.0),
+            Some(limit / 3.0)
+        );
+        assert_eq!(
+            support_friction(Vec3::new(1.0, 0.5, 0.0), limit, 3.0, 1.0),
+            None
+        );
     }
 }

@@ -368,8 +368,9 @@ pub const GPU_BODY_RECORD_WORDS: usize = std::mem::size_of::<GpuBodyRecord>() / 
 pub const GPU_BODY_BYTES: usize =
     GPU_MOVED_BODIES * (std::mem::size_of::<GpuBodyInput>() + std::mem::size_of::<GpuBodyState>());
 /// Words of one body's contacts in a step (`sph_core::bodies::solid_contact::AxisPush`): the
-/// pushes along ±x, ±y, ±z, then the velocity floors along them.
-pub const GPU_BODY_CONTACT_WORDS: usize = 12;
+/// pushes along ±x, ±y, ±z, the velocity floors along them, then the friction's targets (the
+/// largest x, z, −x, −z) and its limit.
+pub const GPU_BODY_CONTACT_WORDS: usize = 17;
 /// Where the states start in the body region [bytes].
 pub const GPU_BODY_STATES_OFFSET: usize = GPU_MOVED_BODIES * std::mem::size_of::<GpuBodyInput>();
 

@@ -11,6 +11,8 @@ const RECORDS: u32 = 8u;
 const INPUT_WORDS: u32 = 64u;
 const STATE_WORDS: u32 = 340u;
 const RECORD_WORDS: u32 = 36u;
+// Coulomb's coefficient between two bodies the device moves (solid_contact::BODY_FRICTION).
+const BODY_FRICTION: f32 = 0.5;
 
 // GpuBodyInput's words.
 const IN_MASS: u32 = 0u;
@@ -264,10 +266,11 @@ fn corrected(s: Rigid, engine: Rigid, record: Rigid, since: f32) -> Rigid {
 }
 
 // The words of slot's contacts in a step (solid_contact::AxisPush).
-const CONTACT_WORDS: u32 = 12u;
+const CONTACT_WORDS: u32 = 17u;
 // Words 0..6: the pushes +x, +y, +z, -x, -y, -z, f32 bits of non-negative values, so they order
 // as u32. Words 6..12: the floors of the velocity along +x, +y, +z and along -x, -y, -z, as
-// ordered_bits (0: no floor).
+// ordered_bits (0: no floor). Words 12..16: the friction's targets, the largest x and z and the
+// largest -x and -z, as ordered_bits (0: none); word 16: its limit, f32 bits (0: none).
 fn contact_word(slot: u32, k: u32) -> u32 {
     return body_contacts_at(slot * CONTACT_WORDS + k);
 }
@@ -305,6 +308,30 @@ fn add_push(slot: u32, push: vec3<f32>, velocity: vec3<f32>) {
             atomicMax(&cell_counts[contact_word(slot, a + 9u)], ordered_bits(-velocity[a]));
         }
     }
+}
+
+// Adds a resting contact's friction to slot's step (solid_contact::AxisPush::add_friction): it
+// draws the horizontal velocity toward goal's by at most limit; several into their range.
+fn add_friction(slot: u32, goal: vec3<f32>, limit: f32) {
+    atomicMax(&cell_counts[contact_word(slot, 12u)], ordered_bits(goal.x));
+    atomicMax(&cell_counts[contact_word(slot, 13u)], ordered_bits(goal.z));
+    atomicMax(&cell_counts[contact_word(slot, 14u)], ordered_bits(-goal.x));
+    atomicMax(&cell_counts[contact_word(slot, 15u)], ordered_bits(-goal.z));
+    atomicMax(&cell_counts[contact_word(slot, 16u)], bitcast<u32>(limit));
+}
+
+// The most friction changes the horizontal velocity of a body of mass m in a step, pushed by
+// `push` out of a body of mass m_other (solid_contact::support_friction): `friction` (μ g dt)
+// where it rests on the other (a push within 45° of up), the same impulse's share
+// m_other / m where the other rests on it (within 45° of down), 0 from the side.
+fn support_friction(push: vec3<f32>, friction: f32, m: f32, m_other: f32) -> f32 {
+    if push.y * push.y < push.x * push.x + push.z * push.z || push.y == 0.0 {
+        return 0.0;
+    }
+    if push.y > 0.0 {
+        return friction;
+    }
+    return friction * m_other / m;
 }
 
 // How far a shape of `kind` and `size` (GpuCollider), turned by q, reaches from its origin along

@@ -11,8 +11,10 @@
 //    to the newer records; a frame no longer recorded is taken whole and counted;
 // 5. the contacts with the solids and the other bodies (sph_core::bodies::solid_contact): the
 //    samples' pushes the placement gathered, and the shape's reach past the box's faces; the
-//    largest push per axis and sign moves the body, and its velocity into the push is raised to
-//    the pushers' (a hinged body's axle holds it); the pushes are cleared for the next step;
+//    largest push per axis and sign moves the body, its velocity into the push is raised to
+//    the pushers', and where it rests on another body or carries one, friction moves its
+//    horizontal velocity toward the targets (a hinged body's axle holds it); the pushes are
+//    cleared for the next step;
 // 6. FRAME_END (the frame's last step): the frame's record.
 #import sph::bindings::{params, shared_state, grid, colliders, cell_counts}
 #import sph::body_reactions::{body_force_unit, body_moment_unit}
@@ -188,12 +190,29 @@ fn resolve_contacts(slot: u32, center_of_mass: vec3<f32>) {
         positive_floor[a] = from_ordered_bits(atomicExchange(&cell_counts[contact_word(slot, a + 6u)], 0u));
         negative_floor[a] = from_ordered_bits(atomicExchange(&cell_counts[contact_word(slot, a + 9u)], 0u));
     }
+    var friction_target: array<f32, 4>;
+    for (var k = 0u; k < 4u; k += 1u) {
+        friction_target[k] = from_ordered_bits(atomicExchange(&cell_counts[contact_word(slot, 12u + k)], 0u));
+    }
+    let friction_limit = bitcast<f32>(atomicExchange(&cell_counts[contact_word(slot, 16u)], 0u));
     if !held(slot) || frozen() || grid[input_word(slot, IN_HINGED)] != 0u {
         return;
     }
     let s = load_state(slot);
     var position = s.position + positive - negative;
     var v = pushed_velocity(s.linear_velocity, positive, negative, positive_floor, negative_floor);
+    if friction_limit > 0.0 {
+        let horizontal = vec2<f32>(v.x, v.z);
+        let low = vec2<f32>(-friction_target[2], -friction_target[3]);
+        let high = vec2<f32>(friction_target[0], friction_target[1]);
+        var rub = clamp(horizontal, low, high) - horizontal;
+        let length_rub = length(rub);
+        if length_rub > friction_limit {
+            rub *= friction_limit / length_rub;
+        }
+        v.x += rub.x;
+        v.z += rub.y;
+    }
     let o = origin(Rigid(position, s.rotation, v, s.angular_velocity), center_of_mass);
     var up = vec3<f32>(0.0);
     var down = vec3<f32>(0.0);

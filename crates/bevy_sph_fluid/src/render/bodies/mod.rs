@@ -57,6 +57,14 @@ mod tests {
         assert_eq!(word("STATE_WORDS") * 4, size_of::<GpuBodyState>());
         assert_eq!(word("RECORD_WORDS") * 4, size_of::<GpuBodyRecord>());
         assert_eq!(word("RECORDS"), sph_core::bodies::engine_handoff::RECORDS);
+        let friction = include_str!("bodies.wgsl")
+            .lines()
+            .find_map(|l| l.strip_prefix("const BODY_FRICTION: f32 = "))
+            .expect("bodies.wgsl has BODY_FRICTION");
+        assert_eq!(
+            friction.trim_end_matches(';').parse::<f32>().unwrap(),
+            sph_core::bodies::solid_contact::BODY_FRICTION
+        );
         let inputs = [
             ("IN_MASS", offset_of!(GpuBodyInput, mass)),
             (
