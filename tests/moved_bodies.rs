@@ -12,7 +12,8 @@ use sph_core::bodies::engine_handoff::FrameRecord;
 use sph_core::bodies::engine_push::EnginePush;
 use sph_core::bodies::rigid_step::{advance, RigidState};
 use sph_core::bodies::solid_contact::{
-    body_margin, box_push, friction_step, resolve_step, sample_pushes, support, MovedNeighbour,
+    body_margin, box_push, friction_step, resolve_bodies, resolve_solids, sample_pushes, support,
+    MovedNeighbour, Partner,
 };
 use sph_core::boundary::sampling::sample_shape;
 use sph_core::{BlockSpawn, BoxContainer, Collider, ColliderMotion, ColliderShape, Pose};
@@ -368,7 +369,8 @@ fn a_box_dropped_on_another_rests_on_it_on_the_device() {
     assert!(upper.len() >= 60, "{} records", upper.len());
     // Each box's frame against the twin's step from the frame before (one step a frame): its
     // samples' pushes at both boxes' states then (`sample_pushes`), its step under the water's
-    // force, then the pushes and the walls (`resolve_step`).
+    // force, the solids and the walls (`resolve_solids`), then the other box after its own
+    // first round (`resolve_bodies`).
     let model =
         bevy_sph_fluid::moved_bodies::body_model(&body, Vec3::ZERO, Quat::IDENTITY).unwrap();
     let local = sample_shape(&shape, params.spacing()).position;
@@ -381,46 +383,69 @@ fn a_box_dropped_on_another_rests_on_it_on_the_device() {
             },
         )
     };
+    let g = params.gravity.length();
     let (mut twin_pairs, mut pushed, mut rubbed, mut worst) = (0, 0, 0, [0.0f32; 2]);
-    for (k, own) in records.iter().enumerate() {
-        let other = &records[1 - k];
-        for (frame, before) in own {
-            let (Some(after), Some(other_before)) = (own.get(&(frame + 1)), other.get(frame))
-            else {
-                continue;
-            };
-            let (b, o) = (before.state, other_before.state);
-            let pose = collider_at(&b).pose;
-            let other_collider = collider_at(&o);
-            let dt = after.duration;
-            let g = params.gravity.length();
-            let push = sample_pushes(
-                local.iter().map(|&p| pose.to_world(p)),
-                (
-                    0.5 * params.spacing(),
-                    0.5 * params.spacing() + body_margin(g, dt),
-                    friction_step(g, dt),
-                ),
-                (mass, &b),
-                std::slice::from_ref(&divider),
-                &[MovedNeighbour {
-                    collider: &other_collider,
+    for (frame, lower_before) in lower {
+        let (Some(lower_after), Some(upper_before), Some(upper_after)) = (
+            lower.get(&(frame + 1)),
+            upper.get(frame),
+            upper.get(&(frame + 1)),
+        ) else {
+            continue;
+        };
+        let (before, after) = ([lower_before, upper_before], [lower_after, upper_after]);
+        let dt = after[0].duration;
+        // Each box's pushes, its step and its first round.
+        let first: Vec<_> = (0..2)
+            .map(|k| {
+                let (b, o) = (before[k].state, before[1 - k].state);
+                let pose = collider_at(&b).pose;
+                let other_collider = collider_at(&o);
+                let (solids, bodies) = sample_pushes(
+                    local.iter().map(|&p| pose.to_world(p)),
+                    (
+                        0.5 * params.spacing(),
+                        0.5 * params.spacing() + body_margin(g, dt),
+                        friction_step(g, dt),
+                    ),
                     mass,
-                    state: o,
-                    hinged: false,
-                }],
+                    std::slice::from_ref(&divider),
+                    &[MovedNeighbour {
+                        collider: &other_collider,
+                        mass,
+                        hinged: false,
+                    }],
+                );
+                let force = after[k].impulse / dt;
+                let moment = after[k].angular_impulse / dt + b.position.cross(force);
+                let stepped = advance(&model, &b, force, moment, dt);
+                let (state, supported) =
+                    resolve_solids(&solids, &stepped, &shape, model.center_of_mass, &container);
+                (bodies, state, supported)
+            })
+            .collect();
+        for k in 0..2 {
+            let (bodies, state, _) = &first[k];
+            let (_, other, supported) = &first[1 - k];
+            let partner = Partner {
+                mass,
+                velocity: other.linear_velocity,
+                supported: *supported,
+            };
+            let twin = resolve_bodies(
+                bodies,
+                (state, mass, &[partner]),
+                &shape,
+                model.center_of_mass,
+                &container,
             );
-            let force = after.impulse / dt;
-            let moment = after.angular_impulse / dt + b.position.cross(force);
-            let stepped = advance(&model, &b, force, moment, dt);
-            let twin = resolve_step(&push, &stepped, &shape, model.center_of_mass, &container);
-            worst[0] = worst[0].max((twin.position - after.state.position).length());
-            worst[1] = worst[1].max((twin.linear_velocity - after.state.linear_velocity).length());
+            worst[0] = worst[0].max((twin.position - after[k].state.position).length());
+            worst[1] =
+                worst[1].max((twin.linear_velocity - after[k].state.linear_velocity).length());
             twin_pairs += 1;
-            pushed += (!push.is_empty()) as usize;
-            rubbed += (push.friction_limit > 0.0
-                && (b.linear_velocity.z - o.linear_velocity.z).abs() > 1e-3)
-                as usize;
+            pushed += (!bodies.is_empty()) as usize;
+            let slip = before[k].state.linear_velocity.z - before[1 - k].state.linear_velocity.z;
+            rubbed += (bodies.friction_limit > 0.0 && slip.abs() > 1e-3) as usize;
         }
     }
     println!(

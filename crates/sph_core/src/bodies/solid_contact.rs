@@ -20,28 +20,34 @@
 //!   resting on a floating box sank into it for three frames on the device, and the engine's
 //!   late correction threw both out of the tank.
 //! - **Friction between bodies** ([`support_friction`]): where one body rests on another (a push
-//!   within 45° of up or down), Coulomb's friction draws the pair's velocities at the contact
+//!   within 45° of up or down), Coulomb's friction draws the pair's horizontal velocities
 //!   together, by at most μ g dt a step for the upper body ([`friction_step`]: its weight is the
-//!   load) and the same impulse for the lower one, so the pair's momentum is kept. Without it a
-//!   crate on a rocking raft slid off on the device, avian's friction reaching it a readback
-//!   late. The solids and the walls do not rub: the water's own slip at them is the scenes' to set.
-//! - **The resolution**: per world axis and sign the largest push of the step moves the body
+//!   load) and the same impulse for the lower one, so the pair's momentum is kept. The solids
+//!   and the walls do not rub: the water's own slip at them is the scenes' to set.
+//! - **The resolution**, in two rounds over all the bodies. First the solids and the walls
+//!   ([`resolve_solids`]): per world axis and sign the largest push of the step moves the body
 //!   (a position projection, as the engine's contacts do), the samples' pushes first and then
-//!   the walls' ([`box_push`] at the moved pose: the walls give way to nothing, so a box pressed
-//!   onto one resting on the floor does not push it into the floor), and the velocity into the
-//!   pushes is taken away: along a push, the body keeps at least the velocity of what pushes it,
-//!   zero for a solid and the pair's common velocity (m v + m_other v_other) / (m + m_other) for
-//!   a body, a perfectly inelastic contact that keeps the pair's momentum; then the friction
-//!   moves the horizontal velocity toward its targets. The body does not turn: its rotation is
-//!   the engine's to correct.
+//!   the walls' ([`box_push`] at the moved pose), and along a push the body keeps at least the
+//!   solid's velocity (zero for a solid at rest). Then the other bodies ([`resolve_bodies`]),
+//!   from every body's velocity after the first round: along a push the body keeps at least
+//!   the other's velocity where the other gives way to nothing along it (a solid or a wall
+//!   pushed it that way), and the pair's common velocity (m v + m_other v_other) /
+//!   (m + m_other) otherwise, a perfectly inelastic contact that keeps the pair's momentum;
+//!   friction moves the horizontal velocity toward the same velocity; the walls come last
+//!   again, as they give way to nothing (a box pressed onto one resting on the floor does not
+//!   push it into the floor). The velocities must be those after the step's advance: from the
+//!   step's start, the contact holds an upper body up against its fall of the step but takes
+//!   nothing from the lower one, whose water force the advance has already added, so the upper
+//!   body's weight never reaches it. The body does not turn: its rotation is the engine's to
+//!   correct.
 
 use crate::bodies::rigid_step::{conjugate, rotate, RigidState};
 use crate::boundary::collider::{Collider, ColliderShape, Pose};
 use crate::container::BoxContainer;
 use glam::{Quat, Vec2, Vec3};
 
-/// The largest push along each world axis, in each direction, of one step's contacts [m], with
-/// the least velocity each direction's pushers leave the body.
+/// The largest push along each world axis, in each direction, of one step's contacts with the
+/// solids and the walls [m], with the least velocity each direction's pushers leave the body.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisPush {
     /// Along +x, +y, +z (≥ 0).
@@ -53,13 +59,6 @@ pub struct AxisPush {
     pub positive_floor: Vec3,
     /// Where pushed along −axis, the body's velocity along −axis is at least this [m/s].
     pub negative_floor: Vec3,
-    /// The least horizontal velocity (x, z) the friction of a resting contact draws the body to
-    /// [m/s] (+∞: no such contact).
-    pub friction_low: Vec2,
-    /// The largest horizontal velocity (x, z) the friction draws the body to [m/s] (−∞: none).
-    pub friction_high: Vec2,
-    /// The most the friction changes the horizontal velocity in the step [m/s] (0: none).
-    pub friction_limit: f32,
 }
 
 impl Default for AxisPush {
@@ -69,16 +68,21 @@ impl Default for AxisPush {
             negative: Vec3::ZERO,
             positive_floor: Vec3::NEG_INFINITY,
             negative_floor: Vec3::NEG_INFINITY,
-            friction_low: Vec2::INFINITY,
-            friction_high: Vec2::NEG_INFINITY,
-            friction_limit: 0.0,
         }
     }
 }
 
+/// The directions of the pushes `positive` and `negative` as bits: bit a for +axis a, bit 3 + a
+/// for −axis a.
+pub fn push_directions(positive: Vec3, negative: Vec3) -> u32 {
+    (0..3).fold(0, |bits, a| {
+        bits | (u32::from(positive[a] > 0.0) << a) | (u32::from(negative[a] > 0.0) << (a + 3))
+    })
+}
+
 impl AxisPush {
-    /// Adds a push by a pusher moving at `velocity` (zero for a solid): per axis and sign, the
-    /// largest push and the largest floor are kept.
+    /// Adds a push by a solid moving at `velocity` (zero for one at rest): per axis and sign,
+    /// the largest push and the largest floor are kept.
     pub fn add(&mut self, push: Vec3, velocity: Vec3) {
         for a in 0..3 {
             if push[a] > 0.0 {
@@ -91,23 +95,17 @@ impl AxisPush {
         }
     }
 
-    /// Adds a resting contact's friction: it draws the body's velocity toward `target` (its
-    /// horizontal components) by at most `limit` [m/s] in the step. Several contacts draw it
-    /// into the range of their targets, by the largest limit.
-    pub fn add_friction(&mut self, target: Vec3, limit: f32) {
-        let target = Vec2::new(target.x, target.z);
-        self.friction_low = self.friction_low.min(target);
-        self.friction_high = self.friction_high.max(target);
-        self.friction_limit = self.friction_limit.max(limit);
-    }
-
     /// Whether nothing pushes.
     pub fn is_empty(&self) -> bool {
         self.positive == Vec3::ZERO && self.negative == Vec3::ZERO
     }
 
-    /// `state` moved by the pushes, with its velocity into them raised to the floors and its
-    /// horizontal velocity moved toward the friction's targets.
+    /// The directions it pushes along ([`push_directions`]).
+    pub fn directions(&self) -> u32 {
+        push_directions(self.positive, self.negative)
+    }
+
+    /// `state` moved by the pushes, with its velocity into them raised to the floors.
     pub fn resolve(&self, state: &RigidState) -> RigidState {
         let mut v = state.linear_velocity;
         for a in 0..3 {
@@ -118,19 +116,64 @@ impl AxisPush {
                 v[a] = v[a].min(-self.negative_floor[a]);
             }
         }
-        if self.friction_limit > 0.0 {
-            let horizontal = Vec2::new(v.x, v.z);
-            let rub = (horizontal.clamp(self.friction_low, self.friction_high) - horizontal)
-                .clamp_length_max(self.friction_limit);
-            v.x += rub.x;
-            v.z += rub.y;
-        }
         RigidState {
             position: state.position + self.positive - self.negative,
             linear_velocity: v,
             ..*state
         }
     }
+}
+
+/// One step's pushes out of the other bodies the device moves: per axis and sign the largest
+/// [m], the bodies that pushed, and the friction's limit. Their velocity floors come from the
+/// partners' velocities once every body has met its solids ([`resolve_bodies`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyPushes {
+    /// Along +x, +y, +z (≥ 0).
+    pub positive: Vec3,
+    /// Along −x, −y, −z (≥ 0).
+    pub negative: Vec3,
+    /// The bodies that pushed, as bits of their index among the step's neighbours (the GPU:
+    /// their collider slots).
+    pub partners: u32,
+    /// The most the friction of a resting contact changes the horizontal velocity in the step
+    /// [m/s] (0: none).
+    pub friction_limit: f32,
+}
+
+impl BodyPushes {
+    /// Adds a push out of `partner` (its index, below 32), with its friction's limit where one
+    /// body rests on the other ([`support_friction`]).
+    pub fn add(&mut self, push: Vec3, partner: usize, friction: Option<f32>) {
+        for a in 0..3 {
+            self.positive[a] = self.positive[a].max(push[a]);
+            self.negative[a] = self.negative[a].max(-push[a]);
+        }
+        if push != Vec3::ZERO && partner < 32 {
+            self.partners |= 1 << partner;
+        }
+        if let Some(limit) = friction {
+            self.friction_limit = self.friction_limit.max(limit);
+        }
+    }
+
+    /// Whether nothing pushes.
+    pub fn is_empty(&self) -> bool {
+        self.positive == Vec3::ZERO && self.negative == Vec3::ZERO
+    }
+}
+
+/// Another body the device moves, as a step's contacts between bodies see it: after its own
+/// advance and its solids and walls ([`resolve_solids`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Partner {
+    /// Its mass [kg].
+    pub mass: f32,
+    /// Its centre of mass's velocity [m/s].
+    pub velocity: Vec3,
+    /// The directions a solid or a wall pushed it along ([`push_directions`]): along those it
+    /// gives way to nothing.
+    pub supported: u32,
 }
 
 /// The velocity two bodies in contact share after a perfectly inelastic contact: mass `m` at
@@ -248,79 +291,128 @@ pub fn sample_push<'a>(
 }
 
 /// Another body the device moves, as one step's contacts see it: its collider at its pose of the
-/// step, its mass, its state, and whether a hinge holds it.
+/// step, its mass, and whether a hinge holds it.
 #[derive(Clone, Copy, Debug)]
 pub struct MovedNeighbour<'a> {
     /// Its collider at its pose of the step.
     pub collider: &'a Collider,
     /// Its mass [kg].
     pub mass: f32,
-    /// Its state of the step (centre of mass, velocities).
-    pub state: RigidState,
     /// Whether it turns about an axle (it then gives way to nothing along the push).
     pub hinged: bool,
 }
 
-/// One step's pushes on a free body of mass `m` in `state` from its boundary samples `samples`
-/// (world, at the body's pose of the step; twin of body_placement.wgsl): each sample out of the
-/// `solids` to `depth`, its depth inside its body (half a spacing, the outer layer's:
-/// [`sample_push`]), and out of each of the `others` to `margin` (the depth and
-/// [`body_margin`]), with its share and the pair's common velocity ([`body_push`]), and where
-/// one rests on the other the friction ([`support_friction`] with `friction`, the
-/// [`friction_step`]) toward the velocity that draws the two points at the sample together:
-/// v + share (v_other(x) − v(x)), the pair's impulses equal and opposite. A hinged body neither
-/// gives way nor rubs.
+/// One step's pushes on a free body of mass `m` from its boundary samples `samples` (world, at
+/// the body's pose of the step; twin of body_placement.wgsl): each sample out of the `solids` to
+/// `depth`, its depth inside its body (half a spacing, the outer layer's: [`sample_push`]), and
+/// out of each of the `others` to `margin` (the depth and [`body_margin`]) for its share
+/// ([`body_push`]), with the friction's limit where one rests on the other
+/// ([`support_friction`] with `friction`, the [`friction_step`]). A hinged body gives way to
+/// nothing and does not rub: it pushes as a solid at rest.
 pub fn sample_pushes(
     samples: impl IntoIterator<Item = Vec3>,
     (depth, margin, friction): (f32, f32, f32),
-    (m, state): (f32, &RigidState),
+    m: f32,
     solids: &[Collider],
     others: &[MovedNeighbour],
-) -> AxisPush {
-    let mut push = AxisPush::default();
+) -> (AxisPush, BodyPushes) {
+    let (mut solid, mut bodies) = (AxisPush::default(), BodyPushes::default());
     for x in samples {
-        for other in others {
+        for (k, other) in others.iter().enumerate() {
             if other.hinged {
-                push.add(body_push(x, other.collider, 1.0, margin), Vec3::ZERO);
+                solid.add(body_push(x, other.collider, 1.0, margin), Vec3::ZERO);
                 continue;
             }
-            let share = push_share(m, other.mass);
-            let out = body_push(x, other.collider, share, margin);
-            let common = common_velocity(
-                m,
-                state.linear_velocity,
-                other.mass,
-                other.state.linear_velocity,
-            );
-            push.add(out, common);
-            if let Some(limit) = support_friction(out, friction, m, other.mass) {
-                let slip = other.state.point_velocity(x) - state.point_velocity(x);
-                push.add_friction(state.linear_velocity + share * slip, limit);
-            }
+            let out = body_push(x, other.collider, push_share(m, other.mass), margin);
+            bodies.add(out, k, support_friction(out, friction, m, other.mass));
         }
-        push.add(sample_push(x, depth, solids), Vec3::ZERO);
+        solid.add(sample_push(x, depth, solids), Vec3::ZERO);
     }
-    push
+    (solid, bodies)
 }
 
-/// A free body's state after a step's contacts (twin of body_motion.wgsl's `resolve_contacts`):
+/// A free body after a step's solids and walls (twin of body_motion.wgsl's `resolve_solids`):
 /// `stepped` (the body after [`crate::bodies::rigid_step::advance`]) moved by its samples'
-/// pushes `push` ([`sample_pushes`]), then by the walls of `container` at the pose that gives
-/// (`shape` with its centre of mass at `center_of_mass` in its frame): the walls give way to
-/// nothing, so they come last.
-pub fn resolve_step(
+/// pushes out of the solids `push` ([`sample_pushes`]), then by the walls of `container` at the
+/// pose that gives (`shape` with its centre of mass at `center_of_mass` in its frame); with the
+/// directions they pushed it along, in which it gives way to nothing ([`Partner::supported`]).
+pub fn resolve_solids(
     push: &AxisPush,
     stepped: &RigidState,
     shape: &ColliderShape,
     center_of_mass: Vec3,
     container: &BoxContainer,
-) -> RigidState {
+) -> (RigidState, u32) {
     let pushed = push.resolve(stepped);
-    let pose = Pose {
-        translation: pushed.origin(center_of_mass),
-        rotation: pushed.rotation,
+    let walls = box_push(shape, pose_of(&pushed, center_of_mass), container);
+    (
+        walls.resolve(&pushed),
+        push.directions() | walls.directions(),
+    )
+}
+
+fn pose_of(state: &RigidState, center_of_mass: Vec3) -> Pose {
+    Pose {
+        translation: state.origin(center_of_mass),
+        rotation: state.rotation,
+    }
+}
+
+/// A free body of mass `mass` after a step's contacts with the other bodies (twin of
+/// body_motion.wgsl's `resolve_bodies`): `state` (after [`resolve_solids`]) moved by the pushes
+/// `pushes` out of its `partners` (by index, each after its own solids), its velocity along
+/// each push raised to the partner's where a solid pushed the partner the same way (it gives
+/// way to nothing along it), and to the pair's common velocity (m v + m_p v_p) / (m + m_p)
+/// otherwise (the partner's own resolution meets the same value from the other side, so the
+/// pair's momentum is kept); where one rests on the other, friction moves the horizontal
+/// velocity toward the common velocity, by at most the limit (the solids do not rub, so the
+/// pair's momentum along them is kept too). The walls come last again: they give way to
+/// nothing.
+pub fn resolve_bodies(
+    pushes: &BodyPushes,
+    (state, mass, partners): (&RigidState, f32, &[Partner]),
+    shape: &ColliderShape,
+    center_of_mass: Vec3,
+    container: &BoxContainer,
+) -> RigidState {
+    if pushes.is_empty() {
+        return *state;
+    }
+    let mut floors = AxisPush {
+        positive: pushes.positive,
+        negative: pushes.negative,
+        ..AxisPush::default()
     };
-    box_push(shape, pose, container).resolve(&pushed)
+    let (mut low, mut high) = (Vec2::INFINITY, Vec2::NEG_INFINITY);
+    for (k, partner) in partners.iter().enumerate().take(32) {
+        if pushes.partners & (1 << k) == 0 {
+            continue;
+        }
+        let common = common_velocity(mass, state.linear_velocity, partner.mass, partner.velocity);
+        // Along a direction a solid pushed the partner, it gives way to nothing.
+        let along = |bit: u32, a: usize| {
+            if partner.supported & (1 << bit) != 0 {
+                partner.velocity[a]
+            } else {
+                common[a]
+            }
+        };
+        for a in 0..3 {
+            floors.positive_floor[a] = floors.positive_floor[a].max(along(a as u32, a));
+            floors.negative_floor[a] = floors.negative_floor[a].max(-along(a as u32 + 3, a));
+        }
+        low = low.min(Vec2::new(common.x, common.z));
+        high = high.max(Vec2::new(common.x, common.z));
+    }
+    let mut out = floors.resolve(state);
+    if pushes.friction_limit > 0.0 && low.x <= high.x {
+        let horizontal = Vec2::new(out.linear_velocity.x, out.linear_velocity.z);
+        let rub =
+            (horizontal.clamp(low, high) - horizontal).clamp_length_max(pushes.friction_limit);
+        out.linear_velocity.x += rub.x;
+        out.linear_velocity.z += rub.y;
+    }
+    box_push(shape, pose_of(&out, center_of_mass), container).resolve(&out)
 }
 
 #[cfg(test)]
@@ -379,8 +471,10 @@ mod tests {
         assert_eq!(out.angular_velocity, Vec3::Z);
     }
 
-    /// A light box pushed up out of a heavier one sinking at 0.1 m/s keeps the pair's common
-    /// velocity along the push, not zero: their momentum is kept.
+    /// A light box pushed up out of a heavier one: both end the step at the pair's common
+    /// velocity from their velocities after the advance (the lower one's slowed by the water),
+    /// so their momentum is kept; on a partner that gives way to nothing along the push, the
+    /// box keeps the partner's velocity.
     #[test]
     fn a_push_by_a_body_leaves_the_pairs_common_velocity() {
         let (m, m_other) = (1.0, 3.0);
@@ -388,27 +482,70 @@ mod tests {
         let common = common_velocity(m, v, m_other, v_other);
         assert!((common.y - -0.2).abs() < 1e-6, "{common}");
         assert!((push_share(m, m_other) - 0.75).abs() < 1e-6);
-        let mut push = AxisPush::default();
-        push.add(Vec3::new(0.0, 0.004, 0.0), common);
+        let shape = ColliderShape::Sphere { radius: 0.01 };
+        let open = BoxContainer::from_min_max(Vec3::splat(-1.0), Vec3::splat(1.0));
+        let mut up = BodyPushes::default();
+        up.add(Vec3::new(0.0, 0.004, 0.0), 1, None);
+        assert_eq!(up.partners, 0b10);
         let state = RigidState {
             position: Vec3::ZERO,
             rotation: Quat::IDENTITY,
             linear_velocity: v,
             angular_velocity: Vec3::ZERO,
         };
-        let out = push.resolve(&state);
+        let partners = |supported| {
+            [
+                Partner {
+                    mass: 99.0,
+                    velocity: Vec3::splat(9.0),
+                    supported: 0,
+                },
+                Partner {
+                    mass: m_other,
+                    velocity: v_other,
+                    supported,
+                },
+            ]
+        };
+        let resolve = |pushes: &BodyPushes, state: &RigidState, m: f32, partners: &[Partner]| {
+            resolve_bodies(pushes, (state, m, partners), &shape, Vec3::ZERO, &open)
+        };
+        let out = resolve(&up, &state, m, &partners(0));
         assert_eq!(out.linear_velocity, Vec3::new(0.2, common.y, 0.0));
+        assert_eq!(out.position, Vec3::new(0.0, 0.004, 0.0));
         // Its partner, pushed down by the rest, meets the same velocity from above.
-        let mut back = AxisPush::default();
-        back.add(Vec3::new(0.0, -0.001, 0.0), common);
+        let mut down = BodyPushes::default();
+        down.add(Vec3::new(0.0, -0.001, 0.0), 0, None);
         let partner = RigidState {
             linear_velocity: v_other,
             ..state
         };
-        let out_other = back.resolve(&partner);
+        let me = [Partner {
+            mass: m,
+            velocity: v,
+            supported: 0,
+        }];
+        let out_other = resolve(&down, &partner, m_other, &me);
         assert!((out_other.linear_velocity.y - common.y).abs() < 1e-6);
         let momentum = m * out.linear_velocity.y + m_other * out_other.linear_velocity.y;
         assert!((momentum - (m * v.y + m_other * v_other.y)).abs() < 1e-6);
+        // Held up by a solid under it, the partner gives way to nothing: its own velocity.
+        let held = resolve(
+            &up,
+            &state,
+            m,
+            &partners(push_directions(Vec3::Y, Vec3::ZERO)),
+        );
+        assert_eq!(held.linear_velocity, Vec3::new(0.2, v_other.y, 0.0));
+        // Parting already, the box is not held back.
+        let parting = RigidState {
+            linear_velocity: Vec3::new(0.2, 0.5, 0.0),
+            ..state
+        };
+        assert_eq!(
+            resolve(&up, &parting, m, &partners(0)).linear_velocity,
+            parting.linear_velocity
+        );
     }
 
     #[test]
@@ -453,9 +590,11 @@ mod tests {
         );
     }
 
-    /// A box on the floor with a box of the same mass pressed 2 mm into its top: its top samples
-    /// push it down by its half share, and the floor, resolved last, puts it back on the floor
-    /// with no velocity into it; a hinged box above takes none of the push off it.
+    /// A box on the floor (1 mm into it after its step) with a box of the same mass pressed
+    /// 2 mm into its top: the floor holds it up, so it gives way to nothing downward; its top
+    /// samples push it down by its half share, and the floor, resolved last again, puts it back
+    /// with no velocity into it, while the upper box keeps the lower one's velocity (it rests);
+    /// a hinged box above pushes as a solid and takes none of the push off it.
     #[test]
     fn the_walls_come_after_the_pushes_between_bodies() {
         let spacing = 0.01;
@@ -463,59 +602,86 @@ mod tests {
             half_extents: Vec3::splat(0.04),
         };
         let lower = RigidState {
-            position: Vec3::new(0.2, 0.04, 0.2),
+            position: Vec3::new(0.2, 0.039, 0.2),
             rotation: Quat::IDENTITY,
             linear_velocity: Vec3::new(0.0, -0.1, 0.0),
             angular_velocity: Vec3::ZERO,
         };
-        let upper = Collider::new(
-            shape.clone(),
-            Pose {
-                translation: Vec3::new(0.2, 0.118, 0.2),
-                rotation: Quat::IDENTITY,
-            },
-        );
+        let upper = RigidState {
+            position: Vec3::new(0.2, 0.117, 0.2),
+            linear_velocity: Vec3::new(0.0, -0.3, 0.0),
+            ..lower
+        };
+        let collider =
+            |state: &RigidState| Collider::new(shape.clone(), pose_of(state, Vec3::ZERO));
         let samples = crate::boundary::sampling::sample_shape(&shape, spacing).position;
-        let world = || samples.iter().map(|&p| p + lower.position);
         let (depth, margin) = (
             0.5 * spacing,
             0.5 * spacing + body_margin(9.81, 1.0 / 120.0),
         );
-        let pushes = |hinged: bool| {
+        let pushes = |own: &RigidState, other: &RigidState, hinged: bool| {
+            let other = collider(other);
             let neighbour = MovedNeighbour {
-                collider: &upper,
+                collider: &other,
                 mass: 1.0,
-                state: RigidState {
-                    position: upper.pose.translation,
-                    linear_velocity: Vec3::new(0.0, -0.3, 0.0),
-                    ..lower
-                },
                 hinged,
             };
             sample_pushes(
-                world(),
+                samples.iter().map(|&p| p + own.position),
                 (depth, margin, friction_step(9.81, 1.0 / 120.0)),
-                (1.0, &lower),
+                1.0,
                 &[],
                 &[neighbour],
             )
         };
-        let push = pushes(false);
+        let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::splat(0.4));
+        let (lower_solids, lower_bodies) = pushes(&lower, &upper, false);
+        let (upper_solids, upper_bodies) = pushes(&upper, &lower, false);
         // Half of the 2 mm overlap and the margin past the surface.
         let expected = 0.5 * (0.002 + body_margin(9.81, 1.0 / 120.0));
-        assert!((push.negative.y - expected).abs() < 1e-5, "{push:?}");
-        assert!((push.negative_floor.y - 0.2).abs() < 1e-6, "{push:?}");
-        let container = BoxContainer::from_min_max(Vec3::ZERO, Vec3::splat(0.4));
-        let out = resolve_step(&push, &lower, &shape, Vec3::ZERO, &container);
-        assert!((out.position.y - 0.04).abs() < 1e-6, "{out:?}");
-        assert_eq!(out.linear_velocity.y, 0.0);
-        let held = pushes(true);
+        assert!(
+            (lower_bodies.negative.y - expected).abs() < 1e-5,
+            "{lower_bodies:?}"
+        );
+        assert_eq!(lower_bodies.partners, 1);
+        assert!(lower_solids.is_empty() && upper_solids.is_empty());
+        let (lower_1, lower_supported) =
+            resolve_solids(&lower_solids, &lower, &shape, Vec3::ZERO, &container);
+        let (upper_1, upper_supported) =
+            resolve_solids(&upper_solids, &upper, &shape, Vec3::ZERO, &container);
+        assert_eq!((lower_supported, upper_supported), (1 << 1, 0));
+        assert!((lower_1.position.y - 0.04).abs() < 1e-6, "{lower_1:?}");
+        assert_eq!(lower_1.linear_velocity.y, 0.0);
+        let partner = |state: &RigidState, supported| Partner {
+            mass: 1.0,
+            velocity: state.linear_velocity,
+            supported,
+        };
+        let lower_2 = resolve_bodies(
+            &lower_bodies,
+            (&lower_1, 1.0, &[partner(&upper_1, upper_supported)]),
+            &shape,
+            Vec3::ZERO,
+            &container,
+        );
+        assert!((lower_2.position.y - 0.04).abs() < 1e-6, "{lower_2:?}");
+        assert_eq!(lower_2.linear_velocity.y, 0.0);
+        let upper_2 = resolve_bodies(
+            &upper_bodies,
+            (&upper_1, 1.0, &[partner(&lower_1, lower_supported)]),
+            &shape,
+            Vec3::ZERO,
+            &container,
+        );
+        assert_eq!(upper_2.linear_velocity.y, 0.0, "{upper_2:?}");
+        let (held, held_bodies) = pushes(&lower, &upper, true);
         assert!((held.negative.y - 2.0 * expected).abs() < 1e-5, "{held:?}");
-        assert_eq!(held.negative_floor.y, 0.0);
+        assert_eq!((held.negative_floor.y, held_bodies.partners), (0.0, 0));
     }
 
-    /// A crate sliding at `slide` over a raft three times its mass, 2 mm into it: each box's
-    /// pushes out of the other at the states given, resolved; the pair's new velocities.
+    /// A crate sliding at `slide` over a raft three times its mass, 2 mm into it, in open water:
+    /// each box's pushes out of the other at the states given, resolved; the pair's new
+    /// velocities.
     fn rub(slide: f32, side_by_side: bool) -> (Vec3, Vec3) {
         let (spacing, dt) = (0.01, 1.0 / 120.0);
         let shape = ColliderShape::Cuboid {
@@ -544,24 +710,23 @@ mod tests {
             0.5 * spacing + body_margin(9.81, dt),
             friction_step(9.81, dt),
         );
+        let open = BoxContainer::from_min_max(Vec3::splat(-1.0), Vec3::splat(1.0));
         let resolve = |own: &RigidState, m: f32, other: &RigidState, m_other: f32| {
-            let collider = Collider::new(
-                shape.clone(),
-                Pose {
-                    translation: other.position,
-                    rotation: Quat::IDENTITY,
-                },
-            );
+            let collider = Collider::new(shape.clone(), pose_of(other, Vec3::ZERO));
             let neighbour = MovedNeighbour {
                 collider: &collider,
                 mass: m_other,
-                state: *other,
                 hinged: false,
             };
             let world = samples.iter().map(|&p| p + own.position);
-            let push = sample_pushes(world, settings, (m, own), &[], &[neighbour]);
-            assert!(!push.is_empty());
-            push.resolve(own).linear_velocity
+            let (solids, bodies) = sample_pushes(world, settings, m, &[], &[neighbour]);
+            assert!(solids.is_empty() && !bodies.is_empty());
+            let partner = Partner {
+                mass: m_other,
+                velocity: other.linear_velocity,
+                supported: 0,
+            };
+            resolve_bodies(&bodies, (own, m, &[partner]), &shape, Vec3::ZERO, &open).linear_velocity
         };
         (
             resolve(&crate_, m_crate, &raft, m_raft),
@@ -585,10 +750,8 @@ mod tests {
         // Side by side, they push apart and do not rub.
         let (crate_, raft) = rub(0.5, true);
         assert_eq!((crate_.x, raft.x), (0.5, 0.0));
-        assert_eq!(
-            support_friction(Vec3::new(0.0, -1.0, 0.0), limit, 3.0, 1.0),
-            Some(limit / 3.0)
-        );
+        let down = support_friction(Vec3::new(0.0, -1.0, 0.0), limit, 3.0, 1.0);
+        assert_eq!(down, Some(limit / 3.0));
         assert_eq!(
             support_friction(Vec3::new(1.0, 0.5, 0.0), limit, 3.0, 1.0),
             None

@@ -367,10 +367,11 @@ pub const GPU_BODY_RECORD_WORDS: usize = std::mem::size_of::<GpuBodyRecord>() / 
 /// Bytes of the device's body region: inputs, then states.
 pub const GPU_BODY_BYTES: usize =
     GPU_MOVED_BODIES * (std::mem::size_of::<GpuBodyInput>() + std::mem::size_of::<GpuBodyState>());
-/// Words of one body's contacts in a step (`sph_core::bodies::solid_contact::AxisPush`): the
-/// pushes along ±x, ±y, ±z, the velocity floors along them, then the friction's targets (the
-/// largest x, z, −x, −z) and its limit.
-pub const GPU_BODY_CONTACT_WORDS: usize = 17;
+/// Words of one body's contacts in a step (`sph_core::bodies::solid_contact`): the solids'
+/// pushes along ±x, ±y, ±z and their velocity floors, the other bodies' pushes, the bodies that
+/// pushed (a bit per slot), the friction's limit, and the directions the solids and walls
+/// pushed the body along.
+pub const GPU_BODY_CONTACT_WORDS: usize = 21;
 /// Where the states start in the body region [bytes].
 pub const GPU_BODY_STATES_OFFSET: usize = GPU_MOVED_BODIES * std::mem::size_of::<GpuBodyInput>();
 

@@ -266,11 +266,13 @@ fn corrected(s: Rigid, engine: Rigid, record: Rigid, since: f32) -> Rigid {
 }
 
 // The words of slot's contacts in a step (solid_contact::AxisPush).
-const CONTACT_WORDS: u32 = 17u;
-// Words 0..6: the pushes +x, +y, +z, -x, -y, -z, f32 bits of non-negative values, so they order
-// as u32. Words 6..12: the floors of the velocity along +x, +y, +z and along -x, -y, -z, as
-// ordered_bits (0: no floor). Words 12..16: the friction's targets, the largest x and z and the
-// largest -x and -z, as ordered_bits (0: none); word 16: its limit, f32 bits (0: none).
+const CONTACT_WORDS: u32 = 21u;
+// Words 0..6: the solids' pushes +x, +y, +z, -x, -y, -z, f32 bits of non-negative values, so
+// they order as u32. Words 6..12: their floors of the velocity along +x, +y, +z and along -x,
+// -y, -z, as ordered_bits (0: no floor). Words 12..18: the other bodies' pushes, as words 0..6.
+// Word 18: the bodies that pushed, a bit per slot. Word 19: the friction's limit, f32 bits (0:
+// none). Word 20: the directions the solids and the walls pushed the body along in this step's
+// first round (push_directions), for the other bodies' second round.
 fn contact_word(slot: u32, k: u32) -> u32 {
     return body_contacts_at(slot * CONTACT_WORDS + k);
 }
@@ -296,8 +298,8 @@ fn from_ordered_bits(u: u32) -> f32 {
     return bitcast<f32>(~u);
 }
 
-// Adds a push by a pusher moving at `velocity` (zero for a solid) to slot's step: the largest
-// push and the largest floor per axis and sign.
+// Adds a push by a solid moving at `velocity` (zero for one at rest) to slot's step: the
+// largest push and the largest floor per axis and sign.
 fn add_push(slot: u32, push: vec3<f32>, velocity: vec3<f32>) {
     for (var a = 0u; a < 3u; a += 1u) {
         if push[a] > 0.0 {
@@ -310,14 +312,36 @@ fn add_push(slot: u32, push: vec3<f32>, velocity: vec3<f32>) {
     }
 }
 
-// Adds a resting contact's friction to slot's step (solid_contact::AxisPush::add_friction): it
-// draws the horizontal velocity toward goal's by at most limit; several into their range.
-fn add_friction(slot: u32, goal: vec3<f32>, limit: f32) {
-    atomicMax(&cell_counts[contact_word(slot, 12u)], ordered_bits(goal.x));
-    atomicMax(&cell_counts[contact_word(slot, 13u)], ordered_bits(goal.z));
-    atomicMax(&cell_counts[contact_word(slot, 14u)], ordered_bits(-goal.x));
-    atomicMax(&cell_counts[contact_word(slot, 15u)], ordered_bits(-goal.z));
-    atomicMax(&cell_counts[contact_word(slot, 16u)], bitcast<u32>(limit));
+// Adds a push out of `partner`, another body the device moves (its slot), to slot's step
+// (solid_contact::BodyPushes::add): the largest push per axis and sign, the partner, and the
+// friction's largest limit. Its floor is found once every body has met its solids.
+fn add_body_push(slot: u32, push: vec3<f32>, partner: u32, friction_limit: f32) {
+    var pushed = false;
+    for (var a = 0u; a < 3u; a += 1u) {
+        if push[a] > 0.0 {
+            atomicMax(&cell_counts[contact_word(slot, 12u + a)], bitcast<u32>(push[a]));
+            pushed = true;
+        } else if push[a] < 0.0 {
+            atomicMax(&cell_counts[contact_word(slot, 15u + a)], bitcast<u32>(-push[a]));
+            pushed = true;
+        }
+    }
+    if pushed {
+        atomicOr(&cell_counts[contact_word(slot, 18u)], 1u << partner);
+    }
+    if friction_limit > 0.0 {
+        atomicMax(&cell_counts[contact_word(slot, 19u)], bitcast<u32>(friction_limit));
+    }
+}
+
+// The directions of the pushes as bits: bit a for +axis a, bit 3 + a for -axis a
+// (solid_contact::push_directions).
+fn push_directions(positive: vec3<f32>, negative: vec3<f32>) -> u32 {
+    var bits = 0u;
+    for (var a = 0u; a < 3u; a += 1u) {
+        bits |= select(0u, 1u << a, positive[a] > 0.0) | select(0u, 1u << (a + 3u), negative[a] > 0.0);
+    }
+    return bits;
 }
 
 // The most friction changes the horizontal velocity of a body of mass m in a step, pushed by

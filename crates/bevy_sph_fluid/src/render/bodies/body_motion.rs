@@ -30,3 +30,15 @@ pub const STAGE: GpuStage = GpuStage {
     before: None,
     after: None,
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The motion pass orders its rounds across the bodies with workgroup barriers, so one
+    /// workgroup must hold every slot.
+    #[test]
+    fn one_workgroup_holds_every_body() {
+        assert!(GPU_MOVED_BODIES <= STAGE.workgroup_size as usize);
+    }
+}

@@ -10,12 +10,12 @@
 // body's contacts of the step, which the motion pass resolves; a sample nearer than half a
 // spacing and g dt² to another body the device moves, at that body's pose of the step (its
 // state: this pass moves the colliders' entries), adds its share m_other / (m + m_other) of the
-// push back to that distance, with the pair's common velocity, and where one rests on the other
-// the friction toward v + share (v_other(x) - v(x)), by at most mu g dt for the upper body and the
-// same impulse for the lower (solid_contact::support_friction). CPU twin:
-// solid_contact::sample_pushes.
+// push back to that distance and names the other body (the motion pass finds the push's floor
+// once every body has met its solids) and, where one rests on the other, the friction's limit:
+// mu g dt for the upper body, the same impulse for the lower (solid_contact::support_friction).
+// A hinged body pushes as a solid at rest. CPU twin: solid_contact::sample_pushes.
 #import sph::bindings::{params, grid, boundary_samples, boundary_body, colliders, boundary_position_at, boundary_velocity_at, boundary_rest_at}
-#import sph::bodies::{MOVED_BODIES, held, load_state, input_word, word_f32, word_vec3, word_vec4, origin, rotate, conjugate, add_push, add_friction, support_friction, BODY_FRICTION, IN_MASS, IN_CENTER_OF_MASS, IN_SORTED_ORIGIN, IN_SORTED_ROTATION, IN_HINGED}
+#import sph::bodies::{MOVED_BODIES, held, load_state, input_word, word_f32, word_vec3, word_vec4, origin, rotate, conjugate, add_push, add_body_push, support_friction, BODY_FRICTION, IN_MASS, IN_CENTER_OF_MASS, IN_SORTED_ORIGIN, IN_SORTED_ROTATION, IN_HINGED}
 #import sph::guard::{collider_surface, surface_of}
 #import sph::clock::step_dt
 
@@ -87,16 +87,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                     add_push(slot, (margin - surface.w) * surface.xyz, vec3<f32>(0.0));
                     continue;
                 }
-                let share = m_other / (m + m_other);
-                let shared_v = (s.linear_velocity * m + so.linear_velocity * m_other) / (m + m_other);
-                let out = (margin - surface.w) * share * surface.xyz;
-                add_push(slot, out, shared_v);
+                let out = (margin - surface.w) * m_other / (m + m_other) * surface.xyz;
                 let friction = BODY_FRICTION * length(params.gravity) * step_dt();
-                let limit = support_friction(out, friction, m, m_other);
-                if limit > 0.0 {
-                    let v_other = so.linear_velocity + cross(so.angular_velocity, x - so.position);
-                    add_friction(slot, s.linear_velocity + share * (v_other - v), limit);
-                }
+                add_body_push(slot, out, other - 1u, support_friction(out, friction, m, m_other));
             }
             continue;
         }
