@@ -652,27 +652,25 @@ mod tests {
         assert_eq!((lower_supported, upper_supported), (1 << 1, 0));
         assert!((lower_1.position.y - 0.04).abs() < 1e-6, "{lower_1:?}");
         assert_eq!(lower_1.linear_velocity.y, 0.0);
-        let partner = |state: &RigidState, supported| Partner {
-            mass: 1.0,
-            velocity: state.linear_velocity,
-            supported,
+        // Each box's second round among the other after its first.
+        let second = |bodies: &BodyPushes, own: &RigidState, other: &RigidState, supported| {
+            let partner = Partner {
+                mass: 1.0,
+                velocity: other.linear_velocity,
+                supported,
+            };
+            resolve_bodies(
+                bodies,
+                (own, 1.0, &[partner]),
+                &shape,
+                Vec3::ZERO,
+                &container,
+            )
         };
-        let lower_2 = resolve_bodies(
-            &lower_bodies,
-            (&lower_1, 1.0, &[partner(&upper_1, upper_supported)]),
-            &shape,
-            Vec3::ZERO,
-            &container,
-        );
+        let lower_2 = second(&lower_bodies, &lower_1, &upper_1, upper_supported);
         assert!((lower_2.position.y - 0.04).abs() < 1e-6, "{lower_2:?}");
         assert_eq!(lower_2.linear_velocity.y, 0.0);
-        let upper_2 = resolve_bodies(
-            &upper_bodies,
-            (&upper_1, 1.0, &[partner(&lower_1, lower_supported)]),
-            &shape,
-            Vec3::ZERO,
-            &container,
-        );
+        let upper_2 = second(&upper_bodies, &upper_1, &lower_1, lower_supported);
         assert_eq!(upper_2.linear_velocity.y, 0.0, "{upper_2:?}");
         let (held, held_bodies) = pushes(&lower, &upper, true);
         assert!((held.negative.y - 2.0 * expected).abs() < 1e-5, "{held:?}");
