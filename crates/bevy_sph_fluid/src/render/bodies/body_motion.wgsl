@@ -237,11 +237,15 @@ fn face_pushes(slot: u32, s: Rigid, center_of_mass: vec3<f32>) -> Faces {
     return faces;
 }
 
-// s moved by the box's faces, with no velocity into them.
-fn within_faces(slot: u32, s: Rigid, center_of_mass: vec3<f32>) -> Rigid {
-    let faces = face_pushes(slot, s, center_of_mass);
+// s moved by the faces' pushes, with no velocity into them.
+fn moved_by_faces(s: Rigid, faces: Faces) -> Rigid {
     let v = pushed_velocity(s.linear_velocity, faces.up, faces.down, vec3<f32>(0.0), vec3<f32>(0.0));
     return Rigid(s.position + faces.up - faces.down, s.rotation, v, s.angular_velocity);
+}
+
+// s moved by the box's faces, with no velocity into them.
+fn within_faces(slot: u32, s: Rigid, center_of_mass: vec3<f32>) -> Rigid {
+    return moved_by_faces(s, face_pushes(slot, s, center_of_mass));
 }
 
 // The first round of slot's contacts (solid_contact::resolve_solids): the solids' pushes the
@@ -269,12 +273,7 @@ fn resolve_solids(slot: u32) {
     let v = pushed_velocity(s.linear_velocity, positive, negative, positive_floor, negative_floor);
     let pushed = Rigid(s.position + positive - negative, s.rotation, v, s.angular_velocity);
     let faces = face_pushes(slot, pushed, center_of_mass);
-    let out = Rigid(
-        pushed.position + faces.up - faces.down,
-        s.rotation,
-        pushed_velocity(v, faces.up, faces.down, vec3<f32>(0.0), vec3<f32>(0.0)),
-        s.angular_velocity,
-    );
+    let out = moved_by_faces(pushed, faces);
     atomicStore(&cell_counts[contact_word(slot, 20u)], push_directions(positive, negative) | push_directions(faces.up, faces.down));
     if any(out.position != s.position) || any(out.linear_velocity != s.linear_velocity) {
         store_state(slot, out);
