@@ -74,6 +74,7 @@ use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use sph_core::bodies::engine_push::EnginePush;
+use sph_core::bodies::engine_window::WindowImpulse;
 use sph_core::bodies::rigid_step::{RigidBodyModel, RigidState};
 use std::time::Duration;
 
@@ -158,49 +159,38 @@ fn sph_run_physics_on_water_time(world: &mut World, mut seen: Local<WaterTimeSee
 /// took the body, and the handoff passes the device only what avian saw beyond the water.
 /// Without it, a window of more than a game frame of water left avian centimetres from the
 /// device, and the handoff handed the difference on as if it were a contact: a boat was thrown
-/// out of the channel at 4 water steps a frame.
+/// out of the channel at 4 water steps a frame. Bodies that touch in avian's contacts are moved
+/// as one ([`WindowImpulse::shared_shift`]), as the device's contact carries them together: each
+/// moved by its own gap, a raft the water slapped was moved into the crate on it.
 fn close_step_gaps(world: &mut World, window: &crate::moved_bodies::EngineWindow, substeps: u32) {
-    let slots: Vec<(Entity, u32)> = world
-        .resource::<SphMovedBodies>()
-        .slots
-        .iter()
-        .map(|(&e, &s)| (e, s))
-        .collect();
-    for (entity, slot) in slots {
-        // The device's steps and avian's must cover the same water time.
-        let Some(push) = window.covered_impulse(slot) else {
-            continue;
+    let steps = free_steps(world, window);
+    // A hinged body has no gap (its axle holds it): it joins no group.
+    let free = steps.iter().filter(|(_, s)| s.model.hinge.is_none());
+    let groups = touching_groups(world, free.map(|(&e, _)| e));
+    for (&entity, step) in &steps {
+        let (own, turn) = step
+            .water
+            .gap(&step.model, step.rotation, substeps, &step.push);
+        let shift = match groups.get(&entity) {
+            Some(members) if members.len() > 1 => {
+                let parts: Vec<_> = members
+                    .iter()
+                    .map(|e| (&steps[e].water, &steps[e].model, &steps[e].push))
+                    .collect();
+                WindowImpulse::shared_shift(&parts, substeps)
+            }
+            _ => own,
         };
-        let applied = world
-            .resource::<SphMovedBodies>()
-            .engine_pushes
-            .get(&entity)
-            .copied()
-            .unwrap_or_default();
-        let Ok(mut body) = world.get_entity_mut(entity) else {
-            continue;
-        };
-        let (Some(rigid), Some(position), Some(rotation)) = (
-            body.get::<SphRigidBody>(),
-            body.get::<Position>(),
-            body.get::<Rotation>(),
-        ) else {
-            continue;
-        };
-        let (origin, q) = (position.0, rotation.0);
-        let Some(model) = crate::moved_bodies::body_model(rigid, origin, q) else {
-            continue;
-        };
-        // The device stepped the window's frames under the push handed before it (the newest
-        // one stands for the few it had then).
-        let (shift, turn) = push.gap(&model, q, substeps, &applied);
         if shift == Vec3::ZERO && turn == Vec3::ZERO {
             continue;
         }
+        let Ok(mut body) = world.get_entity_mut(entity) else {
+            continue;
+        };
         // Turned about the centre of mass, which moves by the shift.
-        let center = origin + q * model.center_of_mass;
-        let turned = sph_core::bodies::rigid_step::turned(q, turn);
-        let moved = center + shift - turned * model.center_of_mass;
+        let center = step.origin + step.rotation * step.model.center_of_mass;
+        let turned = sph_core::bodies::rigid_step::turned(step.rotation, turn);
+        let moved = center + shift - turned * step.model.center_of_mass;
         if let Some(mut p) = body.get_mut::<Position>() {
             p.0 = moved;
         }
@@ -213,6 +203,99 @@ fn close_step_gaps(world: &mut World, window: &crate::moved_bodies::EngineWindow
             t.rotation = turned;
         }
     }
+}
+
+/// What closing a free body's gap over a window needs: its water over the window, its model and
+/// pose in avian now, and the push the device applied with the water.
+struct FreeStep {
+    water: WindowImpulse,
+    model: RigidBodyModel,
+    origin: Vec3,
+    rotation: Quat,
+    push: EnginePush,
+}
+
+/// Each moved body whose device steps cover the window, by entity.
+fn free_steps(
+    world: &World,
+    window: &crate::moved_bodies::EngineWindow,
+) -> HashMap<Entity, FreeStep> {
+    let moved = world.resource::<SphMovedBodies>();
+    let mut steps = HashMap::new();
+    for (&entity, &slot) in &moved.slots {
+        // The device's steps and avian's must cover the same water time.
+        let Some(water) = window.covered_impulse(slot) else {
+            continue;
+        };
+        let Ok(body) = world.get_entity(entity) else {
+            continue;
+        };
+        let (Some(rigid), Some(position), Some(rotation)) = (
+            body.get::<SphRigidBody>(),
+            body.get::<Position>(),
+            body.get::<Rotation>(),
+        ) else {
+            continue;
+        };
+        let (origin, rotation) = (position.0, rotation.0);
+        let Some(model) = crate::moved_bodies::body_model(rigid, origin, rotation) else {
+            continue;
+        };
+        // The device stepped the window's frames under the push handed before it (the newest
+        // one stands for the few it had then).
+        let push = moved
+            .engine_pushes
+            .get(&entity)
+            .copied()
+            .unwrap_or_default();
+        steps.insert(
+            entity,
+            FreeStep {
+                water,
+                model,
+                origin,
+                rotation,
+                push,
+            },
+        );
+    }
+    steps
+}
+
+/// The `bodies` that touch one another in avian's contacts, directly or through others of
+/// them, as groups: each body's group (itself alone when it touches none of them).
+fn touching_groups(
+    world: &World,
+    bodies: impl Iterator<Item = Entity>,
+) -> HashMap<Entity, Vec<Entity>> {
+    let mut group: HashMap<Entity, Entity> = bodies.map(|e| (e, e)).collect();
+    fn root(group: &HashMap<Entity, Entity>, mut e: Entity) -> Entity {
+        while group[&e] != e {
+            e = group[&e];
+        }
+        e
+    }
+    if let Some(contacts) = world.get_resource::<ContactGraph>() {
+        let touching = contacts
+            .iter_active_touching()
+            .chain(contacts.iter_sleeping_touching());
+        for pair in touching {
+            let a = pair.body1.unwrap_or(pair.collider1);
+            let b = pair.body2.unwrap_or(pair.collider2);
+            if group.contains_key(&a) && group.contains_key(&b) {
+                let (ra, rb) = (root(&group, a), root(&group, b));
+                group.insert(ra, rb);
+            }
+        }
+    }
+    let mut members: HashMap<Entity, Vec<Entity>> = HashMap::new();
+    for &e in group.keys() {
+        members.entry(root(&group, e)).or_default().push(e);
+    }
+    group
+        .keys()
+        .map(|&e| (e, members[&root(&group, e)].clone()))
+        .collect()
 }
 
 /// Each moved body's model and state (its centre of mass's) in avian now, by entity.
@@ -887,5 +970,80 @@ mod tests {
         assert!(last.torque.length() < 1e-3, "{handed:?}");
         let y = app.world().get::<Position>(entity).unwrap().0.y;
         assert!((y - 0.1).abs() < 5e-3, "the box rests: {y}");
+    }
+
+    /// A crate resting on a raft in avian, the water slapping the raft early in the window:
+    /// closing the gaps moves both by one shift, the pair's as one body, so avian's crate stays
+    /// on avian's raft; a box apart from them takes its own gap.
+    #[test]
+    fn bodies_touching_in_avian_share_one_gap() {
+        let mut app = avian_app();
+        app.world_mut().spawn((
+            RigidBody::Static,
+            Collider::cuboid(4.0, 0.2, 4.0),
+            Transform::from_xyz(0.0, -0.1, 0.0),
+        ));
+        let mut body = |mass: f32, half: Vec3, at: Vec3| {
+            let rigid = SphRigidBody {
+                mass,
+                linear_velocity: Vec3::ZERO,
+                ..rigid()
+            };
+            app.world_mut()
+                .spawn((
+                    RigidBody::Dynamic,
+                    Collider::cuboid(2.0 * half.x, 2.0 * half.y, 2.0 * half.z),
+                    Mass(mass),
+                    AngularInertia::new(Vec3::splat(1.0 / 25.0)),
+                    SphCollider::new(sph_core::ColliderShape::Cuboid { half_extents: half })
+                        .with_motion(sph_core::ColliderMotion::Dynamic),
+                    SphColliderForce::default(),
+                    rigid,
+                    Transform::from_translation(at),
+                ))
+                .id()
+        };
+        let raft = body(2.0, Vec3::new(0.2, 0.05, 0.2), Vec3::new(0.0, 0.05, 0.0));
+        let krate = body(0.5, Vec3::splat(0.05), Vec3::new(0.0, 0.15, 0.0));
+        let apart = body(2.0, Vec3::new(0.2, 0.05, 0.2), Vec3::new(1.0, 0.05, 0.0));
+        app.update();
+        // Settled for a few frames: avian's contacts hold the crate on the raft.
+        for _ in 0..10 {
+            run_on_water_time(app.world_mut(), 1.0 / 60.0);
+        }
+        let (mut window, _) = device_window(Vec3::ZERO);
+        let slapped = window.impulses[&0].unwrap();
+        let dry = WindowImpulse {
+            duration: slapped.duration,
+            time_lever: slapped.time_lever,
+            ..Default::default()
+        };
+        window.impulses = [(0, Some(slapped)), (1, Some(dry)), (2, Some(slapped))].into();
+        let mut moved = SphMovedBodies::default();
+        moved.slots.extend([(raft, 0), (krate, 1), (apart, 2)]);
+        app.insert_resource(moved);
+        let world = app.world_mut();
+        let at = |world: &World, e: Entity| world.get::<Position>(e).unwrap().0;
+        let before = [raft, krate, apart].map(|e| at(world, e));
+        close_step_gaps(world, &window, 18);
+        let shifts: Vec<Vec3> = [raft, krate, apart]
+            .iter()
+            .zip(before)
+            .map(|(&e, b)| at(world, e) - b)
+            .collect();
+        let model = |e: Entity| {
+            let rigid = world.get::<SphRigidBody>(e).unwrap();
+            body_model(rigid, Vec3::ZERO, Quat::IDENTITY).unwrap()
+        };
+        let none = EnginePush::default();
+        let (raft_model, crate_model) = (model(raft), model(krate));
+        let parts = [(&slapped, &raft_model, &none), (&dry, &crate_model, &none)];
+        let shared = WindowImpulse::shared_shift(&parts, 18);
+        let (own, _) = slapped.gap(&model(apart), Quat::IDENTITY, 18, &none);
+        assert!(shared.length() > 1e-4, "{shared}");
+        assert!((shifts[0] - shared).length() < 1e-6, "{shifts:?} {shared}");
+        assert!((shifts[1] - shared).length() < 1e-6, "{shifts:?} {shared}");
+        assert!((shifts[2] - own).length() < 1e-6, "{shifts:?} {own}");
+        assert!((own - shared).length() > 1e-4, "{own} {shared}");
     }
 }

@@ -84,19 +84,60 @@ impl WindowImpulse {
         let n = engine_substeps.max(1) as f32;
         let kappa = t * (n + 1.0) / (2.0 * n);
         let steady = self.time_lever - kappa * t;
-        let translation = (self.impulse_lever - kappa * self.impulse) / model.mass
-            + steady * (model.gravity + push.force / model.mass);
+        let translation = Self::shared_shift(&[(self, model, push)], engine_substeps);
         let angular =
             self.angular_impulse_lever - kappa * self.angular_impulse + steady * push.torque;
         let local = model.inverse_inertia * rotate(conjugate(rotation), angular);
-        let gap = (
-            translation * model.free_translation,
-            rotate(rotation, local) * model.free_rotation,
-        );
+        let gap = (translation, rotate(rotation, local) * model.free_rotation);
         if gap.0.is_finite() && gap.1.is_finite() {
             gap
         } else {
             (Vec3::ZERO, Vec3::ZERO)
+        }
+    }
+
+    /// The centre of mass's gap [m] of bodies that rest on one another in the engine, moved as
+    /// one body: their impulses, levers, weights and the engine's pushes summed over their
+    /// summed mass, (ΣΛ − κ ΣJ + (Λ_t − T κ) Σ (m g + F_e)) / Σ m. On the device a crate
+    /// resting on a raft goes with the raft (their contact keeps their common velocity,
+    /// `crate::bodies::solid_contact`), so the water's slap on the raft early in a window
+    /// carries both; closed apart, the raft's gap alone would move it into the crate in the
+    /// engine. The engine's pushes between them are equal and opposite and drop out. One part
+    /// is [`Self::gap`]'s shift. Zero with a hinged part, windows of other durations or no mass;
+    /// zero along an axis any part locks.
+    pub fn shared_shift(
+        parts: &[(&WindowImpulse, &RigidBodyModel, &EnginePush)],
+        engine_substeps: u32,
+    ) -> Vec3 {
+        let Some((first, ..)) = parts.first() else {
+            return Vec3::ZERO;
+        };
+        let (t, time_lever) = (first.duration, first.time_lever);
+        let apart = |(w, m, _): &(&WindowImpulse, &RigidBodyModel, &EnginePush)| {
+            m.hinge.is_some() || (w.duration - t).abs() > 1e-6 * t.max(1.0)
+        };
+        if !(t.is_finite() && t > 0.0) || parts.iter().any(apart) {
+            return Vec3::ZERO;
+        }
+        let (mut mass, mut lever, mut impulse, mut weight, mut free) =
+            (0.0, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::ONE);
+        for (w, m, push) in parts {
+            mass += m.mass;
+            lever += w.impulse_lever;
+            impulse += w.impulse;
+            weight += m.mass * m.gravity + push.force;
+            free *= m.free_translation;
+        }
+        if !(mass.is_finite() && mass > 0.0) {
+            return Vec3::ZERO;
+        }
+        let n = engine_substeps.max(1) as f32;
+        let kappa = t * (n + 1.0) / (2.0 * n);
+        let shift = (lever - kappa * impulse + (time_lever - kappa * t) * weight) / mass * free;
+        if shift.is_finite() {
+            shift
+        } else {
+            Vec3::ZERO
         }
     }
 }
@@ -219,6 +260,63 @@ mod tests {
         // Even steps: Λ_t = (T² + Σ dt²) / 2.
         let t = whole.duration;
         assert!((whole.time_lever - 0.5 * (t * t + 12.0 * 0.004 * 0.004)).abs() < 1e-7);
+    }
+
+    /// A crate resting on a raft that the water slapped early in the window shares one gap
+    /// with it: that of one body of both masses under the raft's water and the pushes' sum (the
+    /// contact's push between them, equal and opposite in the two, drops out). Each alone, the
+    /// raft's gap would carry it into the crate.
+    #[test]
+    fn bodies_resting_on_one_another_share_one_gap() {
+        let (_, records) = device_frames();
+        let raft_water = WindowImpulse::over(&records, records[2].time_ns);
+        let crate_water = WindowImpulse {
+            duration: raft_water.duration,
+            time_lever: raft_water.time_lever,
+            ..Default::default()
+        };
+        let raft = model();
+        let mut krate = model();
+        krate.mass = 1.5;
+        let held = -krate.mass * krate.gravity;
+        let crate_push = EnginePush {
+            force: held,
+            torque: Vec3::ZERO,
+        };
+        let raft_push = EnginePush {
+            force: PUSH.force - held,
+            torque: PUSH.torque,
+        };
+        let parts = [
+            (&raft_water, &raft, &raft_push),
+            (&crate_water, &krate, &crate_push),
+        ];
+        let mut both = model();
+        both.mass = raft.mass + krate.mass;
+        for substeps in [1, 6, 18] {
+            let shared = WindowImpulse::shared_shift(&parts, substeps);
+            let (one, _) = raft_water.gap(&both, Quat::IDENTITY, substeps, &PUSH);
+            assert!(
+                (shared - one).length() < 1e-7,
+                "{substeps}: {shared} against {one}"
+            );
+            let (raft_alone, _) = raft_water.gap(&raft, Quat::IDENTITY, substeps, &raft_push);
+            let (crate_alone, _) = crate_water.gap(&krate, Quat::IDENTITY, substeps, &crate_push);
+            assert!(crate_alone.length() < 1e-7, "{crate_alone}");
+            // The slap's lever shared by mass: the raft alone would move 5.5 / 4 as far.
+            if substeps > 1 {
+                let ratio = raft_alone.x / shared.x;
+                assert!((ratio - 5.5 / 4.0).abs() < 0.1, "{substeps}: {ratio}");
+            }
+        }
+        let mut locked = krate;
+        locked.free_translation = Vec3::new(1.0, 0.0, 1.0);
+        let parts = [
+            (&raft_water, &raft, &raft_push),
+            (&crate_water, &locked, &crate_push),
+        ];
+        assert_eq!(WindowImpulse::shared_shift(&parts, 6).y, 0.0);
+        assert_eq!(WindowImpulse::shared_shift(&[], 6), Vec3::ZERO);
     }
 
     /// A hinged body, a locked axis and an empty window have no gap there.
