@@ -38,6 +38,8 @@ pub struct AppSimulation {
     rollback: Rollback,
     colliders: Vec<(ScenarioCollider, Entity)>,
     container: Entity,
+    /// Particles of the setup's blocks, before any is left out inside a collider.
+    block_particles: u64,
 }
 
 impl AppSimulation {
@@ -183,6 +185,7 @@ impl AppSimulation {
             rollback: setup.rollback,
             colliders,
             container,
+            block_particles: setup.scene.particle_count() as u64,
         })
     }
 
@@ -337,7 +340,10 @@ impl Simulation for AppSimulation {
     }
 
     fn spawns_inside_colliders(&self) -> u64 {
-        self.stats().spawns_inside_colliders
+        // The plugin counts every spawn's left-outs, the emitters' too; the blocks' are those
+        // its initial particles lack.
+        self.block_particles
+            .saturating_sub(self.stats().particles_initial)
     }
 
     /// The latest frame's forces as the plugin wrote them into `SphColliderForce` (summed on

@@ -90,7 +90,8 @@ pub trait Simulation {
     fn adapter(&self) -> String;
     /// Particles the last-resort guard corrected so far: in all, and clamped into the box.
     fn boundary_corrections(&self) -> (u64, u64);
-    /// Particles left out of the spawns because they lay inside a collider.
+    /// Particles of the setup's blocks left out of the initial spawn because they lay inside a
+    /// collider (an emitter's left-outs are never emitted, so never counted).
     fn spawns_inside_colliders(&self) -> u64;
     /// The water's force on each of the setup's colliders averaged since the last call, with
     /// the number of force evaluations averaged (CPU), or the last frame's as read back from
