@@ -149,3 +149,33 @@ fn a_kinematic_collider_follows_its_path_by_simulated_time() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// An app that starts without a container (a scene file's comes a few frames later) names the
+/// missing container, and the error goes when the container comes, on both backends.
+#[test]
+fn the_missing_containers_error_goes_when_the_container_comes() {
+    let _gpu = common::GPU.lock().unwrap_or_else(|e| e.into_inner());
+    for backend in [SphBackend::Cpu, SphBackend::Gpu] {
+        let mut app = common::headless_app(64, backend);
+        app.insert_resource(SphControl {
+            running: true,
+            ..default()
+        });
+        let names_it = |app: &mut App| {
+            app.world()
+                .resource::<SphStats>()
+                .error
+                .as_deref()
+                .is_some_and(|e| e.contains("SphContainer"))
+        };
+        update_until(&mut app, &format!("{backend:?}: the error named"), names_it);
+        app.world_mut()
+            .spawn(SphContainer(sph_core::BoxContainer::from_min_max(
+                Vec3::ZERO,
+                Vec3::splat(0.2),
+            )));
+        update_until(&mut app, &format!("{backend:?}: the error gone"), |app| {
+            !names_it(app)
+        });
+    }
+}

@@ -16,6 +16,9 @@ use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo, RenderDevice};
 use bevy::render::storage::ShaderBuffer;
 use sph_core::CpuSolver;
 
+/// [`SphStats::error`] while no entity holds an [`SphContainer`]; cleared when one comes.
+const NO_CONTAINER: &str = "no entity with an SphContainer component";
+
 pub(crate) fn add_systems(app: &mut App, schedule: InternedScheduleLabel) {
     app.add_systems(
         schedule,
@@ -141,6 +144,11 @@ fn sph_track_container(
     let Some(container) = container else {
         return;
     };
+    // The container has come (a scene file's a few frames after the app starts): the error its
+    // absence set is over, on either backend.
+    if stats.error.as_deref() == Some(NO_CONTAINER) {
+        stats.error = None;
+    }
     if sim.backend == SphBackend::Cpu {
         let mut p = params.0;
         if p.validate().is_err() {
@@ -358,7 +366,7 @@ fn sph_plan_step(
     let plan = sim.plan;
     control.single_step = false;
     let Some(container) = sim.container else {
-        stats.error = Some("no entity with an SphContainer component".into());
+        stats.error = Some(NO_CONTAINER.into());
         sim.frame.active = false;
         return;
     };
