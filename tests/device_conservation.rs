@@ -17,7 +17,7 @@ use bevy::prelude::*;
 use bevy_sph_fluid::prelude::*;
 use std::time::{Duration, Instant};
 
-/// Simulated time each scene runs [s]: long enough for aquaplay's pump to emit and its drain to
+/// Simulated time each scene runs [s]: long enough for aquaplay's tap to emit and its drain to
 /// take water. `sph-bench soak --scene F --bodies avian [--backend gpu] --time S` runs the same
 /// check for as long as asked.
 const SECONDS: f64 = 2.0;
