@@ -1,6 +1,6 @@
 //! `SphCollider` entities on both backends: one step from the same state agrees with the CPU
 //! solver holding the same colliders (a rotated box, a sphere and a no-slip kinematic capsule in
-//! a jittered block), a collider moved, added and removed at run time changes the boundary
+//! a jittered block; with PBF also a rough box), a collider moved, added and removed at run time changes the boundary
 //! without touching the particle buffers or losing a particle, no particle ends inside a
 //! collider, both backends write the water's force into `SphColliderForce` and the walls' into
 //! `SphWallForce` (the GPU's summed on the device and matching the CPU solver's, with WCSPH and
@@ -149,6 +149,44 @@ fn one_gpu_step_with_the_speculative_contact_matches_the_cpu_solver() {
 fn one_pbf_gpu_step_with_colliders_matches_the_cpu_solver() {
     let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
     one_step_with_colliders_matches(Solver::Pbf, spawn_velocity(Solver::Pbf));
+}
+
+/// PBF's no-slip colliders (XSPH's wall term, `sph_core::solver::pbf::xsph_vorticity::
+/// wall_friction`, in `pbf_xsph.wgsl`): with the box 50 times as rough as the water's XSPH (the
+/// block falls past its sides), the GPU's two steps give the CPU solver's positions and forces,
+/// the friction's reactions summed on the device with the others. On the CPU that roughness
+/// moves the box's force by far more than the comparison's tolerance, so the friction is what
+/// is compared.
+#[test]
+fn one_pbf_gpu_step_with_a_rough_box_matches_the_cpu_solver() {
+    let _gpu = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let velocity = spawn_velocity(Solver::Pbf);
+    let with_box_friction = |friction: f32| {
+        let mut colliders = colliders();
+        colliders[0].0.slip = Slip::NoSlip { friction };
+        colliders
+    };
+    // The box's force after two CPU steps.
+    let box_force = |friction: f32| {
+        let (params, container, block) = scene_for(Solver::Pbf);
+        let mut cpu = CpuSolver::new(params, container, block.count()).unwrap();
+        let ids: Vec<_> = with_box_friction(friction)
+            .iter()
+            .map(|(c, t)| cpu.add_collider(as_solver_collider(c, t)).unwrap())
+            .collect();
+        cpu.spawn(&block.positions(), velocity);
+        cpu.step();
+        cpu.take_collider_forces();
+        cpu.step();
+        cpu.collider_force(ids[0]).unwrap().force
+    };
+    let (smooth, rough) = (box_force(0.0), box_force(50.0));
+    eprintln!("the box's force: smooth {smooth}, rough {rough}");
+    assert!(
+        (rough - smooth).length() > 0.05 * smooth.length().max(rough.length()),
+        "the friction moves the box's force: {smooth} against {rough}"
+    );
+    one_step_with_these_colliders_matches(Solver::Pbf, velocity, with_box_friction(50.0));
 }
 
 /// DFSPH's boundary: the samples in the factors, the solves and the reactions summed on the

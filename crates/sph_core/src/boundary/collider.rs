@@ -204,9 +204,12 @@ pub enum Slip {
     /// Free slip: the boundary exerts pressure only, normal to the surface.
     Free,
     /// No slip: the fluid's viscosity term also acts between fluid and boundary samples, times
-    /// `friction` (1 = the fluid's own viscosity).
+    /// `friction` (1 = the fluid's own viscosity). PBF's viscosity is XSPH: there the samples
+    /// count as water moving with the body, with XSPH's c times `friction`
+    /// (`sph_core::solver::pbf::xsph_vorticity::wall_friction`).
     NoSlip {
-        /// Factor on the fluid's viscosity μ for fluid-boundary pairs, in [0, 100].
+        /// Factor on the fluid's viscosity μ (PBF: on XSPH's c) for fluid-boundary pairs, in
+        /// [0, 100].
         friction: f32,
     },
 }

@@ -7,12 +7,14 @@
 //! 2. neighbour sort and lists on the predicted positions;
 //! 3. `iterations` times: λ_i, then the corrections Δp_i, x* += Δp (over-relaxed after the first),
 //!    then the contact with the solids ([`solid_contact`]);
-//! 4. v = (x* - x) / dt, the guard, XSPH viscosity; x = x*; the pressure equivalent to the
-//!    step's λ ([`macklin2013::equivalent_pressure`]);
+//! 4. v = (x* - x) / dt, the guard, XSPH viscosity with the no-slip bodies' share of it
+//!    ([`xsph_vorticity::wall_friction`]); x = x*; the pressure equivalent to the step's λ
+//!    ([`macklin2013::equivalent_pressure`]);
 //! 5. optionally, vorticity confinement.
 //!
 //! Viscosity and surface tension of the WCSPH forces pass are not applied (XSPH stands for the
-//! viscosity); the boundary's reactions are summed for the colliders every iteration.
+//! viscosity, at no-slip walls too); the boundary's reactions are summed for the colliders every
+//! iteration, and the walls' friction once a step.
 
 pub mod macklin2013;
 pub mod settings;
@@ -229,7 +231,7 @@ impl PbfStep<'_> {
         });
         timed(&mut t.forces, || {
             // The densities of the last λ pass (before its correction) weigh XSPH.
-            xsph_and_densities(
+            let friction = xsph_and_densities(
                 &ctx,
                 &s.lists,
                 &p.position,
@@ -238,7 +240,11 @@ impl PbfStep<'_> {
                 &p.velocity,
                 &mut s.velocity,
                 &mut p.density,
+                dt,
             );
+            for (f, r) in forces.iter_mut().zip(&friction) {
+                f.merge(r);
+            }
             std::mem::swap(&mut p.velocity, &mut s.velocity);
         });
         // s.velocity now holds the velocities before XSPH.

@@ -1,7 +1,8 @@
-//! PBF's XSPH pass: XSPH viscosity and the final densities; without vorticity confinement
-//! also the pumps, the speed record and the probes, and then the final positions replace the
-//! sorted ones (`pbf_xsph.wgsl`; CPU twins `sph_core::solver::pbf::xsph_vorticity::xsph_and_densities`,
-//! `sph_core::flow::pump::apply_pumps`).
+//! PBF's XSPH pass: XSPH viscosity with the no-slip walls' share and its reactions on the
+//! bodies, and the final densities; without vorticity confinement also the pumps, the speed
+//! record and the probes, and then the final positions replace the sorted ones
+//! (`pbf_xsph.wgsl`; CPU twins `sph_core::solver::pbf::xsph_vorticity::{xsph_and_densities,
+//! wall_friction}`, `sph_core::flow::pump::apply_pumps`).
 
 use crate::render::buffers::Buf;
 use crate::render::plan::EvaluationPlan;
@@ -31,7 +32,10 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::NeighborCount,
         Buf::NeighborLists,
         Buf::BoundaryPosition,
+        Buf::BoundaryVelocity,
         Buf::BoundaryCellStart,
+        Buf::BoundaryBody,
+        Buf::BodyForces,
         Buf::Clock,
         Buf::Pumps,
         Buf::Probes,

@@ -3,24 +3,48 @@
 // v_i = v*_i + c Σ_j (m/ρ_j) (v*_j - v*_i) W_ij, v* the velocities of the velocity pass and ρ_j
 // the last λ pass's densities (normal.y); ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (self included);
 // the pressure the step's λ stand for, -ρ0 Λ_i / dt² (Λ_i in normal.w, see pbf.wgsl); a = (v - v*) / dt + g, the step's mean acceleration (diagnostics).
+// No-slip samples (velocity.w = the body's friction f_b > 0; only when some sample has friction,
+// params.boundary_friction) count as water moving with their body:
+// v_i += min(c Σ_b f_b V_b W_ib, 1) (v̄_b - v_i), v̄_b their mean velocity by those weights, and
+// each sample's body feels -m Δv_i / dt times its share of the weight (Akinci 2012's two-way
+// coupling, summed by shaders/body_reactions.wgsl).
 // Without VORTICITY this is the step's last pass: pumps, |v + g dt_max| for the time-step
-// rule, probes. Rust twins: sph_core::solver::pbf::macklin2013::{xsph, compute_densities,
-// equivalent_pressure}, then
+// rule, probes. Rust twins: sph_core::solver::pbf::xsph_vorticity::{xsph_and_densities,
+// wall_friction}, sph_core::solver::pbf::macklin2013::equivalent_pressure, then
 // sph_core::flow::pump::apply_pumps.
-#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, velocity_at, particle_scratch, sorted_velocity_at, acceleration_at, particle_scalars, density_at, pressure_at, normal_at, boundary_samples, boundary_position_at}
+#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, velocity_at, particle_scratch, sorted_velocity_at, acceleration_at, particle_scalars, density_at, pressure_at, normal_at, boundary_samples, boundary_position_at, boundary_velocity_at, boundary_body}
 #import sph::kernels::cubic
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen, record_speed}
 #import sph::pumps::pumped
 #import sph::probes::record_probes
 #import sph::pbf::{current_position, mass, rest_density, equivalent_pressure}
+#import sph::types::drained
+#import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
 
 @compute @workgroup_size(#{WORKGROUP_SIZE})
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= params.particle_count || frozen() {
-        return;
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    begin_reactions(local, #{WORKGROUP_SIZE}u);
+    if id.x < params.particle_count && !frozen() {
+        particle(id.x);
+        flush_reaction();
     }
+    end_reactions(local, #{WORKGROUP_SIZE}u);
+}
+
+// f_b V_b W_ib of a sample (0 on a free-slip body).
+fn friction_weight(sample: vec4<f32>, b: u32, x_i: vec3<f32>) -> f32 {
+    let friction = boundary_samples[boundary_velocity_at(b)].w;
+    if friction <= 0.0 {
+        return 0.0;
+    }
+    return friction * sample.w * cubic(length(x_i - sample.xyz));
+}
+
+fn particle(i: u32) {
     let sorted = particle_state[position_at(i)].xyz;
     let x_i = current_position(i);
     let v_i = particle_scratch[sorted_velocity_at(i)].xyz;
@@ -37,6 +61,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         smoothing += (particle_scratch[sorted_velocity_at(j)].xyz - v_i) * (m / particle_state[normal_at(j)].y * w);
     }
     var solid = 0.0;
+    let with_friction = params.boundary_friction > 0.0;
+    var wall_weight = 0.0;
+    var wall_moving = vec3<f32>(0.0);
     let cell = grid_cell(sorted);
     for (var q = 0u; q < 9u; q++) {
         let range = boundary_range(cell, q);
@@ -46,6 +73,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if dot(paired, paired) < h2 {
                 let r = x_i - sample.xyz;
                 solid += sample.w * cubic(length(r));
+                if with_friction {
+                    let w = friction_weight(sample, b, x_i);
+                    wall_weight += w;
+                    wall_moving += boundary_samples[boundary_velocity_at(b)].xyz * w;
+                }
             }
         }
     }
@@ -53,6 +85,27 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let dt = step_dt();
     particle_scalars[pressure_at(i)] = equivalent_pressure(particle_state[normal_at(i)].w, dt);
     var v = v_i + smoothing * params.pbf_xsph_c;
+    if wall_weight > 0.0 {
+        let change = (wall_moving / wall_weight - v_i) * min(params.pbf_xsph_c * wall_weight, 1.0);
+        v += change;
+        if !drained(particle_state[position_at(i)].w) {
+            // The samples again, each with its share of -m Δv / dt.
+            let reaction = change * (-m / (dt * wall_weight));
+            for (var q = 0u; q < 9u; q++) {
+                let range = boundary_range(cell, q);
+                for (var b = range.x; b < range.y; b++) {
+                    let sample = boundary_samples[boundary_position_at(b)];
+                    let paired = sorted - sample.xyz;
+                    if dot(paired, paired) < h2 {
+                        let w = friction_weight(sample, b, x_i);
+                        if w > 0.0 {
+                            add_reaction(boundary_body[b], reaction * w, sample.xyz);
+                        }
+                    }
+                }
+            }
+        }
+    }
     particle_state[acceleration_at(i)] = vec4<f32>((v - v_i) / dt + params.gravity, 0.0);
 #ifndef VORTICITY
     v = pumped(x_i, v, dt);
