@@ -508,8 +508,9 @@ impl std::fmt::Display for SphColliderError {
 
 /// How the water slides along the container's walls, on the container's entity: free slip
 /// (the default without this component: pressure only) or no slip with a friction factor on the
-/// water's viscosity. A glass tank at rest is calmest with no slip; a dam break's front is
-/// closest to experiment with free slip.
+/// water's viscosity (PBF's: XSPH's c). A glass tank at rest is calmest with no slip; with WCSPH
+/// and DFSPH a dam break's front is closest to experiment with free slip, with PBF with no slip
+/// at a friction factor of about 30 (docs/pbf.md).
 #[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
 #[reflect(Component)]
 pub struct SphWallSlip(pub sph_core::Slip);

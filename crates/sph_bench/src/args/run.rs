@@ -121,7 +121,8 @@ pub struct RunArgs {
     /// `whitewater` runs whether or not this is on.
     #[arg(long, value_name = "on|off", value_parser = on_off(), action = ArgAction::Set, default_value = "off")]
     pub whitewater: bool,
-    /// No-slip walls with this friction factor (times the fluid's viscosity); 0 is free slip
+    /// No-slip walls with this friction factor (times the fluid's viscosity; PBF: times XSPH's
+    /// c); 0 is free slip
     /// [default: the scenario's: no slip (1) for the tanks at rest, free slip otherwise].
     #[arg(long, value_name = "F", value_parser = wall_friction)]
     pub wall_friction: Option<f32>,
