@@ -3,7 +3,7 @@
 // point, and the workgroup adds its total to the frame's 64-bit sums
 // (sph_core::gpu_layout::GpuBodyForces). A pass calls begin_reactions, then add_reaction per
 // boundary pair of its particle and flush_reaction, then end_reactions, all in uniform control
-// flow. Used by the forces pass, PBF's correction pass and DFSPH's reactions pass.
+// flow. Used by the forces pass, PBF's correction and XSPH passes and DFSPH's reactions pass.
 // Nothing is summed while no collider is in the boundary (reactions_read).
 #define_import_path sph::body_reactions
 
