@@ -27,12 +27,21 @@ fn main(
     @builtin(global_invocation_id) id: vec3<u32>,
     @builtin(local_invocation_index) local: u32,
 ) {
-    begin_reactions(local, #{WORKGROUP_SIZE}u);
+    // Only the friction has reactions here: without it the pass skips the workgroup sums and
+    // their barriers (a uniform, so they stay in uniform control flow).
+    let with_friction = params.boundary_friction > 0.0;
+    if with_friction {
+        begin_reactions(local, #{WORKGROUP_SIZE}u);
+    }
     if id.x < params.particle_count && !frozen() {
         particle(id.x);
-        flush_reaction();
+        if with_friction {
+            flush_reaction();
+        }
     }
-    end_reactions(local, #{WORKGROUP_SIZE}u);
+    if with_friction {
+        end_reactions(local, #{WORKGROUP_SIZE}u);
+    }
 }
 
 // f_b V_b W_ib of a sample (0 on a free-slip body).
