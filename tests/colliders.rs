@@ -1,11 +1,11 @@
 //! `SphCollider` entities on both backends: one step from the same state agrees with the CPU
 //! solver holding the same colliders (a rotated box, a sphere and a no-slip kinematic capsule in
-//! a jittered block; with PBF also a rough box), a collider moved, added and removed at run time changes the boundary
-//! without touching the particle buffers or losing a particle, no particle ends inside a
-//! collider, both backends write the water's force into `SphColliderForce` and the walls' into
-//! `SphWallForce` (the GPU's summed on the device and matching the CPU solver's, with WCSPH and
-//! PBF), the walls carry the weight of water at rest, and a bad collider is refused by entity
-//! and field while the simulation goes on.
+//! a jittered block; with PBF also a rough box), a collider moved, added and removed at run time
+//! changes the boundary without touching the particle buffers or losing a particle, no particle
+//! ends inside a collider, both backends write the water's force into `SphColliderForce` and the
+//! walls' into `SphWallForce` (the GPU's summed on the device and matching the CPU solver's, with
+//! WCSPH and PBF), the walls carry the weight of water at rest, and a bad collider is refused by
+//! entity and field while the simulation goes on.
 
 mod common;
 
