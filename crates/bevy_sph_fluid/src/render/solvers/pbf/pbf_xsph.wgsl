@@ -53,11 +53,47 @@ fn friction_weight(sample: vec4<f32>, b: u32, x_i: vec3<f32>) -> f32 {
     return friction * sample.w * cubic(length(x_i - sample.xyz));
 }
 
+// What walk_samples sums over a particle's samples: Σ_b V_b W_ib, and with friction
+// Σ_b f_b V_b W_ib and Σ_b f_b V_b W_ib v_b.
+var<private> solid_sum: f32;
+var<private> wall_weight: f32;
+var<private> wall_moving: vec3<f32>;
+
+// The boundary samples within h of the sorted position `sorted`, the kernel at `x_i`. Without
+// `reaction` it sums them into the private sums above; with it, it gives each no-slip sample
+// its share, reaction_per_weight f_b V_b W_ib, once the particle's total weight is known.
+fn walk_samples(sorted: vec3<f32>, x_i: vec3<f32>, reaction: bool, reaction_per_weight: vec3<f32>) {
+    let with_friction = params.boundary_friction > 0.0;
+    let cell = grid_cell(sorted);
+    for (var q = 0u; q < 9u; q++) {
+        let range = boundary_range(cell, q);
+        for (var b = range.x; b < range.y; b++) {
+            let sample = boundary_samples[boundary_position_at(b)];
+            let paired = sorted - sample.xyz;
+            if dot(paired, paired) >= params.h_squared {
+                continue;
+            }
+            if reaction {
+                let w = friction_weight(sample, b, x_i);
+                if w > 0.0 {
+                    add_reaction(boundary_body[b], reaction_per_weight * w, sample.xyz);
+                }
+                continue;
+            }
+            solid_sum += sample.w * cubic(length(x_i - sample.xyz));
+            if with_friction {
+                let w = friction_weight(sample, b, x_i);
+                wall_weight += w;
+                wall_moving += boundary_samples[boundary_velocity_at(b)].xyz * w;
+            }
+        }
+    }
+}
+
 fn particle(i: u32) {
     let sorted = particle_state[position_at(i)].xyz;
     let x_i = current_position(i);
     let v_i = particle_scratch[sorted_velocity_at(i)].xyz;
-    let h2 = params.h_squared;
     let m = mass();
     var smoothing = vec3<f32>(0.0);
     var fluid = cubic(0.0);
@@ -69,28 +105,11 @@ fn particle(i: u32) {
         fluid += w;
         smoothing += (particle_scratch[sorted_velocity_at(j)].xyz - v_i) * (m / particle_state[normal_at(j)].y * w);
     }
-    var solid = 0.0;
-    let with_friction = params.boundary_friction > 0.0;
-    var wall_weight = 0.0;
-    var wall_moving = vec3<f32>(0.0);
-    let cell = grid_cell(sorted);
-    for (var q = 0u; q < 9u; q++) {
-        let range = boundary_range(cell, q);
-        for (var b = range.x; b < range.y; b++) {
-            let sample = boundary_samples[boundary_position_at(b)];
-            let paired = sorted - sample.xyz;
-            if dot(paired, paired) < h2 {
-                let r = x_i - sample.xyz;
-                solid += sample.w * cubic(length(r));
-                if with_friction {
-                    let w = friction_weight(sample, b, x_i);
-                    wall_weight += w;
-                    wall_moving += boundary_samples[boundary_velocity_at(b)].xyz * w;
-                }
-            }
-        }
-    }
-    particle_scalars[density_at(i)] = m * fluid + rest_density() * solid;
+    solid_sum = 0.0;
+    wall_weight = 0.0;
+    wall_moving = vec3<f32>(0.0);
+    walk_samples(sorted, x_i, false, vec3<f32>(0.0));
+    particle_scalars[density_at(i)] = m * fluid + rest_density() * solid_sum;
     let dt = step_dt();
     particle_scalars[pressure_at(i)] = equivalent_pressure(particle_state[normal_at(i)].w, dt);
     var v = v_i + smoothing * params.pbf_xsph_c;
@@ -99,20 +118,7 @@ fn particle(i: u32) {
         v += change;
         if !drained(particle_state[position_at(i)].w) {
             // The samples again, each with its share of -m Δv / dt.
-            let reaction = change * (-m / (dt * wall_weight));
-            for (var q = 0u; q < 9u; q++) {
-                let range = boundary_range(cell, q);
-                for (var b = range.x; b < range.y; b++) {
-                    let sample = boundary_samples[boundary_position_at(b)];
-                    let paired = sorted - sample.xyz;
-                    if dot(paired, paired) < h2 {
-                        let w = friction_weight(sample, b, x_i);
-                        if w > 0.0 {
-                            add_reaction(boundary_body[b], reaction * w, sample.xyz);
-                        }
-                    }
-                }
-            }
+            walk_samples(sorted, x_i, true, change * (-m / (dt * wall_weight)));
         }
     }
     particle_state[acceleration_at(i)] = vec4<f32>((v - v_i) / dt + params.gravity, 0.0);
