@@ -44,13 +44,9 @@ fn main(
     }
 }
 
-// f_b V_b W_ib of a sample (0 on a free-slip body).
-fn friction_weight(sample: vec4<f32>, b: u32, x_i: vec3<f32>) -> f32 {
-    let friction = boundary_samples[boundary_velocity_at(b)].w;
-    if friction <= 0.0 {
-        return 0.0;
-    }
-    return friction * sample.w * cubic(length(x_i - sample.xyz));
+// The friction factor f_b of sample b (0 on a free-slip body).
+fn friction_of(b: u32) -> f32 {
+    return max(boundary_samples[boundary_velocity_at(b)].w, 0.0);
 }
 
 // What walk_samples sums over a particle's samples: Σ_b V_b W_ib, and with friction
@@ -74,15 +70,18 @@ fn walk_samples(sorted: vec3<f32>, x_i: vec3<f32>, reaction: bool, reaction_per_
                 continue;
             }
             if reaction {
-                let w = friction_weight(sample, b, x_i);
-                if w > 0.0 {
+                let friction = friction_of(b);
+                if friction > 0.0 {
+                    let w = friction * sample.w * cubic(length(x_i - sample.xyz));
                     add_reaction(boundary_body[b], reaction_per_weight * w, sample.xyz);
                 }
                 continue;
             }
-            solid_sum += sample.w * cubic(length(x_i - sample.xyz));
+            // V_b W_ib, once for the density and the friction's weight f_b V_b W_ib.
+            let volume_weight = sample.w * cubic(length(x_i - sample.xyz));
+            solid_sum += volume_weight;
             if with_friction {
-                let w = friction_weight(sample, b, x_i);
+                let w = friction_of(b) * volume_weight;
                 wall_weight += w;
                 wall_moving += boundary_samples[boundary_velocity_at(b)].xyz * w;
             }
