@@ -128,9 +128,11 @@ impl Buf {
                 Arena::CellCounts
             }
             Buf::Clock | Buf::BodyForces | Buf::Pumps | Buf::Probes => Arena::Shared,
-            Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::Meshes | Buf::BoundaryRest => {
-                Arena::Boundary
-            }
+            Buf::BoundaryPosition
+            | Buf::BoundaryVelocity
+            | Buf::Meshes
+            | Buf::BoundaryRest
+            | Buf::BoundaryLambda => Arena::Boundary,
             Buf::BoundaryBody => Arena::BoundaryBody,
             Buf::Colliders => Arena::Colliders,
             Buf::DfsphPairs => Arena::DfsphPairs,

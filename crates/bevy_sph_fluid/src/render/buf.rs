@@ -107,11 +107,14 @@ pub enum Buf {
     /// The moved bodies' contacts of the step: per collider slot the largest push along each
     /// world axis and sign, as f32 bits (`render::bodies`, `sph_core::bodies::solid_contact`).
     BodyContacts,
+    /// PBF: each boundary sample's λ_b of the iteration (x), the water's λ extrapolated onto it
+    /// (`sph_core::solver::pbf::wall_lambda`); sized by the samples.
+    BoundaryLambda,
 }
 
 impl Buf {
     /// Every logical buffer, in the order its arena packs them.
-    pub const ALL: [Buf; 46] = [
+    pub const ALL: [Buf; 47] = [
         Buf::Position,
         Buf::Velocity,
         Buf::VelocityPredicted,
@@ -158,5 +161,6 @@ impl Buf {
         Buf::BodyWords,
         Buf::BoundaryRest,
         Buf::BodyContacts,
+        Buf::BoundaryLambda,
     ];
 }

@@ -296,7 +296,8 @@ pub fn buffer_sizes(
             | Buf::BoundaryVelocity
             | Buf::BoundaryBody
             | Buf::Meshes
-            | Buf::BoundaryRest => 16,
+            | Buf::BoundaryRest
+            | Buf::BoundaryLambda => 16,
             Buf::BodyWords if key.bodies => sph_core::gpu_layout::GPU_BODY_BYTES as u64,
             Buf::BodyWords => 16,
             Buf::BodyContacts if key.bodies => {

@@ -445,6 +445,11 @@ fn upload_boundary(
     }
     // The samples as sorted, where the moved bodies' placement moves theirs from.
     let rest = if buffers.key.bodies { need } else { 16 };
+    let lambda = if buffers.key.solver == Solver::Pbf {
+        need
+    } else {
+        16
+    };
     let grown = buffers.grow(
         device,
         &[
@@ -454,6 +459,7 @@ fn upload_boundary(
             (Buf::BoundaryBody, body_bytes),
             (Buf::Meshes, mesh_bytes),
             (Buf::BoundaryRest, rest),
+            (Buf::BoundaryLambda, lambda),
         ],
     );
     if !samples.position.is_empty() {

@@ -38,7 +38,8 @@
 // grid (uploaded by the CPU, sph_core::gpu_layout::GpuBoundarySamples): position (w = volume
 // V_b), velocity (w = the body's friction factor, 0 = free slip); then the mesh colliders'
 // hierarchies and triangles (sph_core::boundary::trimesh::TriMesh::gpu_words), for the guard;
-// with moved bodies, the samples' positions as uploaded (render/bodies/body_placement.wgsl).
+// with moved bodies, the samples' positions as uploaded (render/bodies/body_placement.wgsl);
+// PBF's λ_b of each sample (x; render/solvers/pbf/pbf_wall_lambda.wgsl).
 @group(0) @binding(7) var<storage, read_write> boundary_samples: array<vec4<f32>>;
 // Each boundary sample's body (0 the walls, k + 1 collider slot k), in the samples' order.
 @group(0) @binding(8) var<storage, read_write> boundary_body: array<u32>;
@@ -89,3 +90,4 @@ fn diffuse_order_at(i: u32) -> u32 { return params.buffer_at[10].w + i; }
 fn body_words_at(i: u32) -> u32 { return params.buffer_at[11].x + i; }
 fn boundary_rest_at(i: u32) -> u32 { return params.buffer_at[11].y + i; }
 fn body_contacts_at(i: u32) -> u32 { return params.buffer_at[11].z + i; }
+fn boundary_lambda_at(i: u32) -> u32 { return params.buffer_at[11].w + i; }

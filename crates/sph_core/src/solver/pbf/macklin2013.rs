@@ -8,7 +8,8 @@
 //! every iteration, in one branch-free evaluation per pair
 //! ([`CubicSpline::value_and_gradient_factor`]). The kernel is DFSPH's cubic spline ([`CubicSpline`], normalised on the rest
 //! lattice), so the rest lattice satisfies the constraint exactly. Boundary samples (Akinci 2012)
-//! take part in the density and push with the particle's own λ_i.
+//! take part in the density and push with λ_i + λ_b, λ_b the water's λ extrapolated onto them
+//! ([`crate::solver::pbf::wall_lambda`]).
 
 use crate::boundary::samples::{BodyForceSum, Boundary};
 use crate::kernel::CubicSpline;
@@ -359,9 +360,9 @@ pub struct Correction {
     /// The body of the particle's boundary samples: [`NO_BODY`] without samples,
     /// [`SEVERAL_BODIES`] when they belong to more than one.
     pub body: u32,
-    /// Σ_b V_b ∇W_ib over the samples (Δp_i's boundary part is λ_i times this) [1/m]. Each term
-    /// lies along x_i - x_b, so the sum's moment about a point o is (x_i - o) × `wall_push`.
-    pub wall_push: Vec3,
+    /// Δp_i's boundary part, Σ_b V_b (λ_i + λ_b) ∇W_ib over the samples [m]. Each term lies
+    /// along x_i - x_b, so the sum's moment about a point o is (x_i - o) × `wall_move`.
+    pub wall_move: Vec3,
 }
 
 /// [`Correction::body`] of a particle with no boundary sample in reach.
@@ -369,15 +370,16 @@ pub const NO_BODY: u32 = u32::MAX;
 /// [`Correction::body`] of a particle whose samples belong to more than one body.
 pub const SEVERAL_BODIES: u32 = u32::MAX - 1;
 
-/// Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b λ_i ∇W_ib with
+/// Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b (λ_i + λ_b) ∇W_ib with
 /// s_corr = -k (W(r_ij) / W(Δq))^n (Macklin & Müller 2013, the position update and the
-/// artificial pressure), at most `ctx.max_correction` long, with what the boundary samples take
-/// of it for [`apply_corrections`].
+/// artificial pressure), λ_b the samples' λ (`wall_lambda`, by sample;
+/// [`crate::solver::pbf::wall_lambda`]), at most `ctx.max_correction` long, with what the
+/// boundary samples take of it for [`apply_corrections`].
 pub fn compute_corrections(
     ctx: &PbfContext,
     lists: &IndexLists,
     positions: &[Vec3],
-    boundary: Option<&Boundary>,
+    boundary: Option<(&Boundary, &[f32])>,
     constraint: &[Constraint],
     out: &mut [Correction],
 ) {
@@ -399,7 +401,8 @@ struct Corrections<'a> {
     ctx: &'a PbfContext,
     lists: &'a IndexLists,
     positions: &'a [Vec3],
-    boundary: Option<&'a Boundary>,
+    /// The samples and their λ_b.
+    boundary: Option<(&'a Boundary, &'a [f32])>,
     constraint: &'a [Constraint],
     out: &'a mut [Correction],
 }
@@ -430,12 +433,12 @@ impl SCorrPass for Corrections<'_> {
             };
             let fluid = sums.sum::<N>(wide) * scale;
             let (mut push, mut body) = (Vec3::ZERO, NO_BODY);
-            if let Some(b) = boundary {
+            if let Some((b, wall_lambda)) = boundary {
                 for &s in pairs.boundary {
                     let s = s as usize;
                     let r = x_i - b.position[s];
-                    let g = r * (k.value_and_gradient_factor(r.length_squared()).1 * b.volume[s]);
-                    push += g;
+                    let f = k.value_and_gradient_factor(r.length_squared()).1;
+                    push += r * (f * b.volume[s] * (l_i + wall_lambda[s]));
                     let of = b.body[s];
                     body = if body == NO_BODY || body == of {
                         of
@@ -445,9 +448,9 @@ impl SCorrPass for Corrections<'_> {
                 }
             }
             *o = Correction {
-                delta: (fluid + push * l_i).clamp_length_max(ctx.max_correction),
+                delta: (fluid + push).clamp_length_max(ctx.max_correction),
                 body,
-                wall_push: push,
+                wall_move: push,
             };
         });
     }
@@ -537,6 +540,8 @@ pub struct CorrectionStep<'a> {
     pub dt: f32,
     /// The boundary samples.
     pub boundary: &'a Boundary,
+    /// The samples' λ_b of the iteration ([`crate::solver::pbf::wall_lambda`]).
+    pub wall_lambda: &'a [f32],
     /// The iteration's λ.
     pub constraint: &'a [Constraint],
     /// The iteration's corrections ([`compute_corrections`]).
@@ -546,17 +551,20 @@ pub struct CorrectionStep<'a> {
     pub contact_margin: Option<f32>,
 }
 
-/// The pressure equivalent to a particle's λ over a step of `dt`, p_i = -ρ0 Λ_i / dt² with
-/// Λ_i = Σ_k c_k λ_k the step's λ weighted as its corrections reach the moves
-/// ([`correction_weight`]). The step moves particle i by Σ_k u_k = (m/ρ0) Σ_j (Λ_i + Λ_j) ∇W_ij
-/// (and Λ_i V_b ∇W_ib at the samples), where the symmetric SPH pressure force would move it by
-/// dt² a_i = -(m/ρ0²) dt² Σ_j (p_i + p_j) ∇W_ij: the two agree for this p. So a tank at rest
-/// reads ρ0 g depth where its λ holds the water up against gravity's dt² of prediction. The
-/// artificial pressure s_corr and the correction cap are not in it. Never negative (λ ≤ 0:
-/// only compression is a violation).
+/// The pressure equivalent to a particle's λ over a step of `dt` at its density `density`,
+/// p_i = -(ρ_i² / ρ0) Λ_i / dt² with Λ_i = Σ_k c_k λ_k the step's λ weighted as its corrections
+/// reach the moves ([`correction_weight`]). The step moves particle i by
+/// Σ_k u_k = (m/ρ0) Σ_j (Λ_i + Λ_j) ∇W_ij (and V_b (Λ_i + Λ_b) ∇W_ib at the samples), where
+/// Monaghan's symmetric SPH pressure force, the form WCSPH uses, would move it by
+/// dt² a_i = -dt² Σ_j m (p_i/ρ_i² + p_j/ρ_j²) ∇W_ij: the two agree for this p. So a tank at
+/// rest reads ρ0 g depth where its λ holds the water up against gravity's dt² of prediction.
+/// With ρ0 in place of ρ_i (the incompressible form) a column compressed by a few per cent
+/// read about 12 % under ρ0 g depth at its floor: the form's density-gradient error, which a
+/// fixed iteration count's compression grows with the depth. The artificial pressure s_corr and
+/// the correction cap are not in it. Never negative (λ ≤ 0: only compression is a violation).
 #[inline]
-pub fn equivalent_pressure(ctx: &PbfContext, lambda_sum: f32, dt: f32) -> f32 {
-    let p = -ctx.rest_density * lambda_sum / (dt * dt);
+pub fn equivalent_pressure(ctx: &PbfContext, lambda_sum: f32, density: f32, dt: f32) -> f32 {
+    let p = -density * density * lambda_sum / (ctx.rest_density * dt * dt);
     if p.is_finite() {
         p.max(0.0)
     } else {
@@ -567,7 +575,7 @@ pub fn equivalent_pressure(ctx: &PbfContext, lambda_sum: f32, dt: f32) -> f32 {
 /// Moves every particle by its over-relaxed correction, x += u_k ([`over_relax`]; `moved`
 /// holds u_{k-1} and receives u_k), and returns the fluid's force on each boundary body from
 /// the iteration (Akinci 2012's two-way coupling in PBF's position form): sample b moves
-/// particle i by Δp_ib = V_b λ_i ∇W_ib, which changes i's momentum by m Δp_ib / dt over the
+/// particle i by Δp_ib = V_b (λ_i + λ_b) ∇W_ib, which changes i's momentum by m Δp_ib / dt over the
 /// step of `dt`, so the body feels -m Δp_ib / dt² at the sample, with its torque about the
 /// body's origin, weighted by the iteration's [`correction_weight`]. Summed per particle by
 /// [`compute_corrections`], pair by pair for a particle whose samples belong to several
@@ -587,6 +595,7 @@ pub fn apply_corrections(
         iterations,
         dt,
         boundary,
+        wall_lambda,
         constraint,
         corrections,
         contact_margin,
@@ -602,18 +611,18 @@ pub fn apply_corrections(
         |mut sums, i, pairs, x, u| {
             let l_i = constraint[i].lambda;
             let c = &corrections[i];
-            if l_i != 0.0 && c.body != NO_BODY {
+            if c.wall_move != Vec3::ZERO && c.body != NO_BODY {
                 if c.body != SEVERAL_BODIES {
                     let sum = &mut sums[c.body as usize];
-                    sum.force += (c.wall_push * (l_i * scale)).as_dvec3();
+                    sum.force += (c.wall_move * scale).as_dvec3();
                     let arm = *x - boundary.origin[c.body as usize];
-                    sum.torque += (arm.cross(c.wall_push) * (l_i * scale)).as_dvec3();
+                    sum.torque += (arm.cross(c.wall_move) * scale).as_dvec3();
                 } else {
                     for &s in pairs.boundary {
                         let s = s as usize;
                         let r = *x - boundary.position[s];
                         let f = k.value_and_gradient_factor(r.length_squared()).1;
-                        let moved = r * (f * boundary.volume[s] * l_i);
+                        let moved = r * (f * boundary.volume[s] * (l_i + wall_lambda[s]));
                         let body = boundary.body[s] as usize;
                         sums[body].add(moved * scale, boundary.position[s], boundary.origin[body]);
                     }
@@ -644,6 +653,7 @@ mod tests {
     use crate::neighbor::Neighbors;
     use crate::params::SphParams;
     use crate::rng::SplitMix64;
+    use crate::solver::pbf::wall_lambda::{extrapolate_wall_lambda, SampleNeighbors};
     use crate::solver::pbf::xsph_vorticity::FluidXsph;
 
     /// The AVX2 copies of the pair loops (taken on this CPU when it has AVX2 and FMA) give the
@@ -715,8 +725,9 @@ mod tests {
     }
 
     /// The pressure the step's λ stand for moves the water as the λ do: with s_corr off and no
-    /// cap, the corrections (m/ρ0) Σ_j (λ_i + λ_j) ∇W_ij of a random λ field equal the symmetric
-    /// SPH pressure's dt² a_i = -dt² (m/ρ0²) Σ_j (p_i + p_j) ∇W_ij at p = equivalent_pressure.
+    /// cap, the corrections (m/ρ0) Σ_j (λ_i + λ_j) ∇W_ij of a random λ field equal Monaghan's
+    /// symmetric SPH pressure's dt² a_i = -dt² Σ_j m (p_i/ρ_i² + p_j/ρ_j²) ∇W_ij at
+    /// p = equivalent_pressure, with densities up to 5 % over ρ0.
     #[test]
     fn the_equivalent_pressure_moves_the_water_as_its_lambda_do() {
         let params = SphParams::water();
@@ -743,7 +754,7 @@ mod tests {
         let constraint: Vec<Constraint> = (0..512)
             .map(|_| Constraint {
                 lambda: -scale * rng.range(0.0, 1.0),
-                density: params.rest_density,
+                density: params.rest_density * rng.range(1.0, 1.05),
             })
             .collect();
         let mut corrections = vec![Correction::default(); 512];
@@ -752,10 +763,16 @@ mod tests {
         let dt = 1.0 / 120.0;
         let p: Vec<f32> = constraint
             .iter()
-            .map(|c| equivalent_pressure(&ctx, c.lambda, dt))
+            .map(|c| equivalent_pressure(&ctx, c.lambda, c.density, dt))
             .collect();
         assert!(p.iter().all(|&p| p >= 0.0) && p.iter().any(|&p| p > 0.0));
-        let factor = -dt * dt * ctx.mass / (ctx.rest_density * ctx.rest_density);
+        // p_i / ρ_i².
+        let q: Vec<f32> = p
+            .iter()
+            .zip(&constraint)
+            .map(|(p, c)| p / (c.density * c.density))
+            .collect();
+        let factor = -dt * dt * ctx.mass;
         let mut worst: f32 = 0.0;
         let mut largest: f32 = 0.0;
         for i in 0..512 {
@@ -767,7 +784,7 @@ mod tests {
                     continue;
                 }
                 let f = ctx.kernel.value_and_gradient_factor(r2).1;
-                moved += r * (f * (p[i] + p[j]) * factor);
+                moved += r * (f * (q[i] + q[j]) * factor);
             }
             worst = worst.max((moved - corrections[i].delta).length());
             largest = largest.max(corrections[i].delta.length());
@@ -812,8 +829,14 @@ mod tests {
         lists.rebuild_indices(&neighbors, &positions, Some(&boundary));
         let mut constraint = vec![Constraint::default(); n];
         compute_lambdas(&ctx, &lists, &positions, Some(&boundary), &mut constraint);
+        let mut samples = SampleNeighbors::default();
+        samples.rebuild(&lists, boundary.position.len());
+        let mut wall_lambda = Vec::new();
+        let (x, c) = (&positions, &constraint);
+        extrapolate_wall_lambda(&ctx, &samples, x, &boundary, c, &mut wall_lambda);
+        assert!(wall_lambda.iter().filter(|&&l| l < 0.0).count() > 100);
         let mut corrections = vec![Correction::default(); n];
-        let b = Some(&boundary);
+        let b = Some((&boundary, &wall_lambda[..]));
         compute_corrections(&ctx, &lists, &positions, b, &constraint, &mut corrections);
         let shared = corrections
             .iter()
@@ -831,7 +854,8 @@ mod tests {
                     let s = s as usize;
                     let r = positions[i] - boundary.position[s];
                     let f = ctx.kernel.value_and_gradient_factor(r.length_squared()).1;
-                    let moved = r * (f * boundary.volume[s] * constraint[i].lambda);
+                    let l = constraint[i].lambda + wall_lambda[s];
+                    let moved = r * (f * boundary.volume[s] * l);
                     let body = boundary.body[s] as usize;
                     let (at, origin) = (boundary.position[s], boundary.origin[body]);
                     sums[body].add(moved * scale, at, origin);
@@ -848,6 +872,7 @@ mod tests {
             iterations: 1,
             dt,
             boundary: &boundary,
+            wall_lambda: &wall_lambda,
             constraint: &constraint,
             corrections: &corrections,
             contact_margin: None,

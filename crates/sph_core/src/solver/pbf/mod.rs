@@ -5,8 +5,9 @@
 //!    of a spacing from every surface ([`stop_before_drift`]); predicted positions
 //!    x* = x + dt v; the guard;
 //! 2. neighbour sort and lists on the predicted positions;
-//! 3. `iterations` times: λ_i, then the corrections Δp_i, x* += Δp (over-relaxed after the first),
-//!    then the contact with the solids ([`solid_contact`]);
+//! 3. `iterations` times: λ_i, the boundary samples' λ_b ([`wall_lambda`]), then the
+//!    corrections Δp_i, x* += Δp (over-relaxed after the first), then the contact with the
+//!    solids ([`solid_contact`]);
 //! 4. v = (x* - x) / dt, the guard, XSPH viscosity with the no-slip bodies' share of it
 //!    ([`xsph_vorticity::wall_friction`]); x = x*; the pressure equivalent to the step's λ
 //!    ([`macklin2013::equivalent_pressure`]);
@@ -20,6 +21,7 @@ pub mod macklin2013;
 pub mod settings;
 pub mod solid_contact;
 pub mod stages;
+pub mod wall_lambda;
 pub mod xsph_vorticity;
 
 use super::state::{timed, ParticleData, SolverParts};
@@ -34,6 +36,7 @@ use crate::solver::pbf::macklin2013::{
     correction_weight, equivalent_pressure, Constraint, Correction, CorrectionStep, PbfContext,
 };
 use crate::solver::pbf::stages::PbfStage;
+use crate::solver::pbf::wall_lambda::{extrapolate_wall_lambda, SampleNeighbors};
 use crate::solver::pbf::xsph_vorticity::{confine_vorticity, vorticity, xsph_and_densities};
 use crate::solvers::SolverStats;
 use crate::stability::largest_magnitude;
@@ -42,7 +45,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 /// The stages of one PBF step for `params`, each once in order: the sort of the predicted
-/// positions, the neighbour lists, λ and the corrections (repeated `pbf.iterations` times), the
+/// positions, the neighbour lists, λ, the samples' λ and the corrections (repeated
+/// `pbf.iterations` times), the
 /// velocities, XSPH, and with vorticity confinement its two stages. The time step and the
 /// prediction come before.
 pub fn step_stages(params: &SphParams) -> Vec<CpuStage> {
@@ -50,6 +54,7 @@ pub fn step_stages(params: &SphParams) -> Vec<CpuStage> {
         CpuStage::Sort,
         CpuStage::NeighborLists,
         CpuStage::Pbf(PbfStage::Lambda),
+        CpuStage::Pbf(PbfStage::WallLambda),
         CpuStage::Pbf(PbfStage::Correction),
         CpuStage::Pbf(PbfStage::Velocity),
         CpuStage::Pbf(PbfStage::Xsph),
@@ -76,6 +81,10 @@ pub(super) struct PbfScratch {
     velocity: Vec<Vec3>,
     omega: Vec<Vec3>,
     confined: Vec<Vec3>,
+    /// The fluid particles within reach of each boundary sample over the step.
+    samples: SampleNeighbors,
+    /// Each boundary sample's λ_b of the iteration ([`wall_lambda`]).
+    wall_lambda: Vec<f32>,
 }
 
 /// PBF's time step: `params.time_step` when fixed; with `params.adaptive_time_step`,
@@ -165,7 +174,8 @@ impl PbfStep<'_> {
         // positions).
         timed(&mut t.density, || {
             s.lists
-                .rebuild_indices(neighbors, &p.position, Some(boundary))
+                .rebuild_indices(neighbors, &p.position, Some(boundary));
+            s.samples.rebuild(&s.lists, boundary.position.len());
         });
         // 3. The constraint's Jacobi iterations.
         let iterations = params.pbf.iterations;
@@ -189,11 +199,19 @@ impl PbfStep<'_> {
                         let before = if k == 0 { 0.0 } else { *sum };
                         *sum = before + weight * c.lambda;
                     });
+                extrapolate_wall_lambda(
+                    &ctx,
+                    &s.samples,
+                    &p.position,
+                    boundary,
+                    &s.constraint,
+                    &mut s.wall_lambda,
+                );
                 compute_corrections(
                     &ctx,
                     &s.lists,
                     &p.position,
-                    Some(boundary),
+                    Some((boundary, &s.wall_lambda)),
                     &s.constraint,
                     &mut s.corrections,
                 );
@@ -202,6 +220,7 @@ impl PbfStep<'_> {
                     iterations,
                     dt,
                     boundary,
+                    wall_lambda: &s.wall_lambda,
                     constraint: &s.constraint,
                     corrections: &s.corrections,
                     contact_margin: Some(margin),
@@ -276,8 +295,10 @@ impl PbfStep<'_> {
         let inverse_dt = 1.0 / dt;
         p.pressure
             .par_iter_mut()
-            .zip(s.lambda_sum.par_iter())
-            .for_each(|(pressure, &sum)| *pressure = equivalent_pressure(&ctx, sum, dt));
+            .zip(s.lambda_sum.par_iter().zip(p.density.par_iter()))
+            .for_each(|(pressure, (&sum, &rho))| {
+                *pressure = equivalent_pressure(&ctx, sum, rho, dt)
+            });
         // The step's mean acceleration, for the stability check and the diagnostics.
         p.acceleration
             .par_iter_mut()

@@ -92,7 +92,7 @@ fn carried_weight() -> f32 {
 
 // Adds particle i's λ of the iteration under way, weighted by its share of the step's moves,
 // to Λ_i = Σ_k c_k λ_k in normal[i].w (the first iteration starts it): the pressure the step's
-// λ stand for is -ρ0 Λ_i / dt² (pbf_xsph). Only the w of i's own slot is written, while the pass
+// λ stand for is -(ρ_i² / ρ0) Λ_i / dt² (pbf_xsph). Only the w of i's own slot is written, while the pass
 // reads the neighbours' λ in x. Rust twin: the λ sums of sph_core::solver::pbf's step and
 // sph_core::solver::pbf::macklin2013::equivalent_pressure.
 fn sum_lambda(i: u32, l_i: f32) {
@@ -148,10 +148,10 @@ fn rest_density() -> f32 {
     return params.rest_density;
 }
 
-// The pressure a step's weighted λ sum stands for, -ρ0 Λ / dt², never negative.
-// Rust twin: sph_core::solver::pbf::macklin2013::equivalent_pressure.
-fn equivalent_pressure(lambda_sum: f32, dt: f32) -> f32 {
-    let p = -rest_density() * lambda_sum / (dt * dt);
+// The pressure a step's weighted λ sum stands for at the density ρ, -(ρ² / ρ0) Λ / dt², never
+// negative. Rust twin: sph_core::solver::pbf::macklin2013::equivalent_pressure.
+fn equivalent_pressure(lambda_sum: f32, density: f32, dt: f32) -> f32 {
+    let p = -density * density * lambda_sum / (rest_density() * dt * dt);
     if p > 0.0 && p < 3.0e38 {
         return p;
     }

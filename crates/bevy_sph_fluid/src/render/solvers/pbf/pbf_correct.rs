@@ -25,6 +25,7 @@ pub const STAGE: GpuStage = GpuStage {
         Buf::NeighborCount,
         Buf::NeighborLists,
         Buf::BoundaryPosition,
+        Buf::BoundaryLambda,
         Buf::BoundaryCellStart,
         Buf::BoundaryBody,
         Buf::BodyForces,

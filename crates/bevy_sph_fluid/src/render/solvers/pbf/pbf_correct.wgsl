@@ -1,11 +1,12 @@
 // PBF's position correction (Macklin & Müller 2013, eqs. 12-14): at the iteration's positions,
-// Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b λ_i ∇W_ib,
+// Δp_i = Σ_j (m/ρ0) (λ_i + λ_j + s_corr) ∇W_ij + Σ_b V_b (λ_i + λ_b) ∇W_ib (λ_b the samples'
+// λ of the iteration, pbf_wall_lambda.wgsl),
 // s_corr = -k (W(r_ij) / W(Δq))^n (the artificial pressure against tensile clumping),
 // at most max(0.1 h, 2 |g| dt²) long (sph_core::solver::pbf::macklin2013::PbfContext::for_step);
 // x_i + Δp_i, over-relaxed after the first iteration, goes to the next iteration's buffer
 // (see pbf.wgsl).
 // The boundary's reaction (Akinci 2012's two-way coupling in PBF's position form): sample b
-// moves i by V_b λ_i ∇W_ib, so its body feels -m V_b λ_i ∇W_ib / dt² at the sample, weighted by
+// moves i by V_b (λ_i + λ_b) ∇W_ib, so its body feels -m times that / dt² at the sample, weighted by
 // the iteration's share of the step's moves (correction_weight), summed by
 // shaders/body_reactions.wgsl over the step's iterations.
 // The iteration's λ_i joins the step's sum Λ_i (normal.w, pbf.wgsl's sum_lambda).
@@ -14,7 +15,7 @@
 // (carried_weight; shaders/speculative_contact.wgsl's contact_projection).
 // Rust twins: sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections},
 // sph_core::solver::pbf::solid_contact::project_out_of_solids.
-#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, normal_at, boundary_samples, boundary_position_at, boundary_body}
+#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, normal_at, boundary_samples, boundary_position_at, boundary_lambda_at, boundary_body}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen}
@@ -77,9 +78,10 @@ fn particle(i: u32) {
             }
             let r = x_i - sample.xyz;
             let r2 = dot(r, r);
-            let moved = cubic_grad(r, sqrt(r2)) * (sample.w * l_i);
+            let l_b = boundary_samples[boundary_lambda_at(b)].x;
+            let moved = cubic_grad(r, sqrt(r2)) * (sample.w * (l_i + l_b));
             sum += moved;
-            if l_i != 0.0 && kept {
+            if l_i + l_b != 0.0 && kept {
                 add_reaction(boundary_body[b], moved * reaction, sample.xyz);
             }
         }

@@ -2,7 +2,7 @@
 // positions (see pbf.wgsl):
 // v_i = v*_i + c Σ_j (m/ρ_j) (v*_j - v*_i) W_ij, v* the velocities of the velocity pass and ρ_j
 // the last λ pass's densities (normal.y); ρ_i = m Σ_j W_ij + ρ0 Σ_b V_b W_ib (self included);
-// the pressure the step's λ stand for, -ρ0 Λ_i / dt² (Λ_i in normal.w, see pbf.wgsl); a = (v - v*) / dt + g, the step's mean acceleration (diagnostics).
+// the pressure the step's λ stand for, -(ρ_i² / ρ0) Λ_i / dt² (Λ_i in normal.w, see pbf.wgsl); a = (v - v*) / dt + g, the step's mean acceleration (diagnostics).
 // No-slip samples (velocity.w = the body's friction f_b > 0; only when some sample has friction,
 // params.boundary_friction) count as water moving with their body:
 // v_i += min(c Σ_b f_b V_b W_ib, 1) (v̄_b - v_i), v̄_b their mean velocity by those weights, and
@@ -108,9 +108,10 @@ fn particle(i: u32) {
     wall_weight = 0.0;
     wall_moving = vec3<f32>(0.0);
     walk_samples(sorted, x_i, false, vec3<f32>(0.0));
-    particle_scalars[density_at(i)] = m * fluid + rest_density() * solid_sum;
+    let rho = m * fluid + rest_density() * solid_sum;
+    particle_scalars[density_at(i)] = rho;
     let dt = step_dt();
-    particle_scalars[pressure_at(i)] = equivalent_pressure(particle_state[normal_at(i)].w, dt);
+    particle_scalars[pressure_at(i)] = equivalent_pressure(particle_state[normal_at(i)].w, rho, dt);
     var v = v_i + smoothing * params.pbf_xsph_c;
     if wall_weight > 0.0 {
         let change = (wall_moving / wall_weight - v_i) * min(params.pbf_xsph_c * wall_weight, 1.0);
