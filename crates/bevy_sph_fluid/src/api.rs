@@ -255,9 +255,11 @@ pub struct SphStats {
     /// Of those, the particles clamped back into the container's box.
     pub wall_corrections: u64,
     /// GPU PBF: particles that had more neighbours than the step's lists hold
-    /// (`sph_core::gpu_layout::PBF_MAX_NEIGHBORS`, about twice the rest density) and lost the
-    /// rest for that step, summed over the steps since the last reset. 0 on the CPU backend,
-    /// whose lists have no limit.
+    /// (`sph_core::gpu_layout::PBF_MAX_NEIGHBORS`, about twice the rest density) and boundary
+    /// samples with more particles in reach than theirs hold
+    /// (`sph_core::gpu_layout::PBF_MAX_WALL_NEIGHBORS`), each losing the rest for that step,
+    /// summed over the steps since the last reset. 0 on the CPU backend, whose lists have no
+    /// limit.
     pub neighbor_list_overflows: u64,
     /// Boundary samples (Akinci 2012) of the container's walls and the colliders.
     pub boundary_samples: u32,

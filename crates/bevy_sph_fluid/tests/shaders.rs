@@ -553,3 +553,11 @@ fn the_lists_tile_as_the_rust_layout_sizes_them() {
         + (capacity - 1) % value;
     assert!((last as u64) < sph_core::gpu_layout::list_entries(capacity));
 }
+
+/// The wall lists' length in the shaders is the Rust layout's, which sizes their buffer.
+#[test]
+fn the_wall_lists_hold_what_the_rust_layout_sizes() {
+    let value = u32_constant("sph_pbf_wall_lists", "PBF_MAX_WALL_NEIGHBORS");
+    assert_eq!(value, sph_core::gpu_layout::PBF_MAX_WALL_NEIGHBORS);
+    assert_eq!(sph_core::gpu_layout::PBF_WALL_LIST_WORDS, value + 2);
+}

@@ -128,12 +128,10 @@ impl Buf {
                 Arena::CellCounts
             }
             Buf::Clock | Buf::BodyForces | Buf::Pumps | Buf::Probes => Arena::Shared,
-            Buf::BoundaryPosition
-            | Buf::BoundaryVelocity
-            | Buf::Meshes
-            | Buf::BoundaryRest
-            | Buf::BoundaryLambda => Arena::Boundary,
-            Buf::BoundaryBody => Arena::BoundaryBody,
+            Buf::BoundaryPosition | Buf::BoundaryVelocity | Buf::Meshes | Buf::BoundaryRest => {
+                Arena::Boundary
+            }
+            Buf::BoundaryBody | Buf::BoundaryLambda => Arena::BoundaryBody,
             Buf::Colliders => Arena::Colliders,
             Buf::DfsphPairs => Arena::DfsphPairs,
         }

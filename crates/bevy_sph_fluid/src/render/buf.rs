@@ -107,8 +107,10 @@ pub enum Buf {
     /// The moved bodies' contacts of the step: per collider slot the largest push along each
     /// world axis and sign, as f32 bits (`render::bodies`, `sph_core::bodies::solid_contact`).
     BodyContacts,
-    /// PBF: each boundary sample's λ_b of the iteration (x), the water's λ extrapolated onto it
-    /// (`sph_core::solver::pbf::wall_lambda`); sized by the samples.
+    /// PBF: per boundary sample, `PBF_WALL_LIST_WORDS` u32: the bits of its λ_b of the
+    /// iteration (the water's λ extrapolated onto it, `sph_core::solver::pbf::wall_lambda`), the
+    /// count of particles within h of it at the predicted positions, their indices; sized by
+    /// the samples.
     BoundaryLambda,
 }
 

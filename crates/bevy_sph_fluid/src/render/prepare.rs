@@ -17,7 +17,7 @@ use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::storage::GpuShaderBuffer;
 use sph_core::gpu_dfsph_pairs;
 use sph_core::gpu_layout::{
-    GpuBodyForces, GpuClock, GpuCollider, GpuProbes, GpuPumps, GpuSphParams,
+    GpuBodyForces, GpuClock, GpuCollider, GpuProbes, GpuPumps, GpuSphParams, PBF_WALL_LIST_WORDS,
 };
 use sph_core::neighbor::grid::DenseGrid;
 use sph_core::Solver;
@@ -446,7 +446,7 @@ fn upload_boundary(
     // The samples as sorted, where the moved bodies' placement moves theirs from.
     let rest = if buffers.key.bodies { need } else { 16 };
     let lambda = if buffers.key.solver == Solver::Pbf {
-        need
+        (4 * PBF_WALL_LIST_WORDS as u64 * samples.position.len() as u64).max(16)
     } else {
         16
     };

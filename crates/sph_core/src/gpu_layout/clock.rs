@@ -65,7 +65,9 @@ pub struct GpuClock {
     pub budget_steps_left: u32,
     /// PBF: particles that had more than
     /// [`PBF_MAX_NEIGHBORS`](crate::gpu_layout::PBF_MAX_NEIGHBORS) neighbours in a step's lists
-    /// (and lost the rest for that step), summed over the steps since the reset.
+    /// (and lost the rest for that step), and boundary samples with more than
+    /// [`PBF_MAX_WALL_NEIGHBORS`](crate::gpu_layout::PBF_MAX_WALL_NEIGHBORS) particles in reach,
+    /// summed over the steps since the reset.
     pub neighbor_list_overflows: u32,
     /// DFSPH: the workgroup count of the solve's next pass, 0 once the solve converged; with
     /// `dfsph_args_y` and `dfsph_args_z` (1, 1) the indirect dispatch arguments of the solves'

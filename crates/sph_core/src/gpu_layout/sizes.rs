@@ -9,6 +9,17 @@ pub const WORKGROUP_SIZE: u32 = 64;
 /// ([`GpuClock::neighbor_list_overflows`](crate::gpu_layout::GpuClock::neighbor_list_overflows)).
 pub const PBF_MAX_NEIGHBORS: u32 = 64;
 
+/// The most fluid particles a boundary sample keeps in the GPU's PBF wall lists (particles
+/// within h at the predicted positions; `sph_core::solver::pbf::wall_lambda`). A sample on a
+/// flat wall has about half a particle's 33, one inside a wall a spacing thick up to about all
+/// of them from both sides; past this many the sample loses the rest for the step and the clock
+/// counts it with the particles' overflows. The CPU's lists have no limit.
+pub const PBF_MAX_WALL_NEIGHBORS: u32 = 62;
+
+/// u32 words of a boundary sample in the GPU's PBF wall lists: λ_b's bits, the particle count,
+/// then [`PBF_MAX_WALL_NEIGHBORS`] particle indices.
+pub const PBF_WALL_LIST_WORDS: u32 = PBF_MAX_WALL_NEIGHBORS + 2;
+
 /// The GPU's neighbour lists (PBF's and DFSPH's) keep entry k of particle i in tiles of this
 /// many particles, row by row: at `((i / LIST_TILE) * PBF_MAX_NEIGHBORS + k) * LIST_TILE +
 /// i % LIST_TILE` (`list_slot` in the plugin's `shaders/neighbors.wgsl`), so that a pass over the

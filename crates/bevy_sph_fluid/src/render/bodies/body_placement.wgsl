@@ -14,7 +14,7 @@
 // once every body has met its solids) and, where one rests on the other, the friction's limit:
 // mu g dt for the upper body, the same impulse for the lower (solid_contact::support_friction).
 // A hinged body pushes as a solid at rest. CPU twin: solid_contact::sample_pushes.
-#import sph::bindings::{params, grid, boundary_samples, boundary_body, colliders, boundary_position_at, boundary_velocity_at, boundary_rest_at}
+#import sph::bindings::{params, grid, boundary_samples, boundary_body, boundary_body_at, colliders, boundary_position_at, boundary_velocity_at, boundary_rest_at}
 #import sph::bodies::{MOVED_BODIES, held, load_state, input_word, word_f32, word_vec3, word_vec4, origin, rotate, conjugate, add_push, add_body_push, support_friction, BODY_FRICTION, IN_MASS, IN_CENTER_OF_MASS, IN_SORTED_ORIGIN, IN_SORTED_ROTATION, IN_HINGED}
 #import sph::guard::{collider_surface, surface_of}
 #import sph::clock::step_dt
@@ -43,7 +43,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.boundary_sample_count {
         return;
     }
-    let body = boundary_body[i];
+    let body = boundary_body[boundary_body_at(i)];
     if body == 0u || body > MOVED_BODIES || !held(body - 1u) {
         return;
     }

@@ -38,10 +38,10 @@
 // grid (uploaded by the CPU, sph_core::gpu_layout::GpuBoundarySamples): position (w = volume
 // V_b), velocity (w = the body's friction factor, 0 = free slip); then the mesh colliders'
 // hierarchies and triangles (sph_core::boundary::trimesh::TriMesh::gpu_words), for the guard;
-// with moved bodies, the samples' positions as uploaded (render/bodies/body_placement.wgsl);
-// PBF's λ_b of each sample (x; render/solvers/pbf/pbf_wall_lambda.wgsl).
+// with moved bodies, the samples' positions as uploaded (render/bodies/body_placement.wgsl).
 @group(0) @binding(7) var<storage, read_write> boundary_samples: array<vec4<f32>>;
-// Each boundary sample's body (0 the walls, k + 1 collider slot k), in the samples' order.
+// Each boundary sample's body (0 the walls, k + 1 collider slot k), in the samples' order;
+// PBF's wall lists and λ_b (render/solvers/pbf/pbf.wgsl's wall_word).
 @group(0) @binding(8) var<storage, read_write> boundary_body: array<u32>;
 // The colliders, for the guard (params.guard_colliders of them).
 @group(0) @binding(9) var<storage, read_write> colliders: array<GpuCollider>;
@@ -77,6 +77,7 @@ fn checkpoint_at(i: u32) -> u32 { return params.buffer_at[6].x + i; }
 fn boundary_position_at(i: u32) -> u32 { return params.buffer_at[6].y + i; }
 fn boundary_velocity_at(i: u32) -> u32 { return params.buffer_at[6].z + i; }
 fn boundary_cell_start_at(i: u32) -> u32 { return params.buffer_at[6].w + i; }
+fn boundary_body_at(i: u32) -> u32 { return params.buffer_at[7].y + i; }
 fn meshes_at(i: u32) -> u32 { return params.buffer_at[8].y + i; }
 fn neighbor_lists_at(i: u32) -> u32 { return params.buffer_at[8].z + i; }
 fn pressure_eos_at(i: u32) -> u32 { return params.buffer_at[9].x + i; }

@@ -32,7 +32,7 @@
 // The reaction -m a_ib of every boundary pair goes to the sample's body (Akinci 2012's two-way
 // coupling, summed by shaders/body_reactions.wgsl).
 // Rust twin: sph_core::forces (compute_accelerations and its per-body sums).
-#import sph::bindings::{params, particle_state, position_at, velocity_at, velocity_predicted_at, acceleration_at, acceleration_start_at, particle_scalars, density_at, pressure_at, normal_at, grid, neighbor_count_at, neighbor_lists_at, boundary_samples, boundary_position_at, boundary_velocity_at, boundary_body, shared_state}
+#import sph::bindings::{params, particle_state, position_at, velocity_at, velocity_predicted_at, acceleration_at, acceleration_start_at, particle_scalars, density_at, pressure_at, normal_at, grid, neighbor_count_at, neighbor_lists_at, boundary_samples, boundary_position_at, boundary_velocity_at, boundary_body, boundary_body_at, shared_state}
 #import sph::kernels::{poly6, spiky_grad, viscosity_laplacian, cohesion, collide}
 #import sph::neighbors::{home_cell, neighbor_range_count, neighbor_range, accepts, grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen, record_speed, record_acceleration}
@@ -150,7 +150,7 @@ fn contact_shares(x_i: vec3<f32>, g: vec3<i32>, n: vec3<f32>, force: vec3<f32>) 
                 let w = max(dot(contact_push(r, r_len, sample.w), n), 0.0);
                 along += w;
                 if reacting && w > 0.0 {
-                    add_reaction(boundary_body[b], force * w, sample.xyz);
+                    add_reaction(boundary_body[boundary_body_at(b)], force * w, sample.xyz);
                 }
             }
         }
@@ -311,7 +311,7 @@ fn particle(i: u32) {
             }
             wall += a_b;
             if kept {
-                add_reaction(boundary_body[b], a_b * -m, sample.xyz);
+                add_reaction(boundary_body[boundary_body_at(b)], a_b * -m, sample.xyz);
             }
         }
     }

@@ -7,6 +7,9 @@ pub enum PbfStage {
     /// The constraint's λ_i at the predicted positions
     /// ([`crate::solver::pbf::macklin2013::compute_lambdas`]).
     Lambda,
+    /// The particles within reach of each boundary sample over the step
+    /// ([`crate::solver::pbf::wall_lambda::SampleNeighbors::rebuild`]).
+    WallLists,
     /// The boundary samples' λ_b, the water's λ around each
     /// ([`crate::solver::pbf::wall_lambda::extrapolate_wall_lambda`]).
     WallLambda,

@@ -13,7 +13,9 @@
 //!
 //! The pairs are the step's ([`SampleNeighbors::rebuild`] transposes the lists' boundary pairs,
 //! found at the predicted positions); the kernel is evaluated at the iteration's positions, as
-//! in every PBF pass. GPU twin: `render/solvers/pbf/pbf_wall_lambda.wgsl`.
+//! in every PBF pass. GPU twins: `render/solvers/pbf/pbf_wall_lists.wgsl` (the transpose, found
+//! again from the samples' side, at most `gpu_layout::PBF_MAX_WALL_NEIGHBORS` a sample) and
+//! `pbf_wall_lambda.wgsl`.
 
 use crate::boundary::samples::Boundary;
 use crate::neighbor::lists::IndexLists;

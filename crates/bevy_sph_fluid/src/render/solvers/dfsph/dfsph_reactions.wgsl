@@ -16,7 +16,7 @@
 // Nothing is summed while the clock is frozen or a state is being restored.
 // Rust twins: sph_core::solver::dfsph::bender2017::boundary_reactions and BoundaryRise::reactions, the end of
 // sph_core::solver::dfsph::DfsphStep::advance, sph_core::flow::pump::apply_pumps (CpuSolver::step).
-#import sph::bindings::{params, shared_state, particle_state, position_at, velocity_at, velocity_predicted_at, particle_scalars, density_at, pressure_at, boundary_samples, boundary_position_at, boundary_body}
+#import sph::bindings::{params, shared_state, particle_state, position_at, velocity_at, velocity_predicted_at, particle_scalars, density_at, pressure_at, boundary_samples, boundary_position_at, boundary_body, boundary_body_at}
 #import sph::kernels::cubic_grad
 #import sph::neighbors::{grid_cell, boundary_range}
 #import sph::clock::{step_dt, frozen}
@@ -64,7 +64,7 @@ fn particle(i: u32) {
                         f += mass() * rise_over_rho0_squared(x_i, sample.xyz, p_floor);
                     }
                 }
-                add_reaction(boundary_body[b], g * f, sample.xyz);
+                add_reaction(boundary_body[boundary_body_at(b)], g * f, sample.xyz);
             }
         }
     }

@@ -9,6 +9,7 @@ pub mod pbf_lambda;
 pub mod pbf_velocity;
 pub mod pbf_vorticity;
 pub mod pbf_wall_lambda;
+pub mod pbf_wall_lists;
 pub mod pbf_xsph;
 pub mod phase;
 
@@ -17,12 +18,14 @@ use crate::render::stage::GpuStage;
 use crate::render::stages::neighbor_lists;
 use phase::PbfPhase;
 
-/// PBF's stages after the sort of the predicted positions: each Jacobi iteration runs λ, the
+/// PBF's stages after the sort of the predicted positions: the step's neighbour lists and the
+/// samples' wall lists, then each Jacobi iteration runs λ, the
 /// samples' λ and the corrections (the plans' phases pick them), then the finish (velocities, XSPH, with
 /// vorticity confinement its two passes).
 pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
     let mut list: Vec<&'static GpuStage> = vec![
         &neighbor_lists::STAGE,
+        &pbf_wall_lists::STAGE,
         &pbf_lambda::STAGE,
         &pbf_wall_lambda::STAGE,
         &pbf_correct::STAGE,

@@ -17,7 +17,7 @@
 // `sorted_velocity`, the vorticity ω to `sorted_acceleration`.
 #define_import_path sph::pbf
 
-#import sph::bindings::{params, particle_state, position_at, particle_scratch, sorted_position_at, sorted_velocity_predicted_at, normal_at, shared_state}
+#import sph::bindings::{params, particle_state, position_at, particle_scratch, sorted_position_at, sorted_velocity_predicted_at, normal_at, shared_state, boundary_body, boundary_lambda_at}
 
 // The current position of particle j (the iteration's source buffer).
 fn current_position(j: u32) -> vec3<f32> {
@@ -136,6 +136,22 @@ fn write_current_position(i: u32, x: vec3<f32>) {
     particle_state[position_at(i)] = moved;
 #endif
 #endif
+}
+
+// The most particles a boundary sample's wall list keeps
+// (sph_core::gpu_layout::PBF_MAX_WALL_NEIGHBORS).
+const PBF_MAX_WALL_NEIGHBORS: u32 = 62u;
+
+// Where word w of boundary sample b's wall list lies: 0 holds the bits of its λ_b
+// (pbf_wall_lambda), 1 the count of particles within h of it at x* (pbf_wall_lists), 2 + k the
+// k-th of them.
+fn wall_word(b: u32, w: u32) -> u32 {
+    return boundary_lambda_at(b * (PBF_MAX_WALL_NEIGHBORS + 2u) + w);
+}
+
+// Boundary sample b's λ_b of the iteration.
+fn wall_lambda(b: u32) -> f32 {
+    return bitcast<f32>(boundary_body[wall_word(b, 0u)]);
 }
 
 // The particle mass m.

@@ -15,11 +15,11 @@
 // (carried_weight; shaders/speculative_contact.wgsl's contact_projection).
 // Rust twins: sph_core::solver::pbf::macklin2013::{compute_corrections, apply_corrections},
 // sph_core::solver::pbf::solid_contact::project_out_of_solids.
-#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, normal_at, boundary_samples, boundary_position_at, boundary_lambda_at, boundary_body}
+#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, normal_at, boundary_samples, boundary_position_at, boundary_body, boundary_body_at}
 #import sph::kernels::{cubic, cubic_grad}
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen}
-#import sph::pbf::{current_position, write_next_position, mass, rest_density, relaxed_position, correction_weight, carried_weight, sum_lambda}
+#import sph::pbf::{current_position, write_next_position, mass, rest_density, relaxed_position, correction_weight, carried_weight, sum_lambda, wall_lambda}
 #import sph::speculative_contact::contact_projection
 #import sph::types::drained
 #import sph::body_reactions::{begin_reactions, end_reactions, add_reaction, flush_reaction}
@@ -78,11 +78,11 @@ fn particle(i: u32) {
             }
             let r = x_i - sample.xyz;
             let r2 = dot(r, r);
-            let l_b = boundary_samples[boundary_lambda_at(b)].x;
+            let l_b = wall_lambda(b);
             let moved = cubic_grad(r, sqrt(r2)) * (sample.w * (l_i + l_b));
             sum += moved;
             if l_i + l_b != 0.0 && kept {
-                add_reaction(boundary_body[b], moved * reaction, sample.xyz);
+                add_reaction(boundary_body[boundary_body_at(b)], moved * reaction, sample.xyz);
             }
         }
     }

@@ -12,7 +12,7 @@
 // rule, probes. Rust twins: sph_core::solver::pbf::xsph_vorticity::{xsph_and_densities,
 // wall_friction}, sph_core::solver::pbf::macklin2013::equivalent_pressure, then
 // sph_core::flow::pump::apply_pumps.
-#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, velocity_at, particle_scratch, sorted_velocity_at, acceleration_at, particle_scalars, density_at, pressure_at, normal_at, boundary_samples, boundary_position_at, boundary_velocity_at, boundary_body}
+#import sph::bindings::{params, particle_state, position_at, grid, neighbor_count_at, neighbor_lists_at, velocity_at, particle_scratch, sorted_velocity_at, acceleration_at, particle_scalars, density_at, pressure_at, normal_at, boundary_samples, boundary_position_at, boundary_velocity_at, boundary_body, boundary_body_at}
 #import sph::kernels::cubic
 #import sph::neighbors::{grid_cell, boundary_range, list_slot}
 #import sph::clock::{step_dt, frozen, record_speed}
@@ -73,7 +73,7 @@ fn walk_samples(sorted: vec3<f32>, x_i: vec3<f32>, reaction: bool, reaction_per_
                 let friction = friction_of(b);
                 if friction > 0.0 {
                     let w = friction * sample.w * cubic(length(x_i - sample.xyz));
-                    add_reaction(boundary_body[b], reaction_per_weight * w, sample.xyz);
+                    add_reaction(boundary_body[boundary_body_at(b)], reaction_per_weight * w, sample.xyz);
                 }
                 continue;
             }
