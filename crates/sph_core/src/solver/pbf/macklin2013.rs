@@ -558,9 +558,10 @@ pub struct CorrectionStep<'a> {
 /// Monaghan's symmetric SPH pressure force, the form WCSPH uses, would move it by
 /// dt² a_i = -dt² Σ_j m (p_i/ρ_i² + p_j/ρ_j²) ∇W_ij: the two agree for this p. So a tank at
 /// rest reads ρ0 g depth where its λ holds the water up against gravity's dt² of prediction.
-/// With ρ0 in place of ρ_i (the incompressible form) a column compressed by a few per cent
-/// read about 12 % under ρ0 g depth at its floor: the form's density-gradient error, which a
-/// fixed iteration count's compression grows with the depth. The artificial pressure s_corr and
+/// With ρ0 in place of ρ_i (the incompressible form) that form's density-gradient error puts a
+/// column compressed by a few per cent about 12 % under ρ0 g depth at its floor, as a fixed
+/// iteration count leaves the water more compressed the deeper it is (docs/pbf.md). The
+/// artificial pressure s_corr and
 /// the correction cap are not in it. Never negative (λ ≤ 0: only compression is a violation).
 #[inline]
 pub fn equivalent_pressure(ctx: &PbfContext, lambda_sum: f32, density: f32, dt: f32) -> f32 {

@@ -45,10 +45,9 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 /// The stages of one PBF step for `params`, each once in order: the sort of the predicted
-/// positions, the neighbour lists and the samples' lists, λ, the samples' λ and the corrections (repeated
-/// `pbf.iterations` times), the
-/// velocities, XSPH, and with vorticity confinement its two stages. The time step and the
-/// prediction come before.
+/// positions, the neighbour lists and the samples' lists, λ, the samples' λ and the corrections
+/// (repeated `pbf.iterations` times), the velocities, XSPH, and with vorticity confinement its
+/// two stages. The time step and the prediction come before.
 pub fn step_stages(params: &SphParams) -> Vec<CpuStage> {
     let mut stages = vec![
         CpuStage::Sort,

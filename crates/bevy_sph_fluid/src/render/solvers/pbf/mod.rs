@@ -19,9 +19,9 @@ use crate::render::stages::neighbor_lists;
 use phase::PbfPhase;
 
 /// PBF's stages after the sort of the predicted positions: the step's neighbour lists and the
-/// samples' wall lists, then each Jacobi iteration runs λ, the
-/// samples' λ and the corrections (the plans' phases pick them), then the finish (velocities, XSPH, with
-/// vorticity confinement its two passes).
+/// samples' wall lists, then each Jacobi iteration runs λ, the samples' λ and the corrections
+/// (the plans' phases pick them), then the finish (velocities, XSPH, with vorticity
+/// confinement its two passes).
 pub fn stage_list(key: &VariantKey) -> Vec<&'static GpuStage> {
     let mut list: Vec<&'static GpuStage> = vec![
         &neighbor_lists::STAGE,
