@@ -35,17 +35,7 @@ pub struct SampleNeighbors {
 impl SampleNeighbors {
     /// Transposes the boundary pairs of `lists` for `samples` boundary samples.
     pub fn rebuild(&mut self, lists: &IndexLists, samples: usize) {
-        let pairs: Vec<(u32, u32)> = lists.fold(
-            Vec::new,
-            |mut pairs, i, of| {
-                pairs.extend(of.boundary.iter().map(|&b| (b, i as u32)));
-                pairs
-            },
-            |mut a, mut b| {
-                a.append(&mut b);
-                a
-            },
-        );
+        let pairs = boundary_pairs(lists);
         self.start.clear();
         self.start.resize(samples + 1, 0);
         for &(b, _) in &pairs {
@@ -74,6 +64,21 @@ impl SampleNeighbors {
     pub fn of(&self, b: usize) -> &[u32] {
         &self.fluid[self.start[b] as usize..self.start[b + 1] as usize]
     }
+}
+
+/// The boundary pairs of `lists` as (sample, particle), in the particles' order.
+fn boundary_pairs(lists: &IndexLists) -> Vec<(u32, u32)> {
+    lists.fold(
+        Vec::new,
+        |mut pairs, i, of| {
+            pairs.extend(of.boundary.iter().map(|&b| (b, i as u32)));
+            pairs
+        },
+        |mut a, mut b| {
+            a.append(&mut b);
+            a
+        },
+    )
 }
 
 /// λ_b = Σ_i λ_i W_ib / Σ_i W_ib for every sample of `boundary`, over its particles of
@@ -134,17 +139,7 @@ mod tests {
         let mut transposed = SampleNeighbors::default();
         transposed.rebuild(&lists, samples);
         assert_eq!(transposed.samples(), samples);
-        let mut pairs = lists.fold(
-            Vec::new,
-            |mut pairs, i, of| {
-                pairs.extend(of.boundary.iter().map(|&b| (b, i as u32)));
-                pairs
-            },
-            |mut a, mut b| {
-                a.append(&mut b);
-                a
-            },
-        );
+        let mut pairs = boundary_pairs(&lists);
         pairs.sort_unstable();
         let back: Vec<(u32, u32)> = (0..samples)
             .flat_map(|b| transposed.of(b).iter().map(move |&i| (b as u32, i)))
